@@ -1,0 +1,132 @@
+//! The walls of the domain box: grid-node constraints (step 5) and the particle-side
+//! projection (step 7), with Coulomb friction proportional to the normal velocity removed,
+//! which is friction proportional to the contact pressure (the paper's Sec. 5).
+
+use crate::config::BoundaryConfig;
+use crate::grid::GHOST;
+use crate::math::{Dim, Real, VectorOps};
+
+/// What a wall does to a velocity that points into it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum WallRule {
+    /// Remove the normal component only.
+    Slip,
+    /// Remove the normal component v_n and reduce the tangential speed by μ|v_n|.
+    Friction(Real),
+    /// No motion at the wall at all (not even separation).
+    Sticky,
+}
+
+impl WallRule {
+    pub fn from_config(c: &BoundaryConfig) -> Self {
+        if c.sticky {
+            WallRule::Sticky
+        } else if c.friction > 0.0 {
+            WallRule::Friction(c.friction as Real)
+        } else {
+            WallRule::Slip
+        }
+    }
+
+    /// The velocity after contact with a wall whose inward normal is `inward` (±1) along
+    /// `axis`.
+    #[inline(always)]
+    pub fn apply<V: VectorOps>(self, v: V, axis: usize, inward: Real) -> V {
+        let vn = v[axis] * inward;
+        match self {
+            WallRule::Sticky => V::ZERO,
+            _ if vn >= 0.0 => v,
+            WallRule::Slip => {
+                let mut t = v;
+                t[axis] = 0.0;
+                t
+            }
+            WallRule::Friction(mu) => {
+                let mut t = v;
+                t[axis] = 0.0;
+                let speed = t.length();
+                let loss = -mu * vn; // μ |v_n|
+                if speed <= loss { V::ZERO } else { t * (1.0 - loss / speed) }
+            }
+        }
+    }
+}
+
+/// The six (four in 2D) walls of the domain `[0, size]`.
+#[derive(Clone, Copy, Debug)]
+pub struct Walls<D: Dim> {
+    pub rule: WallRule,
+    pub size: D::Vector,
+    /// Nodes with grid coordinate `<= GHOST` lie on or beyond the lower walls, those `>= hi`
+    /// on or beyond the upper walls.
+    pub node_hi: [i32; 3],
+}
+
+impl<D: Dim> Walls<D> {
+    pub fn new(rule: WallRule, size: D::Vector, cell_size: Real) -> Self {
+        let mut node_hi = [i32::MAX; 3];
+        for (a, hi) in node_hi.iter_mut().enumerate().take(D::DIM) {
+            *hi = GHOST + (size[a] / cell_size - 1e-4).ceil() as i32;
+        }
+        Walls { rule, size, node_hi }
+    }
+
+    /// Whether any node of the block with first node `origin` (edge `block` nodes) is a wall node.
+    #[inline]
+    pub fn block_touches(&self, origin: [i32; 3], block: i32) -> bool {
+        (0..D::DIM).any(|a| origin[a] <= GHOST || origin[a] + block - 1 >= self.node_hi[a])
+    }
+
+    /// Step 5: the velocity of the grid node with coordinate `node` after the walls.
+    #[inline(always)]
+    pub fn node_velocity(&self, node: [i32; 3], mut v: D::Vector) -> D::Vector {
+        for (a, &n) in node.iter().enumerate().take(D::DIM) {
+            if n <= GHOST {
+                v = self.rule.apply(v, a, 1.0);
+            } else if n >= self.node_hi[a] {
+                v = self.rule.apply(v, a, -1.0);
+            }
+        }
+        v
+    }
+
+    /// Step 7: the velocity of a particle at `x` that would cross a wall within `dt`.
+    #[inline(always)]
+    pub fn particle_velocity(&self, x: D::Vector, mut v: D::Vector, dt: Real) -> D::Vector {
+        for a in 0..D::DIM {
+            let next = x[a] + dt * v[a];
+            if next < 0.0 {
+                v = self.rule.apply(v, a, 1.0);
+            } else if next > self.size[a] {
+                v = self.rule.apply(v, a, -1.0);
+            }
+        }
+        v
+    }
+
+    /// Keeps a position inside the domain (a last resort; step 7 normally suffices).
+    #[inline(always)]
+    pub fn clamp(&self, x: D::Vector) -> D::Vector {
+        x.max(D::Vector::ZERO).min(self.size)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Vec2;
+
+    #[test]
+    fn coulomb_friction_removes_mu_times_the_normal_velocity() {
+        let v = Vec2::new(3.0, -2.0); // hitting the floor (inward normal +y)
+        assert_eq!(WallRule::Slip.apply(v, 1, 1.0), Vec2::new(3.0, 0.0));
+        let f = WallRule::Friction(0.5).apply(v, 1, 1.0);
+        assert!((f - Vec2::new(2.0, 0.0)).length() < 1e-6);
+        // enough friction stops the sliding entirely
+        assert_eq!(WallRule::Friction(2.0).apply(v, 1, 1.0), Vec2::ZERO);
+        // separating velocities are untouched except by sticky walls
+        let up = Vec2::new(1.0, 1.0);
+        assert_eq!(WallRule::Friction(0.5).apply(up, 1, 1.0), up);
+        assert_eq!(WallRule::Sticky.apply(up, 1, 1.0), Vec2::ZERO);
+    }
+}

@@ -1,0 +1,290 @@
+//! The parameter types of a simulation: one source of truth for scene files, the builder,
+//! the CLI and the page. Everything is SI: metres, seconds, kilograms, pascals; angles in
+//! degrees.
+
+use crate::error::{Error, Result, check_non_negative, check_positive, check_range};
+use crate::geometry::{Shape, check_vector};
+use crate::kernel::KernelKind;
+use crate::material::Material;
+use serde::{Deserialize, Serialize};
+
+/// At most this many particles in one simulation (a clear error instead of an endless build).
+pub const MAX_PARTICLES: usize = 20_000_000;
+
+/// A whole scene: the world and its bodies.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneConfig {
+    #[serde(default)]
+    pub name: String,
+    /// 2 (plane strain) or 3.
+    pub dim: usize,
+    pub domain: DomainConfig,
+    /// Grid spacing h (m).
+    pub cell_size: f64,
+    /// Gravity (m/s²); default −9.81 along y.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gravity: Option<Vec<f64>>,
+    /// CFL number of the adaptive time step, in (0, 1].
+    #[serde(default = "default_cfl")]
+    pub cfl: f64,
+    /// Upper bound of the time step (s).
+    #[serde(default = "default_max_dt")]
+    pub max_dt: f64,
+    #[serde(default)]
+    pub boundary: BoundaryConfig,
+    #[serde(default)]
+    pub kernel: KernelKind,
+    #[serde(default)]
+    pub contact: ContactConfig,
+    #[serde(default)]
+    pub bodies: Vec<BodyConfig>,
+}
+
+/// The simulation box: `[0, size]` along each axis, walled on every side.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DomainConfig {
+    pub size: Vec<f64>,
+}
+
+/// Walls and ground: Coulomb friction μ ≥ 0 (0 is free slip), or sticky (no motion at all).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoundaryConfig {
+    #[serde(default)]
+    pub friction: f64,
+    #[serde(default)]
+    pub sticky: bool,
+}
+
+/// Contact between bodies (Sec. 4.3). Without `friction`, the paper's rule: approaching
+/// bodies take their common centre-of-mass velocity at shared nodes. With `friction` = μ,
+/// Bardenhagen et al.'s rule: only the approaching normal velocity is removed, and the
+/// tangential slip is resisted by Coulomb friction.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactConfig {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<f64>,
+}
+
+/// One body: a shape filled with particles of one material.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodyConfig {
+    #[serde(default)]
+    pub name: String,
+    pub shape: Shape,
+    pub material: Material,
+    /// Initial velocity (m/s), default zero.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocity: Option<Vec<f64>>,
+    /// Particles per cell along each axis (1 to 8).
+    #[serde(default = "default_ppc")]
+    pub particles_per_cell: u32,
+    /// PIC/FLIP ratio α ∈ [0, 1]; default 0.05 for sand, 0 for solids (the paper's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flip: Option<f64>,
+}
+
+fn default_cfl() -> f64 {
+    0.4
+}
+fn default_max_dt() -> f64 {
+    1e-3
+}
+fn default_ppc() -> u32 {
+    2
+}
+
+impl BodyConfig {
+    /// A body with default particle density, zero velocity and the paper's α.
+    pub fn new(name: &str, shape: Shape, material: Material) -> Self {
+        BodyConfig {
+            name: name.to_string(),
+            shape,
+            material,
+            velocity: None,
+            particles_per_cell: default_ppc(),
+            flip: None,
+        }
+    }
+    pub fn with_velocity(mut self, v: &[f64]) -> Self {
+        self.velocity = Some(v.to_vec());
+        self
+    }
+    pub fn with_particles_per_cell(mut self, n: u32) -> Self {
+        self.particles_per_cell = n;
+        self
+    }
+    pub fn with_flip(mut self, alpha: f64) -> Self {
+        self.flip = Some(alpha);
+        self
+    }
+    /// The PIC/FLIP ratio in effect.
+    pub fn flip_ratio(&self) -> f64 {
+        self.flip.unwrap_or_else(|| self.material.default_flip())
+    }
+
+    /// Checks the body against a world of dimension `dim` and extent `domain`; `path` names
+    /// it (e.g. `bodies[2]`).
+    pub fn validate(&self, path: &str, dim: usize, domain: &[f64]) -> Result<()> {
+        self.shape.validate(&format!("{path}.shape"), dim)?;
+        self.material.validate(&format!("{path}.material"))?;
+        if let Some(v) = &self.velocity {
+            check_vector(&format!("{path}.velocity"), v, dim, "m/s")?;
+        }
+        if !(1..=8).contains(&self.particles_per_cell) {
+            return Err(Error::invalid(
+                format!("{path}.particles_per_cell"),
+                self.particles_per_cell,
+                "must be an integer in [1, 8]",
+            ));
+        }
+        if let Some(a) = self.flip {
+            check_range(format!("{path}.flip"), a, 0.0, 1.0, false, "")?;
+        }
+        let b = self.shape.bounds(dim);
+        for a in 0..dim {
+            let tol = 1e-9 * domain[a];
+            if b.min[a] < -tol || b.max[a] > domain[a] + tol {
+                return Err(Error::invalid(
+                    format!("{path}.shape"),
+                    format!("extent [{}, {}] along axis {a}", b.min[a], b.max[a]),
+                    format!("must lie inside the domain [0, {}]", domain[a]),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Validated world settings shared by every body.
+impl SceneConfig {
+    /// An empty scene of dimension `dim` with the given domain size and cell size, default
+    /// gravity, CFL 0.4, max dt 1 ms, slip walls.
+    pub fn new(dim: usize, size: &[f64], cell_size: f64) -> Self {
+        SceneConfig {
+            name: String::new(),
+            dim,
+            domain: DomainConfig { size: size.to_vec() },
+            cell_size,
+            gravity: None,
+            cfl: default_cfl(),
+            max_dt: default_max_dt(),
+            boundary: BoundaryConfig::default(),
+            kernel: KernelKind::default(),
+            contact: ContactConfig::default(),
+            bodies: Vec::new(),
+        }
+    }
+
+    /// Parses a scene from JSON; errors name the offending field path.
+    pub fn from_json(text: &str) -> Result<Self> {
+        let de = &mut serde_json::Deserializer::from_str(text);
+        let scene: SceneConfig = serde_path_to_error::deserialize(de).map_err(|e| {
+            let path = e.path().to_string();
+            let inner = e.into_inner();
+            if path == "." || path.is_empty() {
+                Error::Parse(format!("scene: {inner}"))
+            } else {
+                Error::Parse(format!("{path}: {inner}"))
+            }
+        })?;
+        Ok(scene)
+    }
+
+    /// Gravity in effect (default −9.81 m/s² along y).
+    pub fn gravity_vector(&self) -> Vec<f64> {
+        self.gravity.clone().unwrap_or_else(|| {
+            let mut g = vec![0.0; self.dim];
+            if self.dim >= 2 {
+                g[1] = -9.81;
+            }
+            g
+        })
+    }
+
+    /// Checks the world settings (everything but the bodies).
+    pub fn validate_world(&self) -> Result<()> {
+        if self.dim != 2 && self.dim != 3 {
+            return Err(Error::invalid("dim", self.dim, "must be 2 or 3"));
+        }
+        check_vector("domain.size", &self.domain.size, self.dim, "m")?;
+        for (a, &s) in self.domain.size.iter().enumerate() {
+            check_positive(format!("domain.size[{a}]"), s, "m")?;
+        }
+        let min_size = self.domain.size.iter().cloned().fold(f64::INFINITY, f64::min);
+        if !(self.cell_size.is_finite() && self.cell_size > 0.0 && self.cell_size <= min_size / 2.0) {
+            return Err(Error::invalid(
+                "cell_size",
+                self.cell_size,
+                format!("must be > 0 and at most half the smallest domain size ({}) (m)", min_size / 2.0),
+            ));
+        }
+        let cells: f64 = self.domain.size.iter().map(|s| s / self.cell_size).product();
+        if cells > 1e12 {
+            return Err(Error::invalid("cell_size", self.cell_size, "gives more than 10¹² cells in the domain"));
+        }
+        if let Some(g) = &self.gravity {
+            check_vector("gravity", g, self.dim, "m/s²")?;
+        }
+        check_range("cfl", self.cfl, 1e-3, 1.0, false, "")?;
+        check_positive("max_dt", self.max_dt, "s")?;
+        check_non_negative("boundary.friction", self.boundary.friction, "")?;
+        if let Some(mu) = self.contact.friction {
+            check_non_negative("contact.friction", mu, "")?;
+        }
+        Ok(())
+    }
+
+    /// Checks the whole scene.
+    pub fn validate(&self) -> Result<()> {
+        self.validate_world()?;
+        for (i, b) in self.bodies.iter().enumerate() {
+            b.validate(&format!("bodies[{i}]"), self.dim, &self.domain.size)?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_issue_example_parses() {
+        let text = r#"{
+          "name": "notched sand block", "dim": 3, "domain": { "size": [2.0, 1.0, 1.0] },
+          "cell_size": 0.02, "gravity": [0.0, -9.81, 0.0], "cfl": 0.4, "max_dt": 0.001,
+          "boundary": { "friction": 0.5 },
+          "bodies": [ { "name": "sand",
+              "shape": { "difference": [ { "box": { "min": [0.1, 0.0, 0.3], "max": [0.7, 0.5, 0.7] } },
+                                         { "box": { "min": [0.5, 0.25, 0.3], "max": [0.7, 0.5, 0.7] } } ] },
+              "material": { "drucker_prager": { "youngs_modulus": 3.5e5, "poisson_ratio": 0.3, "density": 2200,
+                                                "friction_angle": 35, "dilatancy_angle": 0, "cohesion": 0 } },
+              "velocity": [0, 0, 0], "particles_per_cell": 2, "flip": 0.05 } ] }"#;
+        let s = SceneConfig::from_json(text).unwrap();
+        s.validate().unwrap();
+        assert_eq!(s.bodies[0].flip_ratio(), 0.05);
+    }
+
+    #[test]
+    fn errors_name_the_path() {
+        let text = r#"{"dim": 2, "domain": {"size": [1, 1]}, "cell_size": 0.1,
+            "bodies": [{"shape": {"box": {"min": [0, 0], "max": [1, 1]}},
+                        "material": {"elastic": {"youngs_modulus": 1e5, "poisson_ratio": 0.3, "density": 1, "colour": 3}}}]}"#;
+        let e = SceneConfig::from_json(text).unwrap_err().to_string();
+        assert!(e.starts_with("bodies[0].material.elastic.colour: unknown field `colour`"), "{e}");
+        let text = r#"{"dim": 2, "domain": {"size": [1, 1]}, "cell_size": "small"}"#;
+        let e = SceneConfig::from_json(text).unwrap_err().to_string();
+        assert!(e.starts_with("cell_size: invalid type"), "{e}");
+        let mut s = SceneConfig::new(2, &[1.0, 1.0], 0.1);
+        s.cfl = 1.5;
+        assert_eq!(s.validate().unwrap_err().to_string(), "cfl = 1.5: must be in [0.001, 1]");
+        s.cfl = 0.5;
+        s.bodies.push(BodyConfig::new("b", Shape::cuboid(&[0.5, 0.5], &[1.5, 0.9]), Material::elastic(1e5, 0.3, 1e3)));
+        assert!(s.validate().unwrap_err().to_string().starts_with("bodies[0].shape = extent [0.5, 1.5] along axis 0"));
+    }
+}

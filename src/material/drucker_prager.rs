@@ -1,0 +1,275 @@
+//! Non-associated Drucker–Prager plasticity for sand (Eq. 11–15), after Bui et al. (2008)
+//! and An et al. (2016).
+//!
+//! Yield function f = √J2 + α_φ I1 − k_c, plastic potential g = √J2 + α_ψ I1 (Eq. 11–12), with
+//! the plane-strain matching of Eq. 13. Stress is tension-positive (σ = −P I + s), so the cone
+//! opens towards compression and its apex sits at I1 = k_c/α_φ.
+//!
+//! The plastic correction of Eq. 14, Δσ = −Δλ (3 α_ψ K I + (G/√J2) s), is applied to the elastic
+//! trial stress with Δλ = f(σ_tr)/(G + 9 α_φ α_ψ K): the multiplier of Eq. 15 integrated over the
+//! part of the step beyond the yield surface (it equals Δt·λ̇ of Eq. 15 when the step starts on
+//! the surface), which lands the stress exactly on f = 0. Eq. 14's bulk term is K tr(ε̇) I.
+//! Then Bui et al.'s two safeguards: a stress past the apex (tension) has its hydrostatic part
+//! shifted back to the apex, and a remaining f > 0 is removed by scaling the deviatoric stress
+//! back onto the cone. Cohesionless sand (c = 0) therefore carries no tension.
+
+use super::{Constitutive, Elastic, ElasticParams, StressUpdate, elastic_energy_density};
+use crate::error::{Error, Result, check_non_negative, check_range};
+use crate::math::{Real, SymTensor};
+use serde::{Deserialize, Serialize};
+
+/// Parameters: E (Pa), ν, density (kg/m³), friction angle φ ∈ [0°, 90°), dilatancy angle
+/// ψ ∈ [0°, φ] and cohesion c ≥ 0 (Pa).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DruckerPragerParams {
+    pub youngs_modulus: f64,
+    pub poisson_ratio: f64,
+    pub density: f64,
+    pub friction_angle: f64,
+    #[serde(default)]
+    pub dilatancy_angle: f64,
+    #[serde(default)]
+    pub cohesion: f64,
+}
+
+/// tan θ / √(9 + 12 tan²θ) (Eq. 13).
+fn alpha(angle_deg: f64) -> f64 {
+    let t = angle_deg.to_radians().tan();
+    t / (9.0 + 12.0 * t * t).sqrt()
+}
+
+impl DruckerPragerParams {
+    pub fn elastic(&self) -> ElasticParams {
+        ElasticParams {
+            youngs_modulus: self.youngs_modulus,
+            poisson_ratio: self.poisson_ratio,
+            density: self.density,
+        }
+    }
+    pub fn validate(&self, path: &str) -> Result<()> {
+        self.elastic().validate(path)?;
+        check_range(format!("{path}.friction_angle"), self.friction_angle, 0.0, 90.0, true, "degrees")?;
+        let psi = self.dilatancy_angle;
+        if !(psi.is_finite() && psi >= 0.0 && psi <= self.friction_angle) {
+            return Err(Error::invalid(
+                format!("{path}.dilatancy_angle"),
+                psi,
+                format!("must be in [0, {}] (degrees; at most the friction angle)", self.friction_angle),
+            ));
+        }
+        check_non_negative(format!("{path}.cohesion"), self.cohesion, "Pa")
+    }
+    pub fn model(&self) -> DruckerPrager {
+        let t = self.friction_angle.to_radians().tan();
+        let alpha_phi = alpha(self.friction_angle);
+        let k_c = 3.0 * self.cohesion / (9.0 + 12.0 * t * t).sqrt();
+        let apex = if alpha_phi > 0.0 {
+            k_c / alpha_phi
+        } else if k_c == 0.0 {
+            0.0
+        } else {
+            f64::INFINITY
+        };
+        DruckerPrager {
+            elastic: self.elastic().model(),
+            alpha_phi: alpha_phi as Real,
+            alpha_psi: alpha(self.dilatancy_angle) as Real,
+            k_c: k_c as Real,
+            apex: apex as Real,
+        }
+    }
+}
+
+/// The Drucker–Prager model with its Eq. 13 constants and the apex value of I1.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DruckerPrager {
+    pub elastic: Elastic,
+    pub alpha_phi: Real,
+    pub alpha_psi: Real,
+    pub k_c: Real,
+    /// The largest I1 the material carries (the cone's apex; 0 for cohesionless sand).
+    pub apex: Real,
+}
+
+impl DruckerPrager {
+    /// f(I1, J2) of Eq. 11.
+    pub fn yield_function<S: SymTensor>(&self, stress: S) -> Real {
+        stress.j2().sqrt() + self.alpha_phi * stress.trace() - self.k_c
+    }
+}
+
+impl Constitutive for DruckerPrager {
+    const PLASTIC: bool = true;
+    #[inline(always)]
+    fn update<S: SymTensor>(&self, stress: &mut S, rate: S, spin: S::Spin, dt: Real) -> StressUpdate {
+        let Elastic { g, k } = self.elastic;
+        let trial = self.elastic.trial(*stress, rate, spin, dt);
+        let mut i1 = trial.trace();
+        let mut s = trial - S::IDENTITY * (i1 / 3.0);
+        let sqrt_j2_trial = (0.5 * s.ddot(s)).sqrt();
+        let f = sqrt_j2_trial + self.alpha_phi * i1 - self.k_c;
+        if f > 0.0 {
+            let dl = f / (g + 9.0 * self.alpha_phi * self.alpha_psi * k);
+            if sqrt_j2_trial > g * dl {
+                s = s * (1.0 - g * dl / sqrt_j2_trial);
+                i1 -= 9.0 * k * self.alpha_psi * dl;
+            } else {
+                // The return passes the cone's axis: only possible beyond the apex.
+                s = S::ZERO;
+            }
+        }
+        // Safeguard 1 (tension cracking): shift the hydrostatic part back to the apex.
+        if i1 > self.apex {
+            i1 = self.apex;
+        }
+        // Safeguard 2: scale the deviatoric stress back onto the cone.
+        let sqrt_j2 = (0.5 * s.ddot(s)).sqrt();
+        let limit = self.k_c - self.alpha_phi * i1;
+        let sqrt_j2 = if sqrt_j2 > limit {
+            s = if sqrt_j2 > 0.0 { s * (limit / sqrt_j2) } else { S::ZERO };
+            limit
+        } else {
+            sqrt_j2
+        };
+        *stress = s + S::IDENTITY * (i1 / 3.0);
+        if f <= 0.0 && sqrt_j2 == sqrt_j2_trial && i1 == trial.trace() {
+            return StressUpdate::default();
+        }
+        StressUpdate {
+            plastic_strain: (sqrt_j2_trial - sqrt_j2).max(0.0) / (3.0f32.sqrt() as Real * g),
+            dissipation: elastic_energy_density(trial, g, k) - elastic_energy_density(*stress, g, k),
+        }
+    }
+    fn moduli(&self) -> (Real, Real) {
+        (self.elastic.g, self.elastic.k)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::test_util::drive;
+    use crate::math::Sym3;
+
+    fn sand(phi: f64, psi: f64, c: f64) -> DruckerPrager {
+        DruckerPragerParams {
+            youngs_modulus: 3.5e5,
+            poisson_ratio: 0.3,
+            density: 2200.0,
+            friction_angle: phi,
+            dilatancy_angle: psi,
+            cohesion: c,
+        }
+        .model()
+    }
+
+    fn confined(p: Real) -> Sym3 {
+        Sym3::IDENTITY * -p
+    }
+
+    #[test]
+    fn eq13_constants() {
+        let m = sand(30.0, 0.0, 1000.0);
+        let t = (30f64).to_radians().tan();
+        let d = (9.0 + 12.0 * t * t).sqrt();
+        assert!((m.alpha_phi as f64 - t / d).abs() < 1e-6);
+        assert!((m.k_c as f64 - 3000.0 / d).abs() < 1e-2);
+        assert_eq!(m.alpha_psi, 0.0);
+    }
+
+    #[test]
+    fn shear_under_confinement_yields_on_the_cone() {
+        let m = sand(35.0, 0.0, 0.0);
+        let p = 1.0e3;
+        let a = 1.0;
+        let (s, ep, diss) = drive(&m, confined(p), [[0.0, a, 0.0], [a, 0.0, 0.0], [0.0; 3]], 1e-4, 500, |_, s| {
+            assert!(m.yield_function(*s) <= 1e-3 * p);
+        });
+        // √J2 at failure = k_c − α_φ I1 = 3 α_φ p
+        let tau = 3.0 * m.alpha_phi * p;
+        assert!((s.j2().sqrt() - tau).abs() < 1e-3 * tau, "{} vs {tau}", s.j2().sqrt());
+        // ψ = 0: no plastic volume change, so the pressure is unchanged by isochoric shear.
+        assert!((s.trace() / 3.0 + p).abs() < 1e-3 * p, "pressure changed: {}", -s.trace() / 3.0);
+        assert!(ep > 0.0 && diss > 0.0);
+    }
+
+    #[test]
+    fn dilatancy_raises_the_pressure_of_constrained_shear() {
+        let (p, a) = (1.0e3, 1.0);
+        let l = [[0.0, a, 0.0], [a, 0.0, 0.0], [0.0; 3]];
+        let (s0, _, _) = drive(&sand(35.0, 0.0, 0.0), confined(p), l, 1e-4, 500, |_, _| {});
+        let (s1, _, _) = drive(&sand(35.0, 15.0, 0.0), confined(p), l, 1e-4, 500, |_, _| {});
+        let (p0, p1) = (-s0.trace() / 3.0, -s1.trace() / 3.0);
+        assert!((p0 - p).abs() < 1e-3 * p);
+        assert!(p1 > 1.5 * p, "dilatant sand at constant volume must gain pressure: {p1}");
+        // and it stays on the cone
+        let m = sand(35.0, 15.0, 0.0);
+        assert!(m.yield_function(s1) <= 1e-3 * p1);
+    }
+
+    #[test]
+    fn cohesionless_sand_carries_no_tension() {
+        let m = sand(30.0, 0.0, 0.0);
+        let r = 1.0;
+        let (s, _, _) = drive(&m, confined(100.0), [[r, 0.0, 0.0], [0.0, r, 0.0], [0.0, 0.0, r]], 1e-4, 200, |_, s| {
+            assert!(s.trace() <= 1e-6);
+        });
+        assert!(s.components().iter().all(|c| c.abs() < 1e-3), "{s:?}");
+    }
+
+    #[test]
+    fn cohesive_sand_stops_at_the_apex() {
+        let m = sand(30.0, 5.0, 2000.0);
+        let r = 1.0;
+        // uniaxial tension pulls past the apex
+        let (s, _, _) = drive(&m, Sym3::ZERO, [[r, 0.0, 0.0], [0.0; 3], [0.0; 3]], 1e-4, 300, |_, s| {
+            assert!(s.trace() <= m.apex * 1.0001);
+            assert!(m.yield_function(*s) <= 1e-3 * m.k_c);
+        });
+        assert!((s.trace() - m.apex).abs() < 1e-3 * m.apex, "{} vs apex {}", s.trace(), m.apex);
+        assert!(s.j2().sqrt() < 1e-3 * m.k_c);
+    }
+
+    #[test]
+    fn random_paths_stay_inside_the_cone() {
+        let m = sand(40.0, 10.0, 500.0);
+        let mut seed = 12345u64;
+        let mut rnd = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((seed >> 33) as f64 / (1u64 << 31) as f64 * 2.0 - 1.0) as Real
+        };
+        let mut s = confined(2000.0);
+        for _ in 0..5000 {
+            let l = [[rnd() - 0.3, rnd(), rnd()], [rnd(), rnd() - 0.3, rnd()], [rnd(), rnd(), rnd() - 0.3]];
+            let (rate, spin) = crate::material::test_util::rate_spin(l);
+            let u = m.update(&mut s, rate, spin, 2e-3);
+            assert!(s.is_finite());
+            assert!(m.yield_function(s) <= 1e-3 * (m.k_c + s.trace().abs()), "outside: {s:?}");
+            assert!(s.trace() <= m.apex + 1e-3);
+            assert!(u.plastic_strain >= 0.0);
+        }
+    }
+
+    #[test]
+    fn validation() {
+        let mut p = DruckerPragerParams {
+            youngs_modulus: 1e5,
+            poisson_ratio: 0.3,
+            density: 2000.0,
+            friction_angle: 90.0,
+            dilatancy_angle: 0.0,
+            cohesion: 0.0,
+        };
+        assert_eq!(
+            p.validate("bodies[1].material.drucker_prager").unwrap_err().to_string(),
+            "bodies[1].material.drucker_prager.friction_angle = 90: must be in [0, 90) (degrees)"
+        );
+        p.friction_angle = 30.0;
+        p.dilatancy_angle = 31.0;
+        assert!(p.validate("m").unwrap_err().to_string().contains("m.dilatancy_angle = 31"));
+        p.dilatancy_angle = 0.0;
+        p.cohesion = -1.0;
+        assert!(p.validate("m").unwrap_err().to_string().contains("m.cohesion = -1"));
+    }
+}

@@ -1,0 +1,197 @@
+//! Constitutive models behind one small interface, [`Constitutive`], one model per file:
+//! hypoelastic with the Jaumann rate ([`elastic`]), von Mises plasticity ([`von_mises`]) and
+//! non-associated Drucker–Prager ([`drucker_prager`]).
+//!
+//! [`Material`] holds the user-facing parameters (serde, SI units, validated); it builds the
+//! runtime model with the derived constants.
+
+pub mod drucker_prager;
+pub mod elastic;
+pub mod von_mises;
+
+pub use drucker_prager::{DruckerPrager, DruckerPragerParams};
+pub use elastic::{Elastic, ElasticParams};
+pub use von_mises::{VonMises, VonMisesParams};
+
+use crate::error::Result;
+use crate::math::{Real, SymTensor};
+use serde::{Deserialize, Serialize};
+
+/// What a stress update did besides changing the stress.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StressUpdate {
+    /// Increment of the equivalent plastic strain √(2/3 e_p : e_p).
+    pub plastic_strain: Real,
+    /// Energy removed by the plastic correction, per unit volume (J/m³): the stored elastic
+    /// energy of the elastic trial stress minus that of the corrected stress.
+    pub dissipation: Real,
+}
+
+/// A constitutive model: advances a particle's Cauchy stress (tension positive) over one
+/// time step, given the strain rate ε̇ = ½(∇v + ∇vᵀ) and spin ω = ½(∇v − ∇vᵀ).
+pub trait Constitutive: Copy + Send + Sync + 'static {
+    /// Whether the model can yield (elastic bodies skip all plastic work).
+    const PLASTIC: bool;
+    fn update<S: SymTensor>(&self, stress: &mut S, rate: S, spin: S::Spin, dt: Real) -> StressUpdate;
+    /// The elastic moduli (G, K) in Pa.
+    fn moduli(&self) -> (Real, Real);
+}
+
+/// The stored elastic energy per unit volume of a stress: s:s/(4G) + P²/(2K).
+#[inline(always)]
+pub fn elastic_energy_density<S: SymTensor>(stress: S, g: Real, k: Real) -> Real {
+    let s = stress.deviator();
+    let p = stress.trace() / 3.0;
+    s.ddot(s) / (4.0 * g) + p * p / (2.0 * k)
+}
+
+/// The material of a body, as written in scene files:
+/// `{"elastic": {...}}`, `{"von_mises": {...}}` or `{"drucker_prager": {...}}`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Material {
+    Elastic(ElasticParams),
+    VonMises(VonMisesParams),
+    DruckerPrager(DruckerPragerParams),
+}
+
+impl Material {
+    /// An elastic material: Young's modulus E (Pa), Poisson ratio ν, density (kg/m³).
+    pub fn elastic(youngs_modulus: f64, poisson_ratio: f64, density: f64) -> Self {
+        Material::Elastic(ElasticParams { youngs_modulus, poisson_ratio, density })
+    }
+    /// A von Mises elastoplastic material with uniaxial yield stress σ_y (Pa).
+    pub fn von_mises(youngs_modulus: f64, poisson_ratio: f64, density: f64, yield_stress: f64) -> Self {
+        Material::VonMises(VonMisesParams { youngs_modulus, poisson_ratio, density, yield_stress })
+    }
+    /// Sand: Drucker–Prager with friction angle φ and dilatancy angle ψ (degrees) and
+    /// cohesion c (Pa).
+    pub fn drucker_prager(
+        youngs_modulus: f64,
+        poisson_ratio: f64,
+        density: f64,
+        friction_angle: f64,
+        dilatancy_angle: f64,
+        cohesion: f64,
+    ) -> Self {
+        Material::DruckerPrager(DruckerPragerParams {
+            youngs_modulus,
+            poisson_ratio,
+            density,
+            friction_angle,
+            dilatancy_angle,
+            cohesion,
+        })
+    }
+
+    /// The scene-file name of the model.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Material::Elastic(_) => "elastic",
+            Material::VonMises(_) => "von_mises",
+            Material::DruckerPrager(_) => "drucker_prager",
+        }
+    }
+
+    /// The elastic part of the parameters.
+    pub fn elastic_params(&self) -> ElasticParams {
+        match self {
+            Material::Elastic(e) => *e,
+            Material::VonMises(m) => m.elastic(),
+            Material::DruckerPrager(m) => m.elastic(),
+        }
+    }
+
+    /// Density in kg/m³.
+    pub fn density(&self) -> f64 {
+        self.elastic_params().density
+    }
+
+    /// Checks every parameter; `path` names this material in error messages
+    /// (e.g. `bodies[1].material`).
+    pub fn validate(&self, path: &str) -> Result<()> {
+        match self {
+            Material::Elastic(m) => m.validate(&format!("{path}.elastic")),
+            Material::VonMises(m) => m.validate(&format!("{path}.von_mises")),
+            Material::DruckerPrager(m) => m.validate(&format!("{path}.drucker_prager")),
+        }
+    }
+
+    /// The default PIC/FLIP ratio α of the paper: 0.05 for sand, 0 for solids.
+    pub fn default_flip(&self) -> f64 {
+        match self {
+            Material::DruckerPrager(_) => 0.05,
+            _ => 0.0,
+        }
+    }
+
+    /// The dilatational wave speed √((K + 4G/3)/ρ) at the reference density, in m/s.
+    pub fn wave_speed(&self) -> f64 {
+        self.elastic_params().wave_speed()
+    }
+
+    /// Builds the runtime model (valid parameters assumed).
+    pub fn model(&self) -> Model {
+        match self {
+            Material::Elastic(m) => Model::Elastic(m.model()),
+            Material::VonMises(m) => Model::VonMises(m.model()),
+            Material::DruckerPrager(m) => Model::DruckerPrager(m.model()),
+        }
+    }
+}
+
+/// The runtime form of a [`Material`], with derived constants.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Model {
+    Elastic(Elastic),
+    VonMises(VonMises),
+    DruckerPrager(DruckerPrager),
+}
+
+impl Model {
+    pub fn moduli(&self) -> (Real, Real) {
+        match self {
+            Model::Elastic(m) => m.moduli(),
+            Model::VonMises(m) => m.moduli(),
+            Model::DruckerPrager(m) => m.moduli(),
+        }
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod test_util {
+    //! Drives a model through a prescribed, homogeneous velocity gradient.
+    use super::*;
+    use crate::math::{Mat3, Sym3, Vec3};
+
+    /// The strain rate and spin of a 3D velocity gradient given by rows.
+    pub fn rate_spin(l: [[Real; 3]; 3]) -> (Sym3, Vec3) {
+        let m = Mat3::from_cols(
+            Vec3::new(l[0][0], l[1][0], l[2][0]),
+            Vec3::new(l[0][1], l[1][1], l[2][1]),
+            Vec3::new(l[0][2], l[1][2], l[2][2]),
+        );
+        <crate::math::D3 as crate::math::Dim>::rate_and_spin(m)
+    }
+
+    /// Runs `steps` steps of `dt` with a constant velocity gradient from `stress`, returning the
+    /// final stress and the accumulated plastic strain and dissipation.
+    pub fn drive<M: Constitutive>(
+        model: &M,
+        mut stress: Sym3,
+        l: [[Real; 3]; 3],
+        dt: Real,
+        steps: usize,
+        mut each: impl FnMut(usize, &Sym3),
+    ) -> (Sym3, Real, Real) {
+        let (rate, spin) = rate_spin(l);
+        let (mut ep, mut diss) = (0.0, 0.0);
+        for i in 0..steps {
+            let u = model.update(&mut stress, rate, spin, dt);
+            ep += u.plastic_strain;
+            diss += u.dissipation;
+            each(i, &stress);
+        }
+        (stress, ep, diss)
+    }
+}

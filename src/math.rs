@@ -1,0 +1,511 @@
+//! Scalars, vectors and symmetric stress tensors, and the [`Dim`] trait that carries them
+//! for the two dimensions the solver is monomorphised for.
+//!
+//! 2D is *plane strain*: the in-plane velocity has two components, but the stress keeps its
+//! out-of-plane normal component σ_zz (ε_zz = 0), so that the invariants I1 and J2 that the
+//! yield criteria use are those of the real 3D stress state. Masses, volumes and energies in
+//! 2D are per unit depth (kg/m, m², J/m).
+
+use std::fmt::Debug;
+use std::ops::{Add, AddAssign, Div, Index, IndexMut, Mul, MulAssign, Neg, Sub, SubAssign};
+
+#[cfg(not(feature = "f64"))]
+mod precision {
+    /// The floating-point type of particle and grid state.
+    pub type Real = f32;
+    pub type Vec2 = glam::Vec2;
+    pub type Vec3 = glam::Vec3;
+    pub type Mat2 = glam::Mat2;
+    pub type Mat3 = glam::Mat3;
+}
+#[cfg(feature = "f64")]
+mod precision {
+    /// The floating-point type of particle and grid state.
+    pub type Real = f64;
+    pub type Vec2 = glam::DVec2;
+    pub type Vec3 = glam::DVec3;
+    pub type Mat2 = glam::DMat2;
+    pub type Mat3 = glam::DMat3;
+}
+pub use precision::*;
+
+/// The vector operations the generic solver needs (implemented for glam's `Vec2` and `Vec3`).
+pub trait VectorOps:
+    Copy
+    + Default
+    + Debug
+    + PartialEq
+    + Send
+    + Sync
+    + 'static
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Real, Output = Self>
+    + Div<Real, Output = Self>
+    + Neg<Output = Self>
+    + AddAssign
+    + SubAssign
+    + MulAssign<Real>
+    + Index<usize, Output = Real>
+    + IndexMut<usize>
+{
+    const ZERO: Self;
+    fn dot(self, other: Self) -> Real;
+    fn length(self) -> Real;
+    fn is_finite(self) -> bool;
+    fn min(self, other: Self) -> Self;
+    fn max(self, other: Self) -> Self;
+    fn splat(value: Real) -> Self;
+    /// The vector whose i-th component is `f(i)`.
+    fn from_fn(f: impl FnMut(usize) -> Real) -> Self;
+    fn length_squared(self) -> Real {
+        self.dot(self)
+    }
+}
+
+macro_rules! impl_vector_ops {
+    ($t:ty, $n:expr) => {
+        impl VectorOps for $t {
+            const ZERO: Self = <$t>::ZERO;
+            #[inline(always)]
+            fn dot(self, other: Self) -> Real {
+                <$t>::dot(self, other)
+            }
+            #[inline(always)]
+            fn length(self) -> Real {
+                <$t>::length(self)
+            }
+            #[inline(always)]
+            fn is_finite(self) -> bool {
+                <$t>::is_finite(self)
+            }
+            #[inline(always)]
+            fn min(self, other: Self) -> Self {
+                <$t>::min(self, other)
+            }
+            #[inline(always)]
+            fn max(self, other: Self) -> Self {
+                <$t>::max(self, other)
+            }
+            #[inline(always)]
+            fn splat(value: Real) -> Self {
+                <$t>::splat(value)
+            }
+            #[inline(always)]
+            fn from_fn(mut f: impl FnMut(usize) -> Real) -> Self {
+                let mut v = <$t>::ZERO;
+                for i in 0..$n {
+                    v[i] = f(i);
+                }
+                v
+            }
+        }
+    };
+}
+impl_vector_ops!(Vec2, 2);
+impl_vector_ops!(Vec3, 3);
+
+/// A symmetric second-order tensor holding a (plane-strain or 3D) stress or strain rate.
+///
+/// The trace, the double contraction and the deviator are those of the full 3×3 tensor in
+/// both dimensions (the 2D tensor carries its zz component).
+pub trait SymTensor:
+    Copy
+    + Default
+    + Debug
+    + PartialEq
+    + Send
+    + Sync
+    + 'static
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Real, Output = Self>
+    + AddAssign
+{
+    /// The material spin W = ½(∇v − ∇vᵀ): one component in 2D, three in 3D.
+    type Spin: Copy + Debug;
+    const ZERO: Self;
+    const IDENTITY: Self;
+    fn trace(self) -> Real;
+    /// A : B = Σ_ij A_ij B_ij.
+    fn ddot(self, other: Self) -> Real;
+    fn is_finite(self) -> bool;
+    /// Q A Qᵀ with Q the Cayley transform of the spin increment ½ dt W, i.e. the rotation of
+    /// the Hughes–Winget integration of the Jaumann rate: orthogonal, so a pure rotation
+    /// rotates the stress without changing its invariants.
+    fn rotate(self, spin: Self::Spin, dt: Real) -> Self;
+    /// The components as a flat slice (2D: xx, yy, zz, xy; 3D: xx, yy, zz, xy, xz, yz).
+    fn components(&self) -> &[Real];
+    /// The full tensor as a 3×3 array (rows), in f64, for reporting.
+    fn to_matrix3(self) -> [[f64; 3]; 3];
+
+    #[inline(always)]
+    fn deviator(self) -> Self {
+        self - Self::IDENTITY * (self.trace() / 3.0)
+    }
+    /// J2 = ½ s : s of the deviator s.
+    #[inline(always)]
+    fn j2(self) -> Real {
+        let s = self.deviator();
+        0.5 * s.ddot(s)
+    }
+}
+
+/// A plane-strain symmetric tensor: in-plane xx, yy, xy and the out-of-plane normal zz.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
+pub struct Sym2 {
+    pub xx: Real,
+    pub yy: Real,
+    pub zz: Real,
+    pub xy: Real,
+}
+
+/// A 3D symmetric tensor.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
+pub struct Sym3 {
+    pub xx: Real,
+    pub yy: Real,
+    pub zz: Real,
+    pub xy: Real,
+    pub xz: Real,
+    pub yz: Real,
+}
+
+macro_rules! impl_sym_arith {
+    ($t:ident { $($f:ident),* }) => {
+        impl Add for $t {
+            type Output = Self;
+            #[inline(always)]
+            fn add(self, o: Self) -> Self { $t { $($f: self.$f + o.$f),* } }
+        }
+        impl Sub for $t {
+            type Output = Self;
+            #[inline(always)]
+            fn sub(self, o: Self) -> Self { $t { $($f: self.$f - o.$f),* } }
+        }
+        impl Mul<Real> for $t {
+            type Output = Self;
+            #[inline(always)]
+            fn mul(self, k: Real) -> Self { $t { $($f: self.$f * k),* } }
+        }
+        impl AddAssign for $t {
+            #[inline(always)]
+            fn add_assign(&mut self, o: Self) { $(self.$f += o.$f;)* }
+        }
+        impl $t {
+            #[inline(always)]
+            fn all_finite(&self) -> bool { true $(&& self.$f.is_finite())* }
+        }
+    };
+}
+impl_sym_arith!(Sym2 { xx, yy, zz, xy });
+impl_sym_arith!(Sym3 { xx, yy, zz, xy, xz, yz });
+
+impl SymTensor for Sym2 {
+    type Spin = Real;
+    const ZERO: Self = Sym2 { xx: 0.0, yy: 0.0, zz: 0.0, xy: 0.0 };
+    const IDENTITY: Self = Sym2 { xx: 1.0, yy: 1.0, zz: 1.0, xy: 0.0 };
+    #[inline(always)]
+    fn trace(self) -> Real {
+        self.xx + self.yy + self.zz
+    }
+    #[inline(always)]
+    fn ddot(self, o: Self) -> Real {
+        self.xx * o.xx + self.yy * o.yy + self.zz * o.zz + 2.0 * self.xy * o.xy
+    }
+    #[inline(always)]
+    fn is_finite(self) -> bool {
+        self.all_finite()
+    }
+    #[inline(always)]
+    fn rotate(self, w: Real, dt: Real) -> Self {
+        let a = 0.5 * dt * w;
+        let inv = 1.0 / (1.0 + a * a);
+        let (c, s) = ((1.0 - a * a) * inv, 2.0 * a * inv);
+        let (cc, ss, cs) = (c * c, s * s, c * s);
+        Sym2 {
+            xx: cc * self.xx - 2.0 * cs * self.xy + ss * self.yy,
+            yy: ss * self.xx + 2.0 * cs * self.xy + cc * self.yy,
+            zz: self.zz,
+            xy: cs * (self.xx - self.yy) + (cc - ss) * self.xy,
+        }
+    }
+    fn components(&self) -> &[Real] {
+        // SAFETY: Sym2 is #[repr(C)] with exactly four `Real` fields and no padding (all
+        // fields have the same type and alignment), so it has the layout of [Real; 4].
+        unsafe { std::slice::from_raw_parts(self as *const Self as *const Real, 4) }
+    }
+    fn to_matrix3(self) -> [[f64; 3]; 3] {
+        let (xx, yy, zz, xy) = (self.xx as f64, self.yy as f64, self.zz as f64, self.xy as f64);
+        [[xx, xy, 0.0], [xy, yy, 0.0], [0.0, 0.0, zz]]
+    }
+}
+
+impl SymTensor for Sym3 {
+    /// (W_xy, W_xz, W_yz).
+    type Spin = Vec3;
+    const ZERO: Self = Sym3 { xx: 0.0, yy: 0.0, zz: 0.0, xy: 0.0, xz: 0.0, yz: 0.0 };
+    const IDENTITY: Self = Sym3 { xx: 1.0, yy: 1.0, zz: 1.0, xy: 0.0, xz: 0.0, yz: 0.0 };
+    #[inline(always)]
+    fn trace(self) -> Real {
+        self.xx + self.yy + self.zz
+    }
+    #[inline(always)]
+    fn ddot(self, o: Self) -> Real {
+        self.xx * o.xx
+            + self.yy * o.yy
+            + self.zz * o.zz
+            + 2.0 * (self.xy * o.xy + self.xz * o.xz + self.yz * o.yz)
+    }
+    #[inline(always)]
+    fn is_finite(self) -> bool {
+        self.all_finite()
+    }
+    #[inline(always)]
+    fn rotate(self, w: Vec3, dt: Real) -> Self {
+        // A = ½ dt W is skew with A_xy = a.x, A_xz = a.y, A_yz = a.z;
+        // Q = (I − A)⁻¹(I + A) = I + 2 (A + A²) / (1 + |a|²).
+        let a = w * (0.5 * dt);
+        let skew = Mat3::from_cols(
+            Vec3::new(0.0, -a.x, -a.y),
+            Vec3::new(a.x, 0.0, -a.z),
+            Vec3::new(a.y, a.z, 0.0),
+        );
+        let q = Mat3::IDENTITY + (skew + skew * skew) * (2.0 / (1.0 + a.length_squared()));
+        let s = Mat3::from_cols(
+            Vec3::new(self.xx, self.xy, self.xz),
+            Vec3::new(self.xy, self.yy, self.yz),
+            Vec3::new(self.xz, self.yz, self.zz),
+        );
+        let r = q * s * q.transpose();
+        Sym3 {
+            xx: r.x_axis.x,
+            yy: r.y_axis.y,
+            zz: r.z_axis.z,
+            xy: 0.5 * (r.y_axis.x + r.x_axis.y),
+            xz: 0.5 * (r.z_axis.x + r.x_axis.z),
+            yz: 0.5 * (r.z_axis.y + r.y_axis.z),
+        }
+    }
+    fn components(&self) -> &[Real] {
+        // SAFETY: Sym3 is #[repr(C)] with exactly six `Real` fields and no padding (all
+        // fields have the same type and alignment), so it has the layout of [Real; 6].
+        unsafe { std::slice::from_raw_parts(self as *const Self as *const Real, 6) }
+    }
+    fn to_matrix3(self) -> [[f64; 3]; 3] {
+        let f = |x: Real| x as f64;
+        [
+            [f(self.xx), f(self.xy), f(self.xz)],
+            [f(self.xy), f(self.yy), f(self.yz)],
+            [f(self.xz), f(self.yz), f(self.zz)],
+        ]
+    }
+}
+
+/// The kernel weights of one particle along each axis: `w[a][k]` and `dw[a][k]` (the
+/// derivative, already divided by the cell size) for the k-th node of the stencil along axis a,
+/// whose first node has grid index `base[a]`.
+#[derive(Clone, Copy, Debug)]
+pub struct Stencil<const S: usize> {
+    pub base: [i32; 3],
+    pub w: [[Real; S]; 3],
+    pub dw: [[Real; S]; 3],
+}
+
+/// The dimension of a simulation: its vector, gradient and stress types and its stencil loop.
+/// Implemented by the marker types [`D2`] and [`D3`]; `Simulation<D>` is written once.
+pub trait Dim: Copy + Default + Debug + Send + Sync + 'static {
+    const DIM: usize;
+    /// Grid blocks are `2^LOG_BLOCK` nodes along each axis.
+    const LOG_BLOCK: u32;
+    type Vector: VectorOps;
+    /// The velocity gradient L_ij = ∂v_i/∂x_j.
+    type Grad: Copy + Debug + AddAssign;
+    type Sym: SymTensor;
+    const GRAD_ZERO: Self::Grad;
+
+    /// v ⊗ g (the contribution v_i ∇w_ip of one node to the velocity gradient).
+    fn outer(v: Self::Vector, g: Self::Vector) -> Self::Grad;
+    /// The strain rate ½(L + Lᵀ) (with zz = 0 in plane strain) and the spin ½(L − Lᵀ).
+    fn rate_and_spin(l: Self::Grad) -> (Self::Sym, <Self::Sym as SymTensor>::Spin);
+    /// σ g for the in-plane (2D) or full (3D) stress.
+    fn sym_mul(s: Self::Sym, g: Self::Vector) -> Self::Vector;
+    /// Builds a vector from the first `DIM` entries of `xyz`.
+    fn vector(xyz: [Real; 3]) -> Self::Vector;
+    /// Calls `f(k, w, ∇w)` for every node of the stencil, where `k` is the node's position in
+    /// the stencil (`i + S*j (+ S*S*k)`), together with its grid coordinate offsets.
+    fn for_each_node<const S: usize>(
+        st: &Stencil<S>,
+        f: impl FnMut([usize; 3], Real, Self::Vector),
+    );
+}
+
+/// Plane strain.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct D2;
+/// Three dimensions.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct D3;
+
+impl Dim for D2 {
+    const DIM: usize = 2;
+    const LOG_BLOCK: u32 = 3;
+    type Vector = Vec2;
+    type Grad = Mat2;
+    type Sym = Sym2;
+    const GRAD_ZERO: Mat2 = Mat2::ZERO;
+
+    #[inline(always)]
+    fn outer(v: Vec2, g: Vec2) -> Mat2 {
+        Mat2::from_cols(v * g.x, v * g.y)
+    }
+    #[inline(always)]
+    fn rate_and_spin(l: Mat2) -> (Sym2, Real) {
+        // l.y_axis.x = L_xy = ∂v_x/∂y, l.x_axis.y = L_yx = ∂v_y/∂x.
+        let (lxy, lyx) = (l.y_axis.x, l.x_axis.y);
+        let rate = Sym2 { xx: l.x_axis.x, yy: l.y_axis.y, zz: 0.0, xy: 0.5 * (lxy + lyx) };
+        (rate, 0.5 * (lyx - lxy))
+    }
+    #[inline(always)]
+    fn sym_mul(s: Sym2, g: Vec2) -> Vec2 {
+        Vec2::new(s.xx * g.x + s.xy * g.y, s.xy * g.x + s.yy * g.y)
+    }
+    #[inline(always)]
+    fn vector(xyz: [Real; 3]) -> Vec2 {
+        Vec2::new(xyz[0], xyz[1])
+    }
+    #[inline(always)]
+    fn for_each_node<const S: usize>(st: &Stencil<S>, mut f: impl FnMut([usize; 3], Real, Vec2)) {
+        for j in 0..S {
+            for i in 0..S {
+                let w = st.w[0][i] * st.w[1][j];
+                let g = Vec2::new(st.dw[0][i] * st.w[1][j], st.w[0][i] * st.dw[1][j]);
+                f([i, j, 0], w, g);
+            }
+        }
+    }
+}
+
+impl Dim for D3 {
+    const DIM: usize = 3;
+    const LOG_BLOCK: u32 = 2;
+    type Vector = Vec3;
+    type Grad = Mat3;
+    type Sym = Sym3;
+    const GRAD_ZERO: Mat3 = Mat3::ZERO;
+
+    #[inline(always)]
+    fn outer(v: Vec3, g: Vec3) -> Mat3 {
+        Mat3::from_cols(v * g.x, v * g.y, v * g.z)
+    }
+    #[inline(always)]
+    fn rate_and_spin(l: Mat3) -> (Sym3, Vec3) {
+        // Column j of `l` holds ∂v/∂x_j, so L_ij = l.col(j)[i].
+        let (c0, c1, c2) = (l.x_axis, l.y_axis, l.z_axis);
+        let rate = Sym3 {
+            xx: c0.x,
+            yy: c1.y,
+            zz: c2.z,
+            xy: 0.5 * (c1.x + c0.y),
+            xz: 0.5 * (c2.x + c0.z),
+            yz: 0.5 * (c2.y + c1.z),
+        };
+        let spin = Vec3::new(0.5 * (c1.x - c0.y), 0.5 * (c2.x - c0.z), 0.5 * (c2.y - c1.z));
+        (rate, spin)
+    }
+    #[inline(always)]
+    fn sym_mul(s: Sym3, g: Vec3) -> Vec3 {
+        Vec3::new(
+            s.xx * g.x + s.xy * g.y + s.xz * g.z,
+            s.xy * g.x + s.yy * g.y + s.yz * g.z,
+            s.xz * g.x + s.yz * g.y + s.zz * g.z,
+        )
+    }
+    #[inline(always)]
+    fn vector(xyz: [Real; 3]) -> Vec3 {
+        Vec3::new(xyz[0], xyz[1], xyz[2])
+    }
+    #[inline(always)]
+    fn for_each_node<const S: usize>(st: &Stencil<S>, mut f: impl FnMut([usize; 3], Real, Vec3)) {
+        for k in 0..S {
+            for j in 0..S {
+                let wjk = st.w[1][j] * st.w[2][k];
+                let djk = st.dw[1][j] * st.w[2][k];
+                let wdjk = st.w[1][j] * st.dw[2][k];
+                for i in 0..S {
+                    let w = st.w[0][i] * wjk;
+                    let g = Vec3::new(st.dw[0][i] * wjk, st.w[0][i] * djk, st.w[0][i] * wdjk);
+                    f([i, j, k], w, g);
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sym3(m: Mat3) -> Sym3 {
+        Sym3 {
+            xx: m.x_axis.x,
+            yy: m.y_axis.y,
+            zz: m.z_axis.z,
+            xy: m.y_axis.x,
+            xz: m.z_axis.x,
+            yz: m.z_axis.y,
+        }
+    }
+
+    #[test]
+    fn rotation_3d_matches_an_exact_rotation_and_keeps_invariants() {
+        let s = Sym3 { xx: 3.0, yy: -1.0, zz: 0.5, xy: 0.7, xz: -0.2, yz: 0.4 };
+        // spin about z with rate w: W_xy = -w (v = w × x gives ∂v_x/∂y = -w).
+        let w = 0.8;
+        let dt = 0.01;
+        let r = s.rotate(Vec3::new(-w, 0.0, 0.0), dt);
+        // Cayley angle for an increment a = w dt / 2.
+        let a = 0.5 * w * dt;
+        let theta = 2.0 * (a as f64).atan();
+        let q = Mat3::from_rotation_z(theta as Real);
+        let m = Mat3::from_cols(
+            Vec3::new(s.xx, s.xy, s.xz),
+            Vec3::new(s.xy, s.yy, s.yz),
+            Vec3::new(s.xz, s.yz, s.zz),
+        );
+        let expect = sym3(q * m * q.transpose());
+        for (a, b) in r.components().iter().zip(expect.components()) {
+            assert!((a - b).abs() < 1e-5, "{r:?} vs {expect:?}");
+        }
+        assert!((r.trace() - s.trace()).abs() < 1e-5);
+        assert!((r.j2() - s.j2()).abs() < 1e-4);
+    }
+
+    #[test]
+    fn rotation_2d_matches_3d_about_z() {
+        let s2 = Sym2 { xx: 2.0, yy: -1.0, zz: 0.3, xy: 0.5 };
+        let s3 = Sym3 { xx: 2.0, yy: -1.0, zz: 0.3, xy: 0.5, xz: 0.0, yz: 0.0 };
+        let w = 1.3; // W_yx
+        let r2 = s2.rotate(w, 0.05);
+        let r3 = s3.rotate(Vec3::new(-w, 0.0, 0.0), 0.05);
+        assert!((r2.xx - r3.xx).abs() < 1e-6);
+        assert!((r2.yy - r3.yy).abs() < 1e-6);
+        assert!((r2.xy - r3.xy).abs() < 1e-6);
+        assert!((r2.zz - r3.zz).abs() < 1e-6);
+    }
+
+    #[test]
+    fn rate_and_spin_split_the_gradient() {
+        // v = (a y, 0): simple shear.
+        let l = D2::outer(Vec2::new(1.0, 0.0), Vec2::new(0.0, 2.0));
+        let (d, w) = D2::rate_and_spin(l);
+        assert_eq!(d, Sym2 { xx: 0.0, yy: 0.0, zz: 0.0, xy: 1.0 });
+        assert_eq!(w, -1.0);
+        let l3 = D3::outer(Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0));
+        let (d3, w3) = D3::rate_and_spin(l3);
+        assert_eq!(d3.xy, 1.0);
+        assert_eq!(w3, Vec3::new(1.0, 0.0, 0.0));
+    }
+}

@@ -1,0 +1,714 @@
+//! The simulation: particles, bodies with their grids, and the time step of Sec. 4.2.
+
+mod particles;
+pub mod passes;
+mod stats;
+
+pub use particles::Particles;
+pub use stats::{BodyStats, Diagnostics};
+
+use crate::boundary::{WallRule, Walls};
+use crate::config::{BodyConfig, MAX_PARTICLES, SceneConfig};
+use crate::contact::{self, ContactPair, ContactRule};
+use crate::error::{Error, Result};
+use crate::grid::{Grid, GridIndex, base_node};
+use crate::kernel::{Kernel, KernelKind, Linear, QuadraticBspline};
+use crate::material::{Constitutive, Model, elastic_energy_density};
+use crate::math::{D2, D3, Dim, Real, VectorOps};
+use passes::{GatherReport, GatherState, StressReport, StressState};
+use std::ops::Range;
+
+/// Runtime constants derived from the scene's world settings.
+#[derive(Clone, Copy, Debug)]
+struct World<D: Dim> {
+    h: Real,
+    inv_h: Real,
+    gravity: D::Vector,
+    cfl: f64,
+    max_dt: f64,
+    walls: Walls<D>,
+    kernel: KernelKind,
+    contact: ContactRule,
+}
+
+impl<D: Dim> World<D> {
+    fn new(scene: &SceneConfig) -> Self {
+        let h = scene.cell_size as Real;
+        let g = scene.gravity_vector();
+        let size = D::Vector::from_fn(|a| scene.domain.size[a] as Real);
+        World {
+            h,
+            inv_h: 1.0 / h,
+            gravity: D::Vector::from_fn(|a| g[a] as Real),
+            cfl: scene.cfl,
+            max_dt: scene.max_dt,
+            walls: Walls::new(WallRule::from_config(&scene.boundary), size, h),
+            kernel: scene.kernel,
+            contact: match scene.contact.friction {
+                None => ContactRule::Stick,
+                Some(mu) => ContactRule::Friction(mu as Real),
+            },
+        }
+    }
+}
+
+/// One body: a contiguous range of particles, its material and its own grid.
+#[derive(Clone, Debug)]
+pub struct Body<D: Dim> {
+    model: Model,
+    flip: Real,
+    range: Range<usize>,
+    grid: Grid<D>,
+    stats: BodyStats,
+    /// max V_p/m_p over the body, for the wave speed.
+    max_specific_volume: Real,
+}
+
+impl<D: Dim> Body<D> {
+    /// The particle indices of this body.
+    pub fn range(&self) -> Range<usize> {
+        self.range.clone()
+    }
+    /// Figures after the latest step.
+    pub fn stats(&self) -> &BodyStats {
+        &self.stats
+    }
+    /// The body's grid (blocks allocated in the latest step).
+    pub fn grid(&self) -> &Grid<D> {
+        &self.grid
+    }
+    /// The dilatational wave speed √((K + 4G/3)/ρ) at the body's lowest density (m/s).
+    pub fn wave_speed(&self) -> f64 {
+        let (g, k) = self.model.moduli();
+        ((k + 4.0 * g / 3.0) as f64 * self.max_specific_volume as f64).sqrt()
+    }
+}
+
+/// An MPM simulation in dimension `D` ([`D2`] plane strain or [`D3`]).
+#[derive(Clone, Debug)]
+pub struct Simulation<D: Dim> {
+    scene: SceneConfig,
+    world: World<D>,
+    particles: Particles<D>,
+    bodies: Vec<Body<D>>,
+    contacts: Vec<ContactPair>,
+    time: f64,
+    steps: u64,
+    diagnostics: Diagnostics,
+    failed: Option<Error>,
+    next_id: u32,
+    /// Particles are reordered by grid block every this many steps (0: never), for locality.
+    pub sort_interval: u64,
+}
+
+impl<D: Dim> Simulation<D> {
+    /// Builds a simulation from a scene (validated here).
+    pub fn new(scene: SceneConfig) -> Result<Self> {
+        if scene.dim != D::DIM {
+            return Err(Error::invalid("dim", scene.dim, format!("must be {} for a {}D simulation", D::DIM, D::DIM)));
+        }
+        scene.validate_world()?;
+        let bodies = scene.bodies.clone();
+        let mut sim = Simulation {
+            world: World::new(&scene),
+            scene: SceneConfig { bodies: Vec::new(), ..scene },
+            particles: Particles::default(),
+            bodies: Vec::new(),
+            contacts: Vec::new(),
+            time: 0.0,
+            steps: 0,
+            diagnostics: Diagnostics::default(),
+            failed: None,
+            next_id: 0,
+            sort_interval: 16,
+        };
+        for b in bodies {
+            sim.add_body(b)?;
+        }
+        Ok(sim)
+    }
+
+    /// A builder over an empty scene with the given domain size (m) and cell size (m).
+    pub fn builder(size: &[f64], cell_size: f64) -> SimulationBuilder<D> {
+        SimulationBuilder { scene: SceneConfig::new(D::DIM, size, cell_size), _dim: Default::default() }
+    }
+
+    /// Samples a body's shape into particles and adds it; returns its index.
+    pub fn add_body(&mut self, config: BodyConfig) -> Result<usize> {
+        let i = self.bodies.len();
+        let path = format!("bodies[{i}]");
+        config.validate(&path, D::DIM, &self.scene.domain.size)?;
+        let (points, volume) = config.shape.sample(D::DIM, self.scene.cell_size, config.particles_per_cell);
+        if points.is_empty() {
+            return Err(Error::invalid(
+                format!("{path}.shape"),
+                "a shape with no particle",
+                "must hold at least one particle at this cell_size and particles_per_cell",
+            ));
+        }
+        if self.particles.len() + points.len() > MAX_PARTICLES {
+            return Err(Error::invalid(
+                format!("{path}.shape"),
+                format!("{} more particles", points.len()),
+                format!("the simulation holds at most {MAX_PARTICLES} particles"),
+            ));
+        }
+        let density = config.material.density();
+        let v0 = config.velocity.as_deref().map_or(D::Vector::ZERO, |v| D::Vector::from_fn(|a| v[a] as Real));
+        let start = self.particles.len();
+        let mass = (volume * density) as Real;
+        for p in points {
+            let x = self.world.walls.clamp(D::vector(p.map(|c| c as Real)));
+            self.particles.push(x, v0, volume as Real, mass, self.next_id);
+            self.next_id += 1;
+        }
+        self.bodies.push(Body {
+            model: config.material.model(),
+            flip: config.flip_ratio() as Real,
+            range: start..self.particles.len(),
+            grid: Grid::default(),
+            stats: BodyStats::default(),
+            max_specific_volume: (1.0 / density) as Real,
+        });
+        self.scene.bodies.push(config);
+        self.measure();
+        Ok(i)
+    }
+
+    /// Removes body `i` and its particles.
+    pub fn remove_body(&mut self, i: usize) -> Result<()> {
+        if i >= self.bodies.len() {
+            return Err(Error::invalid("body", i, format!("must be a body index below {}", self.bodies.len())));
+        }
+        let r = self.bodies[i].range.clone();
+        let p = &mut self.particles;
+        p.x.drain(r.clone());
+        p.v.drain(r.clone());
+        p.stress.drain(r.clone());
+        p.volume.drain(r.clone());
+        p.mass.drain(r.clone());
+        p.plastic_strain.drain(r.clone());
+        p.id.drain(r.clone());
+        self.bodies.remove(i);
+        self.scene.bodies.remove(i);
+        for b in &mut self.bodies[i..] {
+            b.range = b.range.start - r.len()..b.range.end - r.len();
+        }
+        self.measure();
+        Ok(())
+    }
+
+    /// Removes every body.
+    pub fn clear(&mut self) {
+        self.particles.clear();
+        self.bodies.clear();
+        self.scene.bodies.clear();
+        self.contacts.clear();
+        self.failed = None;
+        self.measure();
+    }
+
+    /// Changes parameters while running: `f` edits a copy of the scene; the copy is validated
+    /// like a scene file and applied, or rejected with the state unchanged. World settings,
+    /// materials and PIC/FLIP ratios may change; dimension, domain and the bodies' shapes,
+    /// sampling and initial velocities may not.
+    pub fn configure(&mut self, f: impl FnOnce(&mut SceneConfig)) -> Result<()> {
+        let mut next = self.scene.clone();
+        f(&mut next);
+        if next.dim != self.scene.dim {
+            return Err(Error::invalid("dim", next.dim, format!("cannot change while running (is {})", self.scene.dim)));
+        }
+        if next.domain != self.scene.domain {
+            return Err(Error::invalid(
+                "domain.size",
+                format!("{:?}", next.domain.size),
+                format!("cannot change while running (is {:?})", self.scene.domain.size),
+            ));
+        }
+        if next.bodies.len() != self.scene.bodies.len() {
+            return Err(Error::invalid("bodies", next.bodies.len(), "use add_body/remove_body to change the bodies"));
+        }
+        for (i, (a, b)) in next.bodies.iter().zip(&self.scene.bodies).enumerate() {
+            if a.shape != b.shape || a.particles_per_cell != b.particles_per_cell || a.velocity != b.velocity {
+                return Err(Error::invalid(
+                    format!("bodies[{i}]"),
+                    "a new shape, sampling or initial velocity",
+                    "cannot change while running: add a new body instead",
+                ));
+            }
+        }
+        next.validate()?;
+        self.world = World::new(&next);
+        for (body, cfg) in self.bodies.iter_mut().zip(&next.bodies) {
+            body.model = cfg.material.model();
+            body.flip = cfg.flip_ratio() as Real;
+        }
+        self.scene = next;
+        Ok(())
+    }
+
+    /// The scene as it stands: world settings and the bodies' parameters.
+    pub fn scene(&self) -> &SceneConfig {
+        &self.scene
+    }
+    pub fn particles(&self) -> &Particles<D> {
+        &self.particles
+    }
+    /// Direct access to particle state (for tests and tools that set up special states).
+    pub fn particles_mut(&mut self) -> &mut Particles<D> {
+        &mut self.particles
+    }
+    pub fn bodies(&self) -> &[Body<D>] {
+        &self.bodies
+    }
+    /// Diagnostics after the latest step.
+    pub fn diagnostics(&self) -> &Diagnostics {
+        &self.diagnostics
+    }
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+    pub fn cell_size(&self) -> f64 {
+        self.world.h as f64
+    }
+    /// The error that stopped the simulation, if any.
+    pub fn failure(&self) -> Option<&Error> {
+        self.failed.as_ref()
+    }
+
+    /// Bytes of particle and grid state.
+    pub fn memory_bytes(&self) -> usize {
+        self.particles.x.capacity() * Particles::<D>::bytes_per_particle()
+            + self.bodies.iter().map(|b| b.grid.memory_bytes()).sum::<usize>()
+    }
+
+    /// The time step the next step will take: dt = CFL · h / max(c + |v|), capped by max_dt,
+    /// with c = √((K + 4G/3)/ρ) at each body's lowest density.
+    pub fn stable_dt(&self) -> f64 {
+        let c = self.bodies.iter().map(|b| b.wave_speed()).fold(0.0, f64::max);
+        let speed = c + self.diagnostics.max_speed;
+        if speed > 0.0 { (self.world.cfl * self.world.h as f64 / speed).min(self.world.max_dt) } else { self.world.max_dt }
+    }
+
+    /// Advances by `duration` seconds (the last step is shortened to land on it); returns the
+    /// number of steps taken.
+    pub fn advance(&mut self, duration: f64) -> Result<usize> {
+        let end = self.time + duration;
+        let mut n = 0;
+        while self.time < end - 1e-12 * end.abs().max(1.0) {
+            self.step_at_most(end - self.time)?;
+            n += 1;
+        }
+        Ok(n)
+    }
+
+    /// One time step of the adaptive size.
+    pub fn step(&mut self) -> Result<&Diagnostics> {
+        self.step_at_most(f64::INFINITY)
+    }
+
+    /// One time step, no longer than `limit` seconds: the eight steps of Sec. 4.2.
+    pub fn step_at_most(&mut self, limit: f64) -> Result<&Diagnostics> {
+        if let Some(e) = &self.failed {
+            return Err(e.clone());
+        }
+        let dt = self.stable_dt().min(limit);
+        self.allocate_grids();
+        self.scatter_to_grid(); // 1
+        let stress = self.update_stress(dt as Real); // 2, 3
+        self.update_grid(dt as Real); // 4, 5
+        let gathered = self.gather_and_advect(dt as Real); // 6, 7, 8
+        self.time += dt;
+        self.steps += 1;
+        self.finish_step(dt, &stress, &gathered)?;
+        Ok(&self.diagnostics)
+    }
+
+    /// Allocates each body's grid blocks where its particles are, reorders particles by block
+    /// now and then, and finds the bodies whose grids overlap.
+    fn allocate_grids(&mut self) {
+        let (kernel, inv_h) = (self.world.kernel, self.world.inv_h);
+        let sort = self.sort_interval > 0 && self.steps.is_multiple_of(self.sort_interval);
+        for body in &mut self.bodies {
+            let x = &self.particles.x[body.range.clone()];
+            body.grid.rebuild(x.len(), kernel.support(), |p| base_node::<D>(x[p], inv_h, kernel));
+            if sort {
+                let index = &body.grid.index;
+                let keys: Vec<u32> = x
+                    .iter()
+                    .map(|&xp| index.slot_of(base_node::<D>(xp, inv_h, kernel)).unwrap_or(0) as u32)
+                    .collect();
+                if keys.windows(2).any(|w| w[0] > w[1]) {
+                    let order = counting_sort(&keys, index.block_count());
+                    self.particles.permute(body.range.clone(), &order);
+                }
+            }
+        }
+        let indices: Vec<&GridIndex<D>> = self.bodies.iter().map(|b| &b.grid.index).collect();
+        contact::find_pairs(&indices, &mut self.contacts);
+        for pair in &self.contacts {
+            for i in [pair.a, pair.b] {
+                if self.bodies[i].grid.mass_grad.is_empty() {
+                    self.bodies[i].grid.enable_mass_gradient();
+                }
+            }
+        }
+    }
+
+    /// Step 1: mass and momentum to each body's grid; then grid velocities.
+    fn scatter_to_grid(&mut self) {
+        let p = &self.particles;
+        let inv_h = self.world.inv_h;
+        for body in &mut self.bodies {
+            let r = body.range.clone();
+            let (x, v, m) = (&p.x[r.clone()], &p.v[r.clone()], &p.mass[r]);
+            match self.world.kernel {
+                KernelKind::Linear => passes::scatter::<D, Linear, 2>(&mut body.grid, x, v, m, inv_h),
+                KernelKind::QuadraticBspline => passes::scatter::<D, QuadraticBspline, 3>(&mut body.grid, x, v, m, inv_h),
+            }
+            passes::grid_velocities(&mut body.grid);
+        }
+    }
+
+    /// Steps 2–3 and the particle side of step 4, per body.
+    fn update_stress(&mut self, dt: Real) -> Vec<StressReport> {
+        let inv_h = self.world.inv_h;
+        let kernel = self.world.kernel;
+        let p = &mut self.particles;
+        let mut reports = Vec::with_capacity(self.bodies.len());
+        for body in &mut self.bodies {
+            let r = body.range.clone();
+            let state = StressState {
+                x: &p.x[r.clone()],
+                mass: &p.mass[r.clone()],
+                stress: &mut p.stress[r.clone()],
+                volume: &mut p.volume[r.clone()],
+                plastic_strain: &mut p.plastic_strain[r],
+            };
+            let report = match kernel {
+                KernelKind::Linear => stress_pass::<D, Linear, 2>(&mut body.grid, state, &body.model, dt, inv_h),
+                KernelKind::QuadraticBspline => {
+                    stress_pass::<D, QuadraticBspline, 3>(&mut body.grid, state, &body.model, dt, inv_h)
+                }
+            };
+            if report.bad == 0 {
+                body.max_specific_volume = report.max_specific_volume;
+            }
+            reports.push(report);
+        }
+        reports
+    }
+
+    /// Steps 4–5 on the grid: forces and gravity, contact between bodies, walls.
+    fn update_grid(&mut self, dt: Real) {
+        for body in &mut self.bodies {
+            passes::grid_forces(&mut body.grid, self.world.gravity, dt);
+        }
+        for pair in &self.contacts {
+            let (left, right) = self.bodies.split_at_mut(pair.b);
+            let d = contact::resolve(&mut left[pair.a].grid, &mut right[0].grid, &pair.blocks, self.world.contact);
+            self.diagnostics.dissipated_contact += d;
+        }
+        for body in &mut self.bodies {
+            self.diagnostics.dissipated_boundary += passes::grid_walls(&mut body.grid, &self.world.walls);
+        }
+    }
+
+    /// Steps 6–8, per body.
+    fn gather_and_advect(&mut self, dt: Real) -> Vec<GatherReport<D>> {
+        let w = self.world;
+        let p = &mut self.particles;
+        let mut reports = Vec::with_capacity(self.bodies.len());
+        for body in &self.bodies {
+            let r = body.range.clone();
+            let state = GatherState {
+                x: &mut p.x[r.clone()],
+                v: &mut p.v[r.clone()],
+                mass: &p.mass[r.clone()],
+                plastic_strain: &p.plastic_strain[r],
+            };
+            reports.push(match w.kernel {
+                KernelKind::Linear => passes::gather_and_advect::<D, Linear, 2>(
+                    &body.grid, state, body.flip, dt, w.inv_h, &w.walls, w.gravity,
+                ),
+                KernelKind::QuadraticBspline => passes::gather_and_advect::<D, QuadraticBspline, 3>(
+                    &body.grid, state, body.flip, dt, w.inv_h, &w.walls, w.gravity,
+                ),
+            });
+        }
+        reports
+    }
+
+    /// Sums the reports into the diagnostics; fails on the first non-finite particle.
+    fn finish_step(&mut self, dt: f64, stress: &[StressReport], gathered: &[GatherReport<D>]) -> Result<()> {
+        let d = &mut self.diagnostics;
+        d.time = self.time;
+        d.step = self.steps;
+        d.dt = dt;
+        d.particles = self.particles.len();
+        d.nonfinite = stress.iter().map(|s| s.bad).sum::<usize>() + gathered.iter().map(|g| g.bad).sum::<usize>();
+        d.grid_blocks = self.bodies.iter().map(|b| b.grid.index.block_count()).sum();
+        let (mut kinetic, mut grav, mut elastic, mut momentum, mut max_speed) = (0.0, 0.0, 0.0, [0.0; 3], 0.0f64);
+        for (i, body) in self.bodies.iter_mut().enumerate() {
+            let (s, g) = (&stress[i], &gathered[i]);
+            d.dissipated_plastic += s.dissipated;
+            d.dissipated_boundary += g.dissipated_walls;
+            body.stats.dissipated_plastic += s.dissipated;
+            body.stats.elastic = s.elastic;
+            set_body_stats::<D>(&mut body.stats, g, body.range.len());
+            kinetic += g.kinetic;
+            grav += g.gravitational;
+            elastic += s.elastic;
+            max_speed = max_speed.max(g.max_speed as f64);
+            for a in 0..3 {
+                momentum[a] += g.momentum[a];
+            }
+        }
+        d.kinetic = kinetic;
+        d.gravitational = grav;
+        d.elastic = elastic;
+        d.momentum = momentum;
+        d.max_speed = max_speed;
+        let c = self.bodies.iter().map(|b| b.wave_speed()).fold(0.0, f64::max);
+        d.cfl = dt * (c + max_speed) / self.world.h as f64;
+        for i in 0..self.bodies.len() {
+            let bad = stress[i].first_bad.or_else(|| gathered[i].first_bad.map(|p| (p, "velocity or position")));
+            if let Some((p, quantity)) = bad {
+                let e = Error::NonFinite {
+                    body: self.scene.bodies[i].name.clone(),
+                    particle: p,
+                    quantity,
+                    step: self.steps,
+                };
+                self.failed = Some(e.clone());
+                return Err(e);
+            }
+        }
+        Ok(())
+    }
+
+    /// Recomputes the diagnostics and per-body figures from the particle state, without
+    /// stepping (after bodies are added or removed).
+    fn measure(&mut self) {
+        let w = self.world;
+        let p = &self.particles;
+        let mut stress = Vec::new();
+        let mut gathered = Vec::new();
+        for body in &mut self.bodies {
+            let r = body.range.clone();
+            let (g, k) = body.model.moduli();
+            let mut s = StressReport::default();
+            let mut acc = passes::GatherReport::<D>::empty();
+            for i in r {
+                s.elastic += (elastic_energy_density(p.stress[i], g, k) * p.volume[i]) as f64;
+                s.max_specific_volume = s.max_specific_volume.max(p.volume[i] / p.mass[i]);
+                acc.record(p.mass[i], p.x[i], p.v[i], w.gravity, p.plastic_strain[i]);
+            }
+            acc.max_speed = acc.max_speed.sqrt();
+            body.max_specific_volume = s.max_specific_volume;
+            stress.push(s);
+            gathered.push(acc);
+        }
+        let (kept_plastic, kept_boundary, kept_contact) = (
+            self.diagnostics.dissipated_plastic,
+            self.diagnostics.dissipated_boundary,
+            self.diagnostics.dissipated_contact,
+        );
+        let dt = self.diagnostics.dt;
+        // finish_step adds this step's dissipation; a measurement adds none.
+        let _ = self.finish_step(dt, &stress, &gathered);
+        self.diagnostics.dissipated_plastic = kept_plastic;
+        self.diagnostics.dissipated_boundary = kept_boundary;
+        self.diagnostics.dissipated_contact = kept_contact;
+    }
+}
+
+/// The stress pass of one body, dispatched on its model.
+fn stress_pass<D: Dim, K: Kernel<S>, const S: usize>(
+    grid: &mut Grid<D>,
+    state: StressState<'_, D>,
+    model: &Model,
+    dt: Real,
+    inv_h: Real,
+) -> StressReport {
+    fn run<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
+        grid: &mut Grid<D>,
+        state: StressState<'_, D>,
+        model: &M,
+        dt: Real,
+        inv_h: Real,
+    ) -> StressReport {
+        passes::update_stress::<D, K, M, S>(grid, state, model, dt, inv_h)
+    }
+    match model {
+        Model::Elastic(m) => run::<D, K, _, S>(grid, state, m, dt, inv_h),
+        Model::VonMises(m) => run::<D, K, _, S>(grid, state, m, dt, inv_h),
+        Model::DruckerPrager(m) => run::<D, K, _, S>(grid, state, m, dt, inv_h),
+    }
+}
+
+fn set_body_stats<D: Dim>(stats: &mut BodyStats, g: &GatherReport<D>, particles: usize) {
+    stats.particles = particles;
+    stats.mass = g.mass;
+    stats.kinetic = g.kinetic;
+    stats.gravitational = g.gravitational;
+    stats.momentum = g.momentum;
+    stats.max_speed = g.max_speed as f64;
+    stats.max_plastic_strain = g.max_plastic_strain as f64;
+    for a in 0..3 {
+        stats.center_of_mass[a] = if g.mass > 0.0 { g.first_moment[a] / g.mass } else { 0.0 };
+        stats.bbox_min[a] = if a < D::DIM && particles > 0 { g.min[a] as f64 } else { 0.0 };
+        stats.bbox_max[a] = if a < D::DIM && particles > 0 { g.max[a] as f64 } else { 0.0 };
+    }
+}
+
+/// The permutation that sorts `keys` (all below `n`) stably.
+fn counting_sort(keys: &[u32], n: usize) -> Vec<u32> {
+    let mut start = vec![0u32; n + 1];
+    for &k in keys {
+        start[k as usize + 1] += 1;
+    }
+    for i in 0..n {
+        start[i + 1] += start[i];
+    }
+    let mut order = vec![0u32; keys.len()];
+    for (p, &k) in keys.iter().enumerate() {
+        order[start[k as usize] as usize] = p as u32;
+        start[k as usize] += 1;
+    }
+    order
+}
+
+/// Sets up a scene in Rust; [`SimulationBuilder::build`] validates it like a scene file.
+#[derive(Clone, Debug)]
+pub struct SimulationBuilder<D: Dim> {
+    pub scene: SceneConfig,
+    _dim: std::marker::PhantomData<D>,
+}
+
+impl<D: Dim> SimulationBuilder<D> {
+    pub fn name(mut self, name: &str) -> Self {
+        self.scene.name = name.to_string();
+        self
+    }
+    /// Gravity (m/s²).
+    pub fn gravity(mut self, g: &[f64]) -> Self {
+        self.scene.gravity = Some(g.to_vec());
+        self
+    }
+    pub fn cfl(mut self, cfl: f64) -> Self {
+        self.scene.cfl = cfl;
+        self
+    }
+    /// Largest time step (s).
+    pub fn max_dt(mut self, dt: f64) -> Self {
+        self.scene.max_dt = dt;
+        self
+    }
+    /// Coulomb friction μ of walls and ground.
+    pub fn wall_friction(mut self, mu: f64) -> Self {
+        self.scene.boundary.friction = mu;
+        self
+    }
+    /// Sticky walls (no motion at the walls).
+    pub fn sticky_walls(mut self) -> Self {
+        self.scene.boundary.sticky = true;
+        self
+    }
+    pub fn kernel(mut self, k: KernelKind) -> Self {
+        self.scene.kernel = k;
+        self
+    }
+    /// Coulomb friction between bodies instead of the paper's sticking contact.
+    pub fn contact_friction(mut self, mu: f64) -> Self {
+        self.scene.contact.friction = Some(mu);
+        self
+    }
+    pub fn body(mut self, body: BodyConfig) -> Self {
+        self.scene.bodies.push(body);
+        self
+    }
+    pub fn build(self) -> Result<Simulation<D>> {
+        Simulation::new(self.scene)
+    }
+}
+
+/// A simulation whose dimension is chosen at run time (by the scene's `dim`).
+#[derive(Clone, Debug)]
+pub enum AnySimulation {
+    D2(Simulation<D2>),
+    D3(Simulation<D3>),
+}
+
+macro_rules! delegate {
+    ($self:ident, $s:ident => $e:expr) => {
+        match $self {
+            AnySimulation::D2($s) => $e,
+            AnySimulation::D3($s) => $e,
+        }
+    };
+}
+
+impl AnySimulation {
+    pub fn new(scene: SceneConfig) -> Result<Self> {
+        match scene.dim {
+            2 => Ok(AnySimulation::D2(Simulation::new(scene)?)),
+            3 => Ok(AnySimulation::D3(Simulation::new(scene)?)),
+            d => Err(Error::invalid("dim", d, "must be 2 or 3")),
+        }
+    }
+    pub fn dim(&self) -> usize {
+        delegate!(self, s => s.scene().dim)
+    }
+    pub fn step(&mut self) -> Result<&Diagnostics> {
+        delegate!(self, s => s.step())
+    }
+    pub fn step_at_most(&mut self, limit: f64) -> Result<&Diagnostics> {
+        delegate!(self, s => s.step_at_most(limit))
+    }
+    pub fn advance(&mut self, duration: f64) -> Result<usize> {
+        delegate!(self, s => s.advance(duration))
+    }
+    pub fn diagnostics(&self) -> &Diagnostics {
+        delegate!(self, s => s.diagnostics())
+    }
+    pub fn body_stats(&self) -> Vec<BodyStats> {
+        delegate!(self, s => s.bodies().iter().map(|b| b.stats().clone()).collect())
+    }
+    pub fn scene(&self) -> &SceneConfig {
+        delegate!(self, s => s.scene())
+    }
+    pub fn configure(&mut self, f: impl FnOnce(&mut SceneConfig)) -> Result<()> {
+        delegate!(self, s => s.configure(f))
+    }
+    pub fn add_body(&mut self, body: BodyConfig) -> Result<usize> {
+        delegate!(self, s => s.add_body(body))
+    }
+    pub fn remove_body(&mut self, i: usize) -> Result<()> {
+        delegate!(self, s => s.remove_body(i))
+    }
+    pub fn clear(&mut self) {
+        delegate!(self, s => s.clear())
+    }
+    pub fn time(&self) -> f64 {
+        delegate!(self, s => s.time())
+    }
+    pub fn steps(&self) -> u64 {
+        delegate!(self, s => s.steps())
+    }
+    pub fn stable_dt(&self) -> f64 {
+        delegate!(self, s => s.stable_dt())
+    }
+    pub fn particle_count(&self) -> usize {
+        delegate!(self, s => s.particles().len())
+    }
+    pub fn memory_bytes(&self) -> usize {
+        delegate!(self, s => s.memory_bytes())
+    }
+    pub fn failure(&self) -> Option<&Error> {
+        delegate!(self, s => s.failure())
+    }
+}

@@ -1,0 +1,88 @@
+//! Particle state, structure of arrays. The particles of one body are contiguous.
+
+use crate::math::{Dim, Real, SymTensor, VectorOps};
+use std::ops::Range;
+
+/// The state of every particle of a simulation.
+#[derive(Clone, Debug, Default)]
+pub struct Particles<D: Dim> {
+    /// Position x_p (m).
+    pub x: Vec<D::Vector>,
+    /// Velocity v_p (m/s).
+    pub v: Vec<D::Vector>,
+    /// Cauchy stress σ_p (Pa, tension positive).
+    pub stress: Vec<D::Sym>,
+    /// Volume V_p (m³; m² per unit depth in 2D).
+    pub volume: Vec<Real>,
+    /// Mass m_p (kg; kg/m in 2D).
+    pub mass: Vec<Real>,
+    /// Accumulated equivalent plastic strain.
+    pub plastic_strain: Vec<Real>,
+    /// A stable identifier (particles are reordered for locality).
+    pub id: Vec<u32>,
+}
+
+impl<D: Dim> Particles<D> {
+    pub fn len(&self) -> usize {
+        self.x.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.x.is_empty()
+    }
+
+    /// Appends a particle at rest with zero stress.
+    pub fn push(&mut self, x: D::Vector, v: D::Vector, volume: Real, mass: Real, id: u32) {
+        self.x.push(x);
+        self.v.push(v);
+        self.stress.push(D::Sym::ZERO);
+        self.volume.push(volume);
+        self.mass.push(mass);
+        self.plastic_strain.push(0.0);
+        self.id.push(id);
+    }
+
+    /// Removes every particle.
+    pub fn clear(&mut self) {
+        self.x.clear();
+        self.v.clear();
+        self.stress.clear();
+        self.volume.clear();
+        self.mass.clear();
+        self.plastic_strain.clear();
+        self.id.clear();
+    }
+
+    /// Reorders the particles of `range` so that the particle now at `range.start + i` is the
+    /// one that was at `range.start + order[i]`.
+    pub fn permute(&mut self, range: Range<usize>, order: &[u32]) {
+        fn apply<T: Copy>(v: &mut [T], order: &[u32]) {
+            let old: Vec<T> = v.to_vec();
+            for (dst, &src) in v.iter_mut().zip(order) {
+                *dst = old[src as usize];
+            }
+        }
+        let r = range;
+        apply(&mut self.x[r.clone()], order);
+        apply(&mut self.v[r.clone()], order);
+        apply(&mut self.stress[r.clone()], order);
+        apply(&mut self.volume[r.clone()], order);
+        apply(&mut self.mass[r.clone()], order);
+        apply(&mut self.plastic_strain[r.clone()], order);
+        apply(&mut self.id[r], order);
+    }
+
+    /// Bytes of particle state per particle.
+    pub fn bytes_per_particle() -> usize {
+        2 * std::mem::size_of::<D::Vector>() + std::mem::size_of::<D::Sym>() + 3 * std::mem::size_of::<Real>() + 4
+    }
+
+    /// Pressure P = −tr(σ)/3 of particle `p` (Pa).
+    pub fn pressure(&self, p: usize) -> Real {
+        -self.stress[p].trace() / 3.0
+    }
+
+    /// Speed |v_p| (m/s).
+    pub fn speed(&self, p: usize) -> Real {
+        self.v[p].length()
+    }
+}

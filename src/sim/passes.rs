@@ -1,0 +1,281 @@
+//! The passes of one time step (the paper's Sec. 4.2), each a loop over one body's particles
+//! or grid nodes, generic over the dimension `D`, the kernel `K` (with `S` nodes per axis)
+//! and, for the stress update, the constitutive model `M`.
+
+use crate::boundary::Walls;
+use crate::grid::{GHOST, Grid, GridIndex};
+use crate::kernel::Kernel;
+use crate::material::{Constitutive, elastic_energy_density};
+use crate::math::{Dim, Real, SymTensor, VectorOps};
+
+/// The most nodes a stencil has (quadratic B-spline in 3D).
+const MAX_STENCIL: usize = 27;
+
+/// Grid coordinates of a position.
+#[inline(always)]
+fn grid_coords<D: Dim>(x: D::Vector, inv_h: Real) -> [Real; 3] {
+    let mut g = [0.0; 3];
+    for (a, c) in g.iter_mut().enumerate().take(D::DIM) {
+        *c = x[a] * inv_h + GHOST as Real;
+    }
+    g
+}
+
+/// Step 1: rasterise mass and momentum, m_i = Σ_p m_p w_ip and (mv)_i = Σ_p m_p v_p w_ip;
+/// for bodies that may touch another body also the mass gradient ∇m_i = Σ_p m_p ∇w_ip.
+pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
+    grid: &mut Grid<D>,
+    x: &[D::Vector],
+    v: &[D::Vector],
+    mass: &[Real],
+    inv_h: Real,
+) {
+    let Grid { index, nodes, mass_grad } = grid;
+    let with_gradient = !mass_grad.is_empty();
+    for p in 0..x.len() {
+        let st = K::stencil(grid_coords::<D>(x[p], inv_h), D::DIM, inv_h);
+        let si = index.stencil_index::<S>(st.base);
+        let (m, mv) = (mass[p], v[p] * mass[p]);
+        D::for_each_node(&st, |ijk, w, g| {
+            let n = index.node(&si, ijk);
+            let node = &mut nodes[n];
+            node.mass += w * m;
+            node.vel += mv * w;
+            if with_gradient {
+                mass_grad[n] += g * m;
+            }
+        });
+    }
+}
+
+/// Grid velocities v_i = (mv)_i / m_i.
+pub fn grid_velocities<D: Dim>(grid: &mut Grid<D>) {
+    for node in &mut grid.nodes {
+        if node.mass > 0.0 {
+            node.vel = node.vel / node.mass;
+        }
+    }
+}
+
+/// The mutable particle state the stress pass touches.
+pub struct StressState<'a, D: Dim> {
+    pub x: &'a [D::Vector],
+    pub mass: &'a [Real],
+    pub stress: &'a mut [D::Sym],
+    pub volume: &'a mut [Real],
+    pub plastic_strain: &'a mut [Real],
+}
+
+/// What the stress pass measured.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct StressReport {
+    /// Stored elastic energy Σ V W(σ) after the update.
+    pub elastic: f64,
+    /// Energy removed by plastic correction in this step.
+    pub dissipated: f64,
+    /// max V_p/m_p, i.e. 1/ρ_min (for the wave speed).
+    pub max_specific_volume: Real,
+    /// Number of particles whose stress or volume went non-finite, and the first of them.
+    pub bad: usize,
+    pub first_bad: Option<(usize, &'static str)>,
+}
+
+/// Steps 2–4, particle side: the velocity gradient ∇v_p = Σ_i v_i ⊗ ∇w_ip, the stress update
+/// by the body's model, the volume update V_p ← V_p (1 + Δt tr ε̇), and the internal forces
+/// f_i = −Σ_p V_p σ_p ∇w_ip (accumulated in the nodes' `new_vel`).
+pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
+    grid: &mut Grid<D>,
+    ps: StressState<'_, D>,
+    model: &M,
+    dt: Real,
+    inv_h: Real,
+) -> StressReport {
+    let Grid { index, nodes, .. } = grid;
+    let (g_mod, k_mod) = model.moduli();
+    let mut report = StressReport::default();
+    let mut idx = [0usize; MAX_STENCIL];
+    let mut grads = [D::Vector::ZERO; MAX_STENCIL];
+    for p in 0..ps.x.len() {
+        let st = K::stencil(grid_coords::<D>(ps.x[p], inv_h), D::DIM, inv_h);
+        let si = index.stencil_index::<S>(st.base);
+        let mut count = 0;
+        let mut grad_v = D::GRAD_ZERO;
+        D::for_each_node(&st, |ijk, _, g| {
+            let n = index.node(&si, ijk);
+            idx[count] = n;
+            grads[count] = g;
+            count += 1;
+            grad_v += D::outer(nodes[n].vel, g);
+        });
+        let (rate, spin) = D::rate_and_spin(grad_v);
+        let update = model.update(&mut ps.stress[p], rate, spin, dt);
+        if M::PLASTIC {
+            ps.plastic_strain[p] += update.plastic_strain;
+            report.dissipated += (update.dissipation * ps.volume[p]) as f64;
+        }
+        let volume = ps.volume[p] * (1.0 + dt * rate.trace());
+        ps.volume[p] = volume;
+        let sigma = ps.stress[p];
+        if !(sigma.is_finite() && volume > 0.0 && volume.is_finite()) {
+            report.bad += 1;
+            report.first_bad.get_or_insert((p, if sigma.is_finite() { "volume" } else { "stress" }));
+            continue;
+        }
+        report.elastic += (elastic_energy_density(sigma, g_mod, k_mod) * volume) as f64;
+        report.max_specific_volume = report.max_specific_volume.max(volume / ps.mass[p]);
+        let vs = sigma * -volume;
+        for c in 0..count {
+            nodes[idx[c]].new_vel += D::sym_mul(vs, grads[c]);
+        }
+    }
+    report
+}
+
+/// Step 4, grid side: v*_i = v_i + Δt (f_i/m_i + g).
+pub fn grid_forces<D: Dim>(grid: &mut Grid<D>, gravity: D::Vector, dt: Real) {
+    for node in &mut grid.nodes {
+        if node.mass > 0.0 {
+            node.new_vel = node.vel + (node.new_vel / node.mass + gravity) * dt;
+        }
+    }
+}
+
+/// Step 5, walls: constrains the nodes on or beyond the domain's faces; returns the kinetic
+/// energy the constraint removed.
+pub fn grid_walls<D: Dim>(grid: &mut Grid<D>, walls: &Walls<D>) -> f64 {
+    let Grid { index, nodes, .. } = grid;
+    let bn = GridIndex::<D>::block_nodes();
+    let edge = GridIndex::<D>::BLOCK as i32;
+    let mut dissipated = 0.0;
+    for slot in 0..index.block_count() {
+        let origin = index.block_origin(slot);
+        if !walls.block_touches(origin, edge) {
+            continue;
+        }
+        for (l, node) in nodes[slot * bn..(slot + 1) * bn].iter_mut().enumerate() {
+            if node.mass <= 0.0 {
+                continue;
+            }
+            let mut coord = origin;
+            for (a, c) in coord.iter_mut().enumerate().take(D::DIM) {
+                *c += ((l >> (D::LOG_BLOCK as usize * a)) & (edge as usize - 1)) as i32;
+            }
+            let before = node.new_vel;
+            let after = walls.node_velocity(coord, before);
+            if after != before {
+                dissipated += 0.5 * (node.mass * (before.length_squared() - after.length_squared())) as f64;
+                node.new_vel = after;
+            }
+        }
+    }
+    dissipated
+}
+
+/// The mutable particle state the gather pass touches.
+pub struct GatherState<'a, D: Dim> {
+    pub x: &'a mut [D::Vector],
+    pub v: &'a mut [D::Vector],
+    pub mass: &'a [Real],
+    pub plastic_strain: &'a [Real],
+}
+
+/// What the gather pass measured (after the step).
+#[derive(Clone, Copy, Debug)]
+pub struct GatherReport<D: Dim> {
+    pub mass: f64,
+    pub kinetic: f64,
+    pub gravitational: f64,
+    pub momentum: [f64; 3],
+    /// Σ m x.
+    pub first_moment: [f64; 3],
+    pub min: D::Vector,
+    pub max: D::Vector,
+    pub max_speed: Real,
+    pub max_plastic_strain: Real,
+    /// Kinetic energy removed by the particle-side wall projection.
+    pub dissipated_walls: f64,
+    pub bad: usize,
+    pub first_bad: Option<usize>,
+}
+
+impl<D: Dim> GatherReport<D> {
+    /// Nothing recorded yet.
+    pub fn empty() -> Self {
+        GatherReport {
+            mass: 0.0,
+            kinetic: 0.0,
+            gravitational: 0.0,
+            momentum: [0.0; 3],
+            first_moment: [0.0; 3],
+            min: D::Vector::splat(Real::INFINITY),
+            max: D::Vector::splat(Real::NEG_INFINITY),
+            max_speed: 0.0,
+            max_plastic_strain: 0.0,
+            dissipated_walls: 0.0,
+            bad: 0,
+            first_bad: None,
+        }
+    }
+
+    /// Adds one particle (`max_speed` holds the squared speed until the caller takes the root).
+    #[inline(always)]
+    pub fn record(&mut self, m: Real, x: D::Vector, v: D::Vector, gravity: D::Vector, plastic_strain: Real) {
+        let (md, v2) = (m as f64, v.length_squared());
+        self.mass += md;
+        self.kinetic += 0.5 * md * v2 as f64;
+        self.gravitational -= md * gravity.dot(x) as f64;
+        for a in 0..D::DIM {
+            self.momentum[a] += md * v[a] as f64;
+            self.first_moment[a] += md * x[a] as f64;
+        }
+        self.min = self.min.min(x);
+        self.max = self.max.max(x);
+        self.max_speed = self.max_speed.max(v2);
+        self.max_plastic_strain = self.max_plastic_strain.max(plastic_strain);
+    }
+}
+
+/// Steps 6–8: the PIC/FLIP blend v_p = (1 − α) Σ_i v_i^{n+1} w_ip + α (v_p + Σ_i Δv_i w_ip),
+/// the particle-side wall projection, and advection x_p += Δt v_p.
+#[allow(clippy::too_many_arguments)]
+pub fn gather_and_advect<D: Dim, K: Kernel<S>, const S: usize>(
+    grid: &Grid<D>,
+    ps: GatherState<'_, D>,
+    alpha: Real,
+    dt: Real,
+    inv_h: Real,
+    walls: &Walls<D>,
+    gravity: D::Vector,
+) -> GatherReport<D> {
+    let Grid { index, nodes, .. } = grid;
+    let mut r = GatherReport::<D>::empty();
+    for p in 0..ps.x.len() {
+        let x = ps.x[p];
+        let st = K::stencil(grid_coords::<D>(x, inv_h), D::DIM, inv_h);
+        let si = index.stencil_index::<S>(st.base);
+        let mut v_pic = D::Vector::ZERO;
+        let mut dv = D::Vector::ZERO;
+        D::for_each_node(&st, |ijk, w, _| {
+            let node = &nodes[index.node(&si, ijk)];
+            v_pic += node.new_vel * w;
+            dv += (node.new_vel - node.vel) * w;
+        });
+        let blended = v_pic * (1.0 - alpha) + (ps.v[p] + dv) * alpha;
+        let v = walls.particle_velocity(x, blended, dt);
+        let m = ps.mass[p];
+        if v != blended {
+            r.dissipated_walls += 0.5 * (m * (blended.length_squared() - v.length_squared())) as f64;
+        }
+        let x = walls.clamp(x + v * dt);
+        if !(v.is_finite() && x.is_finite()) {
+            r.bad += 1;
+            r.first_bad.get_or_insert(p);
+            continue;
+        }
+        ps.v[p] = v;
+        ps.x[p] = x;
+        r.record(m, x, v, gravity, ps.plastic_strain[p]);
+    }
+    r.max_speed = r.max_speed.sqrt();
+    r
+}
