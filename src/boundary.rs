@@ -1,6 +1,11 @@
 //! The walls of the domain box: grid-node constraints (step 5) and the particle-side
 //! projection (step 7), with Coulomb friction proportional to the normal velocity removed,
 //! which is friction proportional to the contact pressure (the paper's Sec. 5).
+//!
+//! The walls lie on grid nodes; nodes on or beyond a wall take the wall rule. On the particle
+//! side a particle is treated as the cube of material it stands for (half-width: half the
+//! particle spacing), which may touch a wall but not cross it: particles never pile into the
+//! cells behind the walls, whichever kernel interpolates.
 
 use crate::config::BoundaryConfig;
 use crate::grid::GHOST;
@@ -46,7 +51,11 @@ impl WallRule {
                 t[axis] = 0.0;
                 let speed = t.length();
                 let loss = -mu * vn; // μ |v_n|
-                if speed <= loss { V::ZERO } else { t * (1.0 - loss / speed) }
+                if speed <= loss {
+                    V::ZERO
+                } else {
+                    t * (1.0 - loss / speed)
+                }
             }
         }
     }
@@ -63,12 +72,17 @@ pub struct Walls<D: Dim> {
 }
 
 impl<D: Dim> Walls<D> {
+    /// Walls of a domain whose sizes are whole numbers of cells (as validated).
     pub fn new(rule: WallRule, size: D::Vector, cell_size: Real) -> Self {
         let mut node_hi = [i32::MAX; 3];
         for (a, hi) in node_hi.iter_mut().enumerate().take(D::DIM) {
-            *hi = GHOST + (size[a] / cell_size - 1e-4).ceil() as i32;
+            *hi = GHOST + (size[a] / cell_size).round() as i32;
         }
-        Walls { rule, size, node_hi }
+        Walls {
+            rule,
+            size,
+            node_hi,
+        }
     }
 
     /// Whether any node of the block with first node `origin` (edge `block` nodes) is a wall node.
@@ -90,24 +104,33 @@ impl<D: Dim> Walls<D> {
         v
     }
 
-    /// Step 7: the velocity of a particle at `x` that would cross a wall within `dt`.
+    /// Step 7: the velocity of a particle at `x` whose material (a cube of half-width
+    /// `radius` about it) would cross a wall within `dt`. Particles therefore never pile into
+    /// the cells behind the walls, whatever the kernel.
     #[inline(always)]
-    pub fn particle_velocity(&self, x: D::Vector, mut v: D::Vector, dt: Real) -> D::Vector {
+    pub fn particle_velocity(
+        &self,
+        x: D::Vector,
+        mut v: D::Vector,
+        dt: Real,
+        radius: Real,
+    ) -> D::Vector {
         for a in 0..D::DIM {
             let next = x[a] + dt * v[a];
-            if next < 0.0 {
+            if next < radius {
                 v = self.rule.apply(v, a, 1.0);
-            } else if next > self.size[a] {
+            } else if next > self.size[a] - radius {
                 v = self.rule.apply(v, a, -1.0);
             }
         }
         v
     }
 
-    /// Keeps a position inside the domain (a last resort; step 7 normally suffices).
+    /// Keeps a particle of half-width `radius` inside the domain (a last resort after step 7).
     #[inline(always)]
-    pub fn clamp(&self, x: D::Vector) -> D::Vector {
-        x.max(D::Vector::ZERO).min(self.size)
+    pub fn clamp(&self, x: D::Vector, radius: Real) -> D::Vector {
+        let r = D::Vector::splat(radius);
+        x.max(r).min(self.size - r)
     }
 }
 

@@ -168,7 +168,9 @@ impl SceneConfig {
         SceneConfig {
             name: String::new(),
             dim,
-            domain: DomainConfig { size: size.to_vec() },
+            domain: DomainConfig {
+                size: size.to_vec(),
+            },
             cell_size,
             gravity: None,
             cfl: default_cfl(),
@@ -215,17 +217,52 @@ impl SceneConfig {
         for (a, &s) in self.domain.size.iter().enumerate() {
             check_positive(format!("domain.size[{a}]"), s, "m")?;
         }
-        let min_size = self.domain.size.iter().cloned().fold(f64::INFINITY, f64::min);
-        if !(self.cell_size.is_finite() && self.cell_size > 0.0 && self.cell_size <= min_size / 2.0) {
+        let min_size = self
+            .domain
+            .size
+            .iter()
+            .cloned()
+            .fold(f64::INFINITY, f64::min);
+        if !(self.cell_size.is_finite() && self.cell_size > 0.0 && self.cell_size <= min_size / 2.0)
+        {
             return Err(Error::invalid(
                 "cell_size",
                 self.cell_size,
-                format!("must be > 0 and at most half the smallest domain size ({}) (m)", min_size / 2.0),
+                format!(
+                    "must be > 0 and at most half the smallest domain size ({}) (m)",
+                    min_size / 2.0
+                ),
             ));
         }
-        let cells: f64 = self.domain.size.iter().map(|s| s / self.cell_size).product();
+        for (a, &s) in self.domain.size.iter().enumerate() {
+            let n = s / self.cell_size;
+            if (n - n.round()).abs() > 1e-6 * n.max(1.0) {
+                let (lo, hi) = (
+                    n.floor().max(1.0) * self.cell_size,
+                    n.ceil() * self.cell_size,
+                );
+                return Err(Error::invalid(
+                    format!("domain.size[{a}]"),
+                    s,
+                    format!(
+                        "must be a whole number of cells of cell_size {} (the walls lie on grid nodes), e.g. {lo} or {hi}",
+                        self.cell_size
+                    ),
+                ));
+            }
+        }
+        let cells: f64 = self
+            .domain
+            .size
+            .iter()
+            .map(|s| s / self.cell_size)
+            .product();
         if cells > 1e12 {
-            return Err(Error::invalid("cell_size", self.cell_size, "gives more than 10¹² cells in the domain"));
+            return Err(Error::invalid(
+                "cell_size",
+                self.cell_size,
+                "gives more than 10¹² cells in the domain",
+            ));
         }
         if let Some(g) = &self.gravity {
             check_vector("gravity", g, self.dim, "m/s²")?;
@@ -276,15 +313,30 @@ mod tests {
             "bodies": [{"shape": {"box": {"min": [0, 0], "max": [1, 1]}},
                         "material": {"elastic": {"youngs_modulus": 1e5, "poisson_ratio": 0.3, "density": 1, "colour": 3}}}]}"#;
         let e = SceneConfig::from_json(text).unwrap_err().to_string();
-        assert!(e.starts_with("bodies[0].material.elastic.colour: unknown field `colour`"), "{e}");
+        assert!(
+            e.starts_with("bodies[0].material.elastic.colour: unknown field `colour`"),
+            "{e}"
+        );
         let text = r#"{"dim": 2, "domain": {"size": [1, 1]}, "cell_size": "small"}"#;
         let e = SceneConfig::from_json(text).unwrap_err().to_string();
         assert!(e.starts_with("cell_size: invalid type"), "{e}");
         let mut s = SceneConfig::new(2, &[1.0, 1.0], 0.1);
         s.cfl = 1.5;
-        assert_eq!(s.validate().unwrap_err().to_string(), "cfl = 1.5: must be in [0.001, 1]");
+        assert_eq!(
+            s.validate().unwrap_err().to_string(),
+            "cfl = 1.5: must be in [0.001, 1]"
+        );
         s.cfl = 0.5;
-        s.bodies.push(BodyConfig::new("b", Shape::cuboid(&[0.5, 0.5], &[1.5, 0.9]), Material::elastic(1e5, 0.3, 1e3)));
-        assert!(s.validate().unwrap_err().to_string().starts_with("bodies[0].shape = extent [0.5, 1.5] along axis 0"));
+        s.bodies.push(BodyConfig::new(
+            "b",
+            Shape::cuboid(&[0.5, 0.5], &[1.5, 0.9]),
+            Material::elastic(1e5, 0.3, 1e3),
+        ));
+        assert!(
+            s.validate()
+                .unwrap_err()
+                .to_string()
+                .starts_with("bodies[0].shape = extent [0.5, 1.5] along axis 0")
+        );
     }
 }

@@ -10,6 +10,7 @@
 
 use crate::grid::{Grid, GridIndex};
 use crate::math::{Dim, Real, VectorOps};
+use crate::sim::passes::constraint_dissipation;
 
 /// The shared blocks of two bodies `a < b`, as (slot in a, slot in b).
 #[derive(Clone, Debug, Default)]
@@ -55,8 +56,14 @@ pub fn find_pairs<D: Dim>(grids: &[&GridIndex<D>], out: &mut Vec<ContactPair>) {
     }
 }
 
-/// Applies the contact rule at the shared nodes of one pair; returns the kinetic energy removed.
-pub fn resolve<D: Dim>(ga: &mut Grid<D>, gb: &mut Grid<D>, blocks: &[(u32, u32)], rule: ContactRule) -> f64 {
+/// Applies the contact rule at the shared nodes of one pair; returns the energy it removed
+/// (see [`constraint_dissipation`]).
+pub fn resolve<D: Dim>(
+    ga: &mut Grid<D>,
+    gb: &mut Grid<D>,
+    blocks: &[(u32, u32)],
+    rule: ContactRule,
+) -> f64 {
     let bn = GridIndex::<D>::block_nodes();
     let mut dissipated = 0.0;
     for &(sa, sb) in blocks {
@@ -93,9 +100,8 @@ pub fn resolve<D: Dim>(ga: &mut Grid<D>, gb: &mut Grid<D>, blocks: &[(u32, u32)]
                 }
             };
             let (na, nb) = (va + dp / ma, vb - dp / mb);
-            let before = ma * va.length_squared() + mb * vb.length_squared();
-            let after = ma * na.length_squared() + mb * nb.length_squared();
-            dissipated += 0.5 * (before - after) as f64;
+            dissipated += constraint_dissipation(ma, ga.nodes[ia].vel, va, na)
+                + constraint_dissipation(mb, gb.nodes[ib].vel, vb, nb);
             ga.nodes[ia].new_vel = na;
             gb.nodes[ib].new_vel = nb;
         }

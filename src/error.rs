@@ -8,7 +8,11 @@ use std::fmt::Display;
 pub enum Error {
     /// A parameter is out of its allowed range or of the wrong form.
     #[error("{field} = {value}: {allowed}")]
-    Invalid { field: String, value: String, allowed: String },
+    Invalid {
+        field: String,
+        value: String,
+        allowed: String,
+    },
     /// A scene could not be parsed.
     #[error("{0}")]
     Parse(String),
@@ -17,15 +21,28 @@ pub enum Error {
     Io { path: String, message: String },
     /// The state went non-finite: the step stopped before the value could spread.
     #[error("non-finite {quantity} at particle {particle} of body {body:?} in step {step}")]
-    NonFinite { body: String, particle: usize, quantity: &'static str, step: u64 },
+    NonFinite {
+        body: String,
+        particle: usize,
+        quantity: &'static str,
+        step: u64,
+    },
 }
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 impl Error {
     /// An invalid value of `field`.
-    pub fn invalid(field: impl Into<String>, value: impl Display, allowed: impl Into<String>) -> Self {
-        Error::Invalid { field: field.into(), value: value.to_string(), allowed: allowed.into() }
+    pub fn invalid(
+        field: impl Into<String>,
+        value: impl Display,
+        allowed: impl Into<String>,
+    ) -> Self {
+        Error::Invalid {
+            field: field.into(),
+            value: value.to_string(),
+            allowed: allowed.into(),
+        }
     }
 }
 
@@ -34,7 +51,11 @@ pub fn check_positive(field: impl Display, value: f64, unit: &str) -> Result<()>
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {
-        Err(Error::invalid(field.to_string(), value, format!("must be a finite number > 0{}", units(unit))))
+        Err(Error::invalid(
+            field.to_string(),
+            value,
+            format!("must be a finite number > 0{}", units(unit)),
+        ))
     }
 }
 
@@ -43,18 +64,33 @@ pub fn check_non_negative(field: impl Display, value: f64, unit: &str) -> Result
     if value.is_finite() && value >= 0.0 {
         Ok(())
     } else {
-        Err(Error::invalid(field.to_string(), value, format!("must be a finite number >= 0{}", units(unit))))
+        Err(Error::invalid(
+            field.to_string(),
+            value,
+            format!("must be a finite number >= 0{}", units(unit)),
+        ))
     }
 }
 
 /// `value` must lie in `[lo, hi]` (or `[lo, hi)` when `hi_open`).
-pub fn check_range(field: impl Display, value: f64, lo: f64, hi: f64, hi_open: bool, unit: &str) -> Result<()> {
+pub fn check_range(
+    field: impl Display,
+    value: f64,
+    lo: f64,
+    hi: f64,
+    hi_open: bool,
+    unit: &str,
+) -> Result<()> {
     let ok = value.is_finite() && value >= lo && if hi_open { value < hi } else { value <= hi };
     if ok {
         Ok(())
     } else {
         let close = if hi_open { ")" } else { "]" };
-        Err(Error::invalid(field.to_string(), value, format!("must be in [{lo}, {hi}{close}{}", units(unit))))
+        Err(Error::invalid(
+            field.to_string(),
+            value,
+            format!("must be in [{lo}, {hi}{close}{}", units(unit)),
+        ))
     }
 }
 
@@ -62,12 +98,20 @@ pub fn check_range(field: impl Display, value: f64, lo: f64, hi: f64, hi_open: b
 pub fn check_finite_vec(field: impl Display, v: &[f64], unit: &str) -> Result<()> {
     match v.iter().position(|x| !x.is_finite()) {
         None => Ok(()),
-        Some(i) => Err(Error::invalid(format!("{field}[{i}]"), v[i], format!("must be a finite number{}", units(unit)))),
+        Some(i) => Err(Error::invalid(
+            format!("{field}[{i}]"),
+            v[i],
+            format!("must be a finite number{}", units(unit)),
+        )),
     }
 }
 
 fn units(unit: &str) -> String {
-    if unit.is_empty() { String::new() } else { format!(" ({unit})") }
+    if unit.is_empty() {
+        String::new()
+    } else {
+        format!(" ({unit})")
+    }
 }
 
 #[cfg(test)]
@@ -76,15 +120,30 @@ mod tests {
 
     #[test]
     fn messages_name_the_field_the_value_and_the_range() {
-        let e = check_range("bodies[1].material.drucker_prager.friction_angle", 95.0, 0.0, 90.0, true, "degrees")
-            .unwrap_err();
+        let e = check_range(
+            "bodies[1].material.drucker_prager.friction_angle",
+            95.0,
+            0.0,
+            90.0,
+            true,
+            "degrees",
+        )
+        .unwrap_err();
         assert_eq!(
             e.to_string(),
             "bodies[1].material.drucker_prager.friction_angle = 95: must be in [0, 90) (degrees)"
         );
         let e = check_positive("cell_size", f64::NAN, "m").unwrap_err();
-        assert_eq!(e.to_string(), "cell_size = NaN: must be a finite number > 0 (m)");
+        assert_eq!(
+            e.to_string(),
+            "cell_size = NaN: must be a finite number > 0 (m)"
+        );
         assert!(check_non_negative("c", 0.0, "Pa").is_ok());
-        assert!(check_finite_vec("gravity", &[0.0, f64::INFINITY], "m/s²").unwrap_err().to_string().starts_with("gravity[1] = inf"));
+        assert!(
+            check_finite_vec("gravity", &[0.0, f64::INFINITY], "m/s²")
+                .unwrap_err()
+                .to_string()
+                .starts_with("gravity[1] = inf")
+        );
     }
 }

@@ -42,7 +42,11 @@ impl Aabb {
 }
 
 fn vec3(v: &[f64]) -> [f64; 3] {
-    [v.first().copied().unwrap_or(0.0), v.get(1).copied().unwrap_or(0.0), v.get(2).copied().unwrap_or(0.0)]
+    [
+        v.first().copied().unwrap_or(0.0),
+        v.get(1).copied().unwrap_or(0.0),
+        v.get(2).copied().unwrap_or(0.0),
+    ]
 }
 
 /// Checks that a vector field has `dim` finite components.
@@ -60,11 +64,17 @@ pub fn check_vector(field: &str, v: &[f64], dim: usize, unit: &str) -> Result<()
 impl Shape {
     /// An axis-aligned box.
     pub fn cuboid(min: &[f64], max: &[f64]) -> Shape {
-        Shape::Box { min: min.to_vec(), max: max.to_vec() }
+        Shape::Box {
+            min: min.to_vec(),
+            max: max.to_vec(),
+        }
     }
     /// A ball.
     pub fn ball(center: &[f64], radius: f64) -> Shape {
-        Shape::Ball { center: center.to_vec(), radius }
+        Shape::Ball {
+            center: center.to_vec(),
+            radius,
+        }
     }
 
     /// Checks the shape for a scene of dimension `dim`; `path` names it in messages.
@@ -88,22 +98,41 @@ impl Shape {
                 check_vector(&format!("{path}.ball.center"), center, dim, "m")?;
                 check_positive(format!("{path}.ball.radius"), *radius, "m")
             }
-            Shape::Points { positions, particle_volume } => {
+            Shape::Points {
+                positions,
+                particle_volume,
+            } => {
                 if positions.is_empty() {
-                    return Err(Error::invalid(format!("{path}.points.positions"), "[]", "must hold at least one point"));
+                    return Err(Error::invalid(
+                        format!("{path}.points.positions"),
+                        "[]",
+                        "must hold at least one point",
+                    ));
                 }
                 for (i, p) in positions.iter().enumerate() {
                     check_vector(&format!("{path}.points.positions[{i}]"), p, dim, "m")?;
                 }
                 if let Some(v) = particle_volume {
-                    check_positive(format!("{path}.points.particle_volume"), *v, if dim == 2 { "m²" } else { "m³" })?;
+                    check_positive(
+                        format!("{path}.points.particle_volume"),
+                        *v,
+                        if dim == 2 { "m²" } else { "m³" },
+                    )?;
                 }
                 Ok(())
             }
             Shape::Union(shapes) | Shape::Difference(shapes) => {
-                let key = if matches!(self, Shape::Union(_)) { "union" } else { "difference" };
+                let key = if matches!(self, Shape::Union(_)) {
+                    "union"
+                } else {
+                    "difference"
+                };
                 if shapes.is_empty() {
-                    return Err(Error::invalid(format!("{path}.{key}"), "[]", "must list at least one shape"));
+                    return Err(Error::invalid(
+                        format!("{path}.{key}"),
+                        "[]",
+                        "must list at least one shape",
+                    ));
                 }
                 for (i, s) in shapes.iter().enumerate() {
                     s.validate(&format!("{path}.{key}[{i}]"), dim)?;
@@ -122,14 +151,19 @@ impl Shape {
             }
             Shape::Points { .. } => false,
             Shape::Union(s) => s.iter().any(|s| s.contains(p, dim)),
-            Shape::Difference(s) => s[0].contains(p, dim) && !s[1..].iter().any(|s| s.contains(p, dim)),
+            Shape::Difference(s) => {
+                s[0].contains(p, dim) && !s[1..].iter().any(|s| s.contains(p, dim))
+            }
         }
     }
 
     /// A box holding every point of the shape.
     pub fn bounds(&self, dim: usize) -> Aabb {
         match self {
-            Shape::Box { min, max } => Aabb { min: vec3(min), max: vec3(max) },
+            Shape::Box { min, max } => Aabb {
+                min: vec3(min),
+                max: vec3(max),
+            },
             Shape::Ball { center, radius } => {
                 let c = vec3(center);
                 Aabb {
@@ -139,10 +173,17 @@ impl Shape {
             }
             Shape::Points { positions, .. } => positions
                 .iter()
-                .map(|p| Aabb { min: vec3(p), max: vec3(p) })
+                .map(|p| Aabb {
+                    min: vec3(p),
+                    max: vec3(p),
+                })
                 .reduce(Aabb::union)
                 .expect("validated: at least one point"),
-            Shape::Union(s) => s.iter().map(|s| s.bounds(dim)).reduce(Aabb::union).expect("validated: non-empty"),
+            Shape::Union(s) => s
+                .iter()
+                .map(|s| s.bounds(dim))
+                .reduce(Aabb::union)
+                .expect("validated: non-empty"),
             Shape::Difference(s) => s[0].bounds(dim),
         }
     }
@@ -153,8 +194,15 @@ impl Shape {
     pub fn sample(&self, dim: usize, cell_size: f64, per_cell: u32) -> (Vec<[f64; 3]>, f64) {
         let dx = cell_size / per_cell as f64;
         let lattice_volume = dx.powi(dim as i32);
-        if let Shape::Points { positions, particle_volume } = self {
-            return (positions.iter().map(|p| vec3(p)).collect(), particle_volume.unwrap_or(lattice_volume));
+        if let Shape::Points {
+            positions,
+            particle_volume,
+        } = self
+        {
+            return (
+                positions.iter().map(|p| vec3(p)).collect(),
+                particle_volume.unwrap_or(lattice_volume),
+            );
         }
         let b = self.bounds(dim);
         let mut lo = [0i64; 3];
@@ -168,7 +216,13 @@ impl Shape {
             for j in lo[1]..=hi[1] {
                 for i in lo[0]..=hi[0] {
                     let idx = [i, j, k];
-                    let p: [f64; 3] = std::array::from_fn(|a| if a < dim { (idx[a] as f64 + 0.5) * dx } else { 0.0 });
+                    let p: [f64; 3] = std::array::from_fn(|a| {
+                        if a < dim {
+                            (idx[a] as f64 + 0.5) * dx
+                        } else {
+                            0.0
+                        }
+                    });
                     if self.contains(p, dim) {
                         out.push(p);
                     }
@@ -209,12 +263,20 @@ mod tests {
 
     #[test]
     fn validation_messages() {
-        let s = Shape::Union(vec![Shape::cuboid(&[0.0, 0.0], &[1.0, 1.0]), Shape::ball(&[0.0, 0.0, 0.0], 1.0)]);
+        let s = Shape::Union(vec![
+            Shape::cuboid(&[0.0, 0.0], &[1.0, 1.0]),
+            Shape::ball(&[0.0, 0.0, 0.0], 1.0),
+        ]);
         assert_eq!(
             s.validate("bodies[0].shape", 2).unwrap_err().to_string(),
             "bodies[0].shape.union[1].ball.center = [0.0, 0.0, 0.0]: must have 2 components (the scene's dim)"
         );
         let s = Shape::cuboid(&[0.0, 1.0], &[1.0, 1.0]);
-        assert!(s.validate("s", 2).unwrap_err().to_string().starts_with("s.box.max[1] = 1: must be greater"));
+        assert!(
+            s.validate("s", 2)
+                .unwrap_err()
+                .to_string()
+                .starts_with("s.box.max[1] = 1: must be greater")
+        );
     }
 }

@@ -42,7 +42,11 @@ pub struct Grid<D: Dim> {
 
 impl<D: Dim> Default for Grid<D> {
     fn default() -> Self {
-        Grid { index: GridIndex::default(), nodes: Vec::new(), mass_grad: Vec::new() }
+        Grid {
+            index: GridIndex::default(),
+            nodes: Vec::new(),
+            mass_grad: Vec::new(),
+        }
     }
 }
 
@@ -52,7 +56,10 @@ impl<D: Dim> Grid<D> {
     pub fn rebuild(&mut self, count: usize, support: usize, base_of: impl Fn(usize) -> [i32; 3]) {
         self.index.rebuild(count, support, base_of);
         self.nodes.clear();
-        self.nodes.resize(self.index.block_count() * GridIndex::<D>::block_nodes(), Node::default());
+        self.nodes.resize(
+            self.index.block_count() * GridIndex::<D>::block_nodes(),
+            Node::default(),
+        );
         self.mass_grad.clear();
     }
 
@@ -86,7 +93,13 @@ pub struct GridIndex<D: Dim> {
 
 impl<D: Dim> Default for GridIndex<D> {
     fn default() -> Self {
-        GridIndex { origin: [0; 3], dims: [0; 3], table: Vec::new(), blocks: Vec::new(), _dim: Default::default() }
+        GridIndex {
+            origin: [0; 3],
+            dims: [0; 3],
+            table: Vec::new(),
+            blocks: Vec::new(),
+            _dim: Default::default(),
+        }
     }
 }
 
@@ -251,7 +264,10 @@ impl<D: Dim> GridIndex<D> {
     /// Precomputes the per-axis table and local offsets of a stencil with base node `base`.
     #[inline(always)]
     pub fn stencil_index<const S: usize>(&self, base: [i32; 3]) -> StencilIndex<S> {
-        let mut si = StencilIndex { table: [[0; S]; 3], local: [[0; S]; 3] };
+        let mut si = StencilIndex {
+            table: [[0; S]; 3],
+            local: [[0; S]; 3],
+        };
         let mut stride = 1usize;
         for a in 0..D::DIM {
             for k in 0..S {
@@ -306,10 +322,10 @@ fn add(b: [i32; 3], r: i32) -> [i32; 3] {
     [b[0] + r, b[1] + r, b[2] + r]
 }
 
-/// The base node of a particle at position `x` for a kernel.
+/// The base node of a particle at position `x` and of half-width `lp` grid units for a kernel.
 #[inline(always)]
-pub fn base_node<D: Dim>(x: D::Vector, inv_h: Real, kernel: KernelKind) -> [i32; 3] {
-    let off = GHOST as Real - kernel.base_offset();
+pub fn base_node<D: Dim>(x: D::Vector, inv_h: Real, kernel: KernelKind, lp: Real) -> [i32; 3] {
+    let off = GHOST as Real - kernel.base_offset(lp);
     let mut b = [0; 3];
     for (a, bb) in b.iter_mut().enumerate().take(D::DIM) {
         *bb = (x[a] * inv_h + off).floor() as i32;

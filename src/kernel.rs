@@ -17,6 +17,9 @@ pub enum KernelKind {
     /// The quadratic B-spline (3 nodes per axis), C¹: no cell-crossing error.
     #[default]
     QuadraticBspline,
+    /// uGIMP (Bardenhagen & Kober 2004): the linear kernel averaged over each particle's
+    /// domain of half-width h/(2 × particles per cell); C¹, up to 3 nodes per axis.
+    Gimp,
 }
 
 impl KernelKind {
@@ -24,15 +27,16 @@ impl KernelKind {
     pub fn support(self) -> usize {
         match self {
             KernelKind::Linear => 2,
-            KernelKind::QuadraticBspline => 3,
+            KernelKind::QuadraticBspline | KernelKind::Gimp => 3,
         }
     }
     /// Grid-unit offset from a particle's coordinate to the first node of its stencil,
-    /// i.e. `base = floor(xg - offset)`.
-    pub fn base_offset(self) -> Real {
+    /// i.e. `base = floor(xg - offset)`, for particles of half-width `lp` grid units.
+    pub fn base_offset(self, lp: Real) -> Real {
         match self {
             KernelKind::Linear => 0.0,
             KernelKind::QuadraticBspline => 0.5,
+            KernelKind::Gimp => lp,
         }
     }
 }
@@ -41,16 +45,20 @@ impl KernelKind {
 pub trait Kernel<const S: usize>: Copy + Send + Sync + 'static {
     const KIND: KernelKind;
     /// Base node index, weights and weight derivatives (per grid unit) along one axis for a
-    /// particle at grid coordinate `xg`.
-    fn axis(xg: Real) -> (i32, [Real; S], [Real; S]);
+    /// particle at grid coordinate `xg` of half-width `lp` grid units (used by GIMP only).
+    fn axis(xg: Real, lp: Real) -> (i32, [Real; S], [Real; S]);
 
     /// The full stencil of a particle at grid coordinates `xg` (the first `dim` entries used),
     /// with derivatives scaled by `inv_h` to physical units.
     #[inline(always)]
-    fn stencil(xg: [Real; 3], dim: usize, inv_h: Real) -> Stencil<S> {
-        let mut st = Stencil { base: [0; 3], w: [[0.0; S]; 3], dw: [[0.0; S]; 3] };
+    fn stencil(xg: [Real; 3], dim: usize, inv_h: Real, lp: Real) -> Stencil<S> {
+        let mut st = Stencil {
+            base: [0; 3],
+            w: [[0.0; S]; 3],
+            dw: [[0.0; S]; 3],
+        };
         for a in 0..dim {
-            let (b, w, dw) = Self::axis(xg[a]);
+            let (b, w, dw) = Self::axis(xg[a], lp);
             st.base[a] = b;
             st.w[a] = w;
             for k in 0..S {
@@ -68,7 +76,7 @@ pub struct Linear;
 impl Kernel<2> for Linear {
     const KIND: KernelKind = KernelKind::Linear;
     #[inline(always)]
-    fn axis(xg: Real) -> (i32, [Real; 2], [Real; 2]) {
+    fn axis(xg: Real, _lp: Real) -> (i32, [Real; 2], [Real; 2]) {
         let base = xg.floor();
         let f = xg - base;
         (base as i32, [1.0 - f, f], [-1.0, 1.0])
@@ -82,11 +90,53 @@ pub struct QuadraticBspline;
 impl Kernel<3> for QuadraticBspline {
     const KIND: KernelKind = KernelKind::QuadraticBspline;
     #[inline(always)]
-    fn axis(xg: Real) -> (i32, [Real; 3], [Real; 3]) {
+    fn axis(xg: Real, _lp: Real) -> (i32, [Real; 3], [Real; 3]) {
         let base = (xg - 0.5).floor();
         let f = xg - base; // in [0.5, 1.5)
-        let w = [0.5 * (1.5 - f) * (1.5 - f), 0.75 - (f - 1.0) * (f - 1.0), 0.5 * (f - 0.5) * (f - 0.5)];
+        let w = [
+            0.5 * (1.5 - f) * (1.5 - f),
+            0.75 - (f - 1.0) * (f - 1.0),
+            0.5 * (f - 0.5) * (f - 0.5),
+        ];
         let dw = [f - 1.5, -2.0 * (f - 1.0), f - 0.5];
+        (base as i32, w, dw)
+    }
+}
+
+/// uGIMP: the linear hat averaged over a particle domain of half-width `lp` (grid units,
+/// at most ½).
+#[derive(Clone, Copy, Debug)]
+pub struct Gimp;
+
+impl Gimp {
+    /// Weight and derivative for a node at signed distance `xi` (grid units).
+    #[inline(always)]
+    fn shape(xi: Real, lp: Real) -> (Real, Real) {
+        let a = xi.abs();
+        let sign = if xi < 0.0 { -1.0 } else { 1.0 };
+        if a < lp {
+            (1.0 - (xi * xi + lp * lp) / (2.0 * lp), -xi / lp)
+        } else if a <= 1.0 - lp {
+            (1.0 - a, -sign)
+        } else if a < 1.0 + lp {
+            let r = 1.0 + lp - a;
+            (r * r / (4.0 * lp), -sign * r / (2.0 * lp))
+        } else {
+            (0.0, 0.0)
+        }
+    }
+}
+
+impl Kernel<3> for Gimp {
+    const KIND: KernelKind = KernelKind::Gimp;
+    #[inline(always)]
+    fn axis(xg: Real, lp: Real) -> (i32, [Real; 3], [Real; 3]) {
+        let base = (xg - lp).floor();
+        let mut w = [0.0; 3];
+        let mut dw = [0.0; 3];
+        for k in 0..3 {
+            (w[k], dw[k]) = Self::shape(xg - (base + k as Real), lp);
+        }
         (base as i32, w, dw)
     }
 }
@@ -95,10 +145,10 @@ impl Kernel<3> for QuadraticBspline {
 mod tests {
     use super::*;
 
-    fn check_partition<const S: usize, K: Kernel<S>>() {
+    fn check_partition<const S: usize, K: Kernel<S>>(lp: Real) {
         for i in 0..200 {
             let xg = 3.0 + i as Real * 0.0137;
-            let (base, w, dw) = K::axis(xg);
+            let (base, w, dw) = K::axis(xg, lp);
             let sum: Real = w.iter().sum();
             let dsum: Real = dw.iter().sum();
             // Partition of unity and linear completeness: Σ w = 1, Σ w x_i = x, Σ dw = 0, Σ dw x_i = 1.
@@ -114,18 +164,50 @@ mod tests {
 
     #[test]
     fn kernels_reproduce_constants_and_linear_fields() {
-        check_partition::<2, Linear>();
-        check_partition::<3, QuadraticBspline>();
+        check_partition::<2, Linear>(0.0);
+        check_partition::<3, QuadraticBspline>(0.0);
+        for lp in [0.125, 0.25, 0.5] {
+            check_partition::<3, Gimp>(lp);
+        }
     }
 
     #[test]
     fn linear_kernel_matches_the_papers_natural_coordinates() {
         // Eq. 16-17 in 1D: N_I(x) = ½(1 + N_x N_I) with N_x = 2(x - x_c)/h, N_I = ±1.
         let xg: Real = 5.3;
-        let (base, w, _) = Linear::axis(xg);
+        let (base, w, _) = Linear::axis(xg, 0.0);
         let nx = 2.0 * (xg - (base as Real + 0.5));
         assert!((w[0] - 0.5 * (1.0 - nx)).abs() < 1e-6);
         assert!((w[1] - 0.5 * (1.0 + nx)).abs() < 1e-6);
+    }
+
+    #[test]
+    fn gimp_matches_the_linear_field_average_and_has_continuous_gradients() {
+        let lp = 0.25;
+        // A particle whose domain lies inside one cell interpolates like the linear kernel.
+        let (b, w, _) = Gimp::axis(5.5, lp);
+        let (bl, wl, _) = Linear::axis(5.5, 0.0);
+        for k in 0..3 {
+            let n = b + k as i32;
+            let lin = if n == bl {
+                wl[0]
+            } else if n == bl + 1 {
+                wl[1]
+            } else {
+                0.0
+            };
+            assert!((w[k] - lin).abs() < 1e-6);
+        }
+        let eps = 1e-4;
+        for x0 in [5.0 - lp, 5.0, 5.0 + lp, 5.75] {
+            let (b0, _, d0) = Gimp::axis(x0 - eps, lp);
+            let (b1, _, d1) = Gimp::axis(x0 + eps, lp);
+            for k in 0..3 {
+                if let Some(k1) = (0..3).find(|&k1| b1 + k1 as i32 == b0 + k as i32) {
+                    assert!((d0[k] - d1[k1]).abs() < 1e-2, "jump at {x0}");
+                }
+            }
+        }
     }
 
     #[test]
@@ -134,8 +216,8 @@ mod tests {
         for n in 3..6 {
             for off in [0.0, 0.5] {
                 let x0 = n as Real + off;
-                let (b0, _, d0) = QuadraticBspline::axis(x0 - eps);
-                let (b1, _, d1) = QuadraticBspline::axis(x0 + eps);
+                let (b0, _, d0) = QuadraticBspline::axis(x0 - eps, 0.0);
+                let (b1, _, d1) = QuadraticBspline::axis(x0 + eps, 0.0);
                 // compare the derivative of the weight of the same node on both sides
                 for k in 0..3 {
                     let node = b0 + k as i32;

@@ -201,12 +201,29 @@ macro_rules! impl_sym_arith {
     };
 }
 impl_sym_arith!(Sym2 { xx, yy, zz, xy });
-impl_sym_arith!(Sym3 { xx, yy, zz, xy, xz, yz });
+impl_sym_arith!(Sym3 {
+    xx,
+    yy,
+    zz,
+    xy,
+    xz,
+    yz
+});
 
 impl SymTensor for Sym2 {
     type Spin = Real;
-    const ZERO: Self = Sym2 { xx: 0.0, yy: 0.0, zz: 0.0, xy: 0.0 };
-    const IDENTITY: Self = Sym2 { xx: 1.0, yy: 1.0, zz: 1.0, xy: 0.0 };
+    const ZERO: Self = Sym2 {
+        xx: 0.0,
+        yy: 0.0,
+        zz: 0.0,
+        xy: 0.0,
+    };
+    const IDENTITY: Self = Sym2 {
+        xx: 1.0,
+        yy: 1.0,
+        zz: 1.0,
+        xy: 0.0,
+    };
     #[inline(always)]
     fn trace(self) -> Real {
         self.xx + self.yy + self.zz
@@ -221,15 +238,19 @@ impl SymTensor for Sym2 {
     }
     #[inline(always)]
     fn rotate(self, w: Real, dt: Real) -> Self {
+        // Q = [[c, −s], [s, c]]; the increment Q A Qᵀ − A is formed from the small
+        // quantities c − 1 and s so that f32 rounding does not bias the norm.
         let a = 0.5 * dt * w;
         let inv = 1.0 / (1.0 + a * a);
-        let (c, s) = ((1.0 - a * a) * inv, 2.0 * a * inv);
-        let (cc, ss, cs) = (c * c, s * s, c * s);
+        let (cm, s) = (-2.0 * a * a * inv, 2.0 * a * inv); // c − 1, s
+        let c = 1.0 + cm;
+        let dcc = 2.0 * cm + cm * cm; // c² − 1
+        let (ss, cs) = (s * s, c * s);
         Sym2 {
-            xx: cc * self.xx - 2.0 * cs * self.xy + ss * self.yy,
-            yy: ss * self.xx + 2.0 * cs * self.xy + cc * self.yy,
+            xx: self.xx + (dcc * self.xx - 2.0 * cs * self.xy + ss * self.yy),
+            yy: self.yy + (ss * self.xx + 2.0 * cs * self.xy + dcc * self.yy),
             zz: self.zz,
-            xy: cs * (self.xx - self.yy) + (cc - ss) * self.xy,
+            xy: self.xy + (cs * (self.xx - self.yy) + (dcc - ss) * self.xy),
         }
     }
     fn components(&self) -> &[Real] {
@@ -238,7 +259,12 @@ impl SymTensor for Sym2 {
         unsafe { std::slice::from_raw_parts(self as *const Self as *const Real, 4) }
     }
     fn to_matrix3(self) -> [[f64; 3]; 3] {
-        let (xx, yy, zz, xy) = (self.xx as f64, self.yy as f64, self.zz as f64, self.xy as f64);
+        let (xx, yy, zz, xy) = (
+            self.xx as f64,
+            self.yy as f64,
+            self.zz as f64,
+            self.xy as f64,
+        );
         [[xx, xy, 0.0], [xy, yy, 0.0], [0.0, 0.0, zz]]
     }
 }
@@ -246,8 +272,22 @@ impl SymTensor for Sym2 {
 impl SymTensor for Sym3 {
     /// (W_xy, W_xz, W_yz).
     type Spin = Vec3;
-    const ZERO: Self = Sym3 { xx: 0.0, yy: 0.0, zz: 0.0, xy: 0.0, xz: 0.0, yz: 0.0 };
-    const IDENTITY: Self = Sym3 { xx: 1.0, yy: 1.0, zz: 1.0, xy: 0.0, xz: 0.0, yz: 0.0 };
+    const ZERO: Self = Sym3 {
+        xx: 0.0,
+        yy: 0.0,
+        zz: 0.0,
+        xy: 0.0,
+        xz: 0.0,
+        yz: 0.0,
+    };
+    const IDENTITY: Self = Sym3 {
+        xx: 1.0,
+        yy: 1.0,
+        zz: 1.0,
+        xy: 0.0,
+        xz: 0.0,
+        yz: 0.0,
+    };
     #[inline(always)]
     fn trace(self) -> Real {
         self.xx + self.yy + self.zz
@@ -273,20 +313,23 @@ impl SymTensor for Sym3 {
             Vec3::new(a.x, 0.0, -a.z),
             Vec3::new(a.y, a.z, 0.0),
         );
-        let q = Mat3::IDENTITY + (skew + skew * skew) * (2.0 / (1.0 + a.length_squared()));
+        // With B = Q − I (small), Q S Qᵀ = S + (B S + S Bᵀ + B S Bᵀ): forming the increment
+        // from B keeps f32 rounding from biasing the norm.
+        let b = (skew + skew * skew) * (2.0 / (1.0 + a.length_squared()));
         let s = Mat3::from_cols(
             Vec3::new(self.xx, self.xy, self.xz),
             Vec3::new(self.xy, self.yy, self.yz),
             Vec3::new(self.xz, self.yz, self.zz),
         );
-        let r = q * s * q.transpose();
+        let bs = b * s;
+        let d = bs + bs.transpose() + bs * b.transpose();
         Sym3 {
-            xx: r.x_axis.x,
-            yy: r.y_axis.y,
-            zz: r.z_axis.z,
-            xy: 0.5 * (r.y_axis.x + r.x_axis.y),
-            xz: 0.5 * (r.z_axis.x + r.x_axis.z),
-            yz: 0.5 * (r.z_axis.y + r.y_axis.z),
+            xx: self.xx + d.x_axis.x,
+            yy: self.yy + d.y_axis.y,
+            zz: self.zz + d.z_axis.z,
+            xy: self.xy + 0.5 * (d.y_axis.x + d.x_axis.y),
+            xz: self.xz + 0.5 * (d.z_axis.x + d.x_axis.z),
+            yz: self.yz + 0.5 * (d.z_axis.y + d.y_axis.z),
         }
     }
     fn components(&self) -> &[Real] {
@@ -365,7 +408,12 @@ impl Dim for D2 {
     fn rate_and_spin(l: Mat2) -> (Sym2, Real) {
         // l.y_axis.x = L_xy = ∂v_x/∂y, l.x_axis.y = L_yx = ∂v_y/∂x.
         let (lxy, lyx) = (l.y_axis.x, l.x_axis.y);
-        let rate = Sym2 { xx: l.x_axis.x, yy: l.y_axis.y, zz: 0.0, xy: 0.5 * (lxy + lyx) };
+        let rate = Sym2 {
+            xx: l.x_axis.x,
+            yy: l.y_axis.y,
+            zz: 0.0,
+            xy: 0.5 * (lxy + lyx),
+        };
         (rate, 0.5 * (lyx - lxy))
     }
     #[inline(always)]
@@ -412,7 +460,11 @@ impl Dim for D3 {
             xz: 0.5 * (c2.x + c0.z),
             yz: 0.5 * (c2.y + c1.z),
         };
-        let spin = Vec3::new(0.5 * (c1.x - c0.y), 0.5 * (c2.x - c0.z), 0.5 * (c2.y - c1.z));
+        let spin = Vec3::new(
+            0.5 * (c1.x - c0.y),
+            0.5 * (c2.x - c0.z),
+            0.5 * (c2.y - c1.z),
+        );
         (rate, spin)
     }
     #[inline(always)]
@@ -461,7 +513,14 @@ mod tests {
 
     #[test]
     fn rotation_3d_matches_an_exact_rotation_and_keeps_invariants() {
-        let s = Sym3 { xx: 3.0, yy: -1.0, zz: 0.5, xy: 0.7, xz: -0.2, yz: 0.4 };
+        let s = Sym3 {
+            xx: 3.0,
+            yy: -1.0,
+            zz: 0.5,
+            xy: 0.7,
+            xz: -0.2,
+            yz: 0.4,
+        };
         // spin about z with rate w: W_xy = -w (v = w × x gives ∂v_x/∂y = -w).
         let w = 0.8;
         let dt = 0.01;
@@ -485,8 +544,20 @@ mod tests {
 
     #[test]
     fn rotation_2d_matches_3d_about_z() {
-        let s2 = Sym2 { xx: 2.0, yy: -1.0, zz: 0.3, xy: 0.5 };
-        let s3 = Sym3 { xx: 2.0, yy: -1.0, zz: 0.3, xy: 0.5, xz: 0.0, yz: 0.0 };
+        let s2 = Sym2 {
+            xx: 2.0,
+            yy: -1.0,
+            zz: 0.3,
+            xy: 0.5,
+        };
+        let s3 = Sym3 {
+            xx: 2.0,
+            yy: -1.0,
+            zz: 0.3,
+            xy: 0.5,
+            xz: 0.0,
+            yz: 0.0,
+        };
         let w = 1.3; // W_yx
         let r2 = s2.rotate(w, 0.05);
         let r3 = s3.rotate(Vec3::new(-w, 0.0, 0.0), 0.05);
@@ -501,7 +572,15 @@ mod tests {
         // v = (a y, 0): simple shear.
         let l = D2::outer(Vec2::new(1.0, 0.0), Vec2::new(0.0, 2.0));
         let (d, w) = D2::rate_and_spin(l);
-        assert_eq!(d, Sym2 { xx: 0.0, yy: 0.0, zz: 0.0, xy: 1.0 });
+        assert_eq!(
+            d,
+            Sym2 {
+                xx: 0.0,
+                yy: 0.0,
+                zz: 0.0,
+                xy: 1.0
+            }
+        );
         assert_eq!(w, -1.0);
         let l3 = D3::outer(Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0));
         let (d3, w3) = D3::rate_and_spin(l3);

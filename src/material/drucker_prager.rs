@@ -49,13 +49,23 @@ impl DruckerPragerParams {
     }
     pub fn validate(&self, path: &str) -> Result<()> {
         self.elastic().validate(path)?;
-        check_range(format!("{path}.friction_angle"), self.friction_angle, 0.0, 90.0, true, "degrees")?;
+        check_range(
+            format!("{path}.friction_angle"),
+            self.friction_angle,
+            0.0,
+            90.0,
+            true,
+            "degrees",
+        )?;
         let psi = self.dilatancy_angle;
         if !(psi.is_finite() && psi >= 0.0 && psi <= self.friction_angle) {
             return Err(Error::invalid(
                 format!("{path}.dilatancy_angle"),
                 psi,
-                format!("must be in [0, {}] (degrees; at most the friction angle)", self.friction_angle),
+                format!(
+                    "must be in [0, {}] (degrees; at most the friction angle)",
+                    self.friction_angle
+                ),
             ));
         }
         check_non_negative(format!("{path}.cohesion"), self.cohesion, "Pa")
@@ -102,7 +112,13 @@ impl DruckerPrager {
 impl Constitutive for DruckerPrager {
     const PLASTIC: bool = true;
     #[inline(always)]
-    fn update<S: SymTensor>(&self, stress: &mut S, rate: S, spin: S::Spin, dt: Real) -> StressUpdate {
+    fn update<S: SymTensor>(
+        &self,
+        stress: &mut S,
+        rate: S,
+        spin: S::Spin,
+        dt: Real,
+    ) -> StressUpdate {
         let Elastic { g, k } = self.elastic;
         let trial = self.elastic.trial(*stress, rate, spin, dt);
         let mut i1 = trial.trace();
@@ -127,7 +143,11 @@ impl Constitutive for DruckerPrager {
         let sqrt_j2 = (0.5 * s.ddot(s)).sqrt();
         let limit = self.k_c - self.alpha_phi * i1;
         let sqrt_j2 = if sqrt_j2 > limit {
-            s = if sqrt_j2 > 0.0 { s * (limit / sqrt_j2) } else { S::ZERO };
+            s = if sqrt_j2 > 0.0 {
+                s * (limit / sqrt_j2)
+            } else {
+                S::ZERO
+            };
             limit
         } else {
             sqrt_j2
@@ -138,7 +158,8 @@ impl Constitutive for DruckerPrager {
         }
         StressUpdate {
             plastic_strain: (sqrt_j2_trial - sqrt_j2).max(0.0) / (3.0f32.sqrt() as Real * g),
-            dissipation: elastic_energy_density(trial, g, k) - elastic_energy_density(*stress, g, k),
+            dissipation: elastic_energy_density(trial, g, k)
+                - elastic_energy_density(*stress, g, k),
         }
     }
     fn moduli(&self) -> (Real, Real) {
@@ -183,14 +204,29 @@ mod tests {
         let m = sand(35.0, 0.0, 0.0);
         let p = 1.0e3;
         let a = 1.0;
-        let (s, ep, diss) = drive(&m, confined(p), [[0.0, a, 0.0], [a, 0.0, 0.0], [0.0; 3]], 1e-4, 500, |_, s| {
-            assert!(m.yield_function(*s) <= 1e-3 * p);
-        });
+        let (s, ep, diss) = drive(
+            &m,
+            confined(p),
+            [[0.0, a, 0.0], [a, 0.0, 0.0], [0.0; 3]],
+            1e-4,
+            500,
+            |_, s| {
+                assert!(m.yield_function(*s) <= 1e-3 * p);
+            },
+        );
         // √J2 at failure = k_c − α_φ I1 = 3 α_φ p
         let tau = 3.0 * m.alpha_phi * p;
-        assert!((s.j2().sqrt() - tau).abs() < 1e-3 * tau, "{} vs {tau}", s.j2().sqrt());
+        assert!(
+            (s.j2().sqrt() - tau).abs() < 1e-3 * tau,
+            "{} vs {tau}",
+            s.j2().sqrt()
+        );
         // ψ = 0: no plastic volume change, so the pressure is unchanged by isochoric shear.
-        assert!((s.trace() / 3.0 + p).abs() < 1e-3 * p, "pressure changed: {}", -s.trace() / 3.0);
+        assert!(
+            (s.trace() / 3.0 + p).abs() < 1e-3 * p,
+            "pressure changed: {}",
+            -s.trace() / 3.0
+        );
         assert!(ep > 0.0 && diss > 0.0);
     }
 
@@ -202,7 +238,10 @@ mod tests {
         let (s1, _, _) = drive(&sand(35.0, 15.0, 0.0), confined(p), l, 1e-4, 500, |_, _| {});
         let (p0, p1) = (-s0.trace() / 3.0, -s1.trace() / 3.0);
         assert!((p0 - p).abs() < 1e-3 * p);
-        assert!(p1 > 1.5 * p, "dilatant sand at constant volume must gain pressure: {p1}");
+        assert!(
+            p1 > 1.5 * p,
+            "dilatant sand at constant volume must gain pressure: {p1}"
+        );
         // and it stays on the cone
         let m = sand(35.0, 15.0, 0.0);
         assert!(m.yield_function(s1) <= 1e-3 * p1);
@@ -212,9 +251,16 @@ mod tests {
     fn cohesionless_sand_carries_no_tension() {
         let m = sand(30.0, 0.0, 0.0);
         let r = 1.0;
-        let (s, _, _) = drive(&m, confined(100.0), [[r, 0.0, 0.0], [0.0, r, 0.0], [0.0, 0.0, r]], 1e-4, 200, |_, s| {
-            assert!(s.trace() <= 1e-6);
-        });
+        let (s, _, _) = drive(
+            &m,
+            confined(100.0),
+            [[r, 0.0, 0.0], [0.0, r, 0.0], [0.0, 0.0, r]],
+            1e-4,
+            200,
+            |_, s| {
+                assert!(s.trace() <= 1e-6);
+            },
+        );
         assert!(s.components().iter().all(|c| c.abs() < 1e-3), "{s:?}");
     }
 
@@ -223,11 +269,23 @@ mod tests {
         let m = sand(30.0, 5.0, 2000.0);
         let r = 1.0;
         // uniaxial tension pulls past the apex
-        let (s, _, _) = drive(&m, Sym3::ZERO, [[r, 0.0, 0.0], [0.0; 3], [0.0; 3]], 1e-4, 300, |_, s| {
-            assert!(s.trace() <= m.apex * 1.0001);
-            assert!(m.yield_function(*s) <= 1e-3 * m.k_c);
-        });
-        assert!((s.trace() - m.apex).abs() < 1e-3 * m.apex, "{} vs apex {}", s.trace(), m.apex);
+        let (s, _, _) = drive(
+            &m,
+            Sym3::ZERO,
+            [[r, 0.0, 0.0], [0.0; 3], [0.0; 3]],
+            1e-4,
+            300,
+            |_, s| {
+                assert!(s.trace() <= m.apex * 1.0001);
+                assert!(m.yield_function(*s) <= 1e-3 * m.k_c);
+            },
+        );
+        assert!(
+            (s.trace() - m.apex).abs() < 1e-3 * m.apex,
+            "{} vs apex {}",
+            s.trace(),
+            m.apex
+        );
         assert!(s.j2().sqrt() < 1e-3 * m.k_c);
     }
 
@@ -236,16 +294,25 @@ mod tests {
         let m = sand(40.0, 10.0, 500.0);
         let mut seed = 12345u64;
         let mut rnd = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             ((seed >> 33) as f64 / (1u64 << 31) as f64 * 2.0 - 1.0) as Real
         };
         let mut s = confined(2000.0);
         for _ in 0..5000 {
-            let l = [[rnd() - 0.3, rnd(), rnd()], [rnd(), rnd() - 0.3, rnd()], [rnd(), rnd(), rnd() - 0.3]];
+            let l = [
+                [rnd() - 0.3, rnd(), rnd()],
+                [rnd(), rnd() - 0.3, rnd()],
+                [rnd(), rnd(), rnd() - 0.3],
+            ];
             let (rate, spin) = crate::material::test_util::rate_spin(l);
             let u = m.update(&mut s, rate, spin, 2e-3);
             assert!(s.is_finite());
-            assert!(m.yield_function(s) <= 1e-3 * (m.k_c + s.trace().abs()), "outside: {s:?}");
+            assert!(
+                m.yield_function(s) <= 1e-3 * (m.k_c + s.trace().abs()),
+                "outside: {s:?}"
+            );
             assert!(s.trace() <= m.apex + 1e-3);
             assert!(u.plastic_strain >= 0.0);
         }
@@ -262,14 +329,26 @@ mod tests {
             cohesion: 0.0,
         };
         assert_eq!(
-            p.validate("bodies[1].material.drucker_prager").unwrap_err().to_string(),
+            p.validate("bodies[1].material.drucker_prager")
+                .unwrap_err()
+                .to_string(),
             "bodies[1].material.drucker_prager.friction_angle = 90: must be in [0, 90) (degrees)"
         );
         p.friction_angle = 30.0;
         p.dilatancy_angle = 31.0;
-        assert!(p.validate("m").unwrap_err().to_string().contains("m.dilatancy_angle = 31"));
+        assert!(
+            p.validate("m")
+                .unwrap_err()
+                .to_string()
+                .contains("m.dilatancy_angle = 31")
+        );
         p.dilatancy_angle = 0.0;
         p.cohesion = -1.0;
-        assert!(p.validate("m").unwrap_err().to_string().contains("m.cohesion = -1"));
+        assert!(
+            p.validate("m")
+                .unwrap_err()
+                .to_string()
+                .contains("m.cohesion = -1")
+        );
     }
 }

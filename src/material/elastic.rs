@@ -35,11 +35,21 @@ impl ElasticParams {
     }
     pub fn validate(&self, path: &str) -> Result<()> {
         check_positive(format!("{path}.youngs_modulus"), self.youngs_modulus, "Pa")?;
-        check_range(format!("{path}.poisson_ratio"), self.poisson_ratio, 0.0, 0.5, true, "")?;
+        check_range(
+            format!("{path}.poisson_ratio"),
+            self.poisson_ratio,
+            0.0,
+            0.5,
+            true,
+            "",
+        )?;
         check_positive(format!("{path}.density"), self.density, "kg/m³")
     }
     pub fn model(&self) -> Elastic {
-        Elastic { g: self.shear_modulus() as Real, k: self.bulk_modulus() as Real }
+        Elastic {
+            g: self.shear_modulus() as Real,
+            k: self.bulk_modulus() as Real,
+        }
     }
 }
 
@@ -64,7 +74,13 @@ impl Elastic {
 impl Constitutive for Elastic {
     const PLASTIC: bool = false;
     #[inline(always)]
-    fn update<S: SymTensor>(&self, stress: &mut S, rate: S, spin: S::Spin, dt: Real) -> StressUpdate {
+    fn update<S: SymTensor>(
+        &self,
+        stress: &mut S,
+        rate: S,
+        spin: S::Spin,
+        dt: Real,
+    ) -> StressUpdate {
         *stress = self.trial(*stress, rate, spin, dt);
         StressUpdate::default()
     }
@@ -80,17 +96,32 @@ mod tests {
     use crate::math::Sym3;
 
     fn steel_like() -> Elastic {
-        ElasticParams { youngs_modulus: 1.0e6, poisson_ratio: 0.3, density: 1000.0 }.model()
+        ElasticParams {
+            youngs_modulus: 1.0e6,
+            poisson_ratio: 0.3,
+            density: 1000.0,
+        }
+        .model()
     }
 
     #[test]
     fn uniaxial_strain_gives_the_constrained_modulus() {
         let m = steel_like();
         let (rate, dt, n) = (0.5, 1e-3, 200);
-        let (s, ep, _) = drive(&m, Sym3::ZERO, [[rate, 0.0, 0.0], [0.0; 3], [0.0; 3]], dt, n, |_, _| {});
+        let (s, ep, _) = drive(
+            &m,
+            Sym3::ZERO,
+            [[rate, 0.0, 0.0], [0.0; 3], [0.0; 3]],
+            dt,
+            n,
+            |_, _| {},
+        );
         let eps = rate * dt * n as Real;
         let (g, k) = (m.g, m.k);
-        assert!(((s.xx - (k + 4.0 * g / 3.0) * eps) / s.xx).abs() < 1e-4, "{s:?}");
+        assert!(
+            ((s.xx - (k + 4.0 * g / 3.0) * eps) / s.xx).abs() < 1e-4,
+            "{s:?}"
+        );
         assert!(((s.yy - (k - 2.0 * g / 3.0) * eps) / s.yy).abs() < 1e-4);
         assert!((s.yy - s.zz).abs() < 1e-3 * s.yy.abs());
         assert_eq!(ep, 0.0);
@@ -100,25 +131,58 @@ mod tests {
     fn pure_shear_gives_twice_g() {
         let m = steel_like();
         let a = 0.2; // L_xy = L_yx = a: strain rate ε̇_xy = a, no spin
-        let (s, _, _) = drive(&m, Sym3::ZERO, [[0.0, a, 0.0], [a, 0.0, 0.0], [0.0; 3]], 1e-3, 100, |_, _| {});
+        let (s, _, _) = drive(
+            &m,
+            Sym3::ZERO,
+            [[0.0, a, 0.0], [a, 0.0, 0.0], [0.0; 3]],
+            1e-3,
+            100,
+            |_, _| {},
+        );
         let expect = 2.0 * m.g * a * 0.1;
-        assert!(((s.xy - expect) / expect).abs() < 1e-4, "{} vs {expect}", s.xy);
+        assert!(
+            ((s.xy - expect) / expect).abs() < 1e-4,
+            "{} vs {expect}",
+            s.xy
+        );
         assert!(s.xx.abs() < 1e-3 * expect && s.yy.abs() < 1e-3 * expect);
     }
 
     #[test]
     fn pure_rotation_rotates_the_stress_without_growth() {
         let m = steel_like();
-        let s0 = Sym3 { xx: 3.0e4, yy: -1.0e4, zz: 5.0e3, xy: 2.0e3, xz: 0.0, yz: 0.0 };
+        let s0 = Sym3 {
+            xx: 3.0e4,
+            yy: -1.0e4,
+            zz: 5.0e3,
+            xy: 2.0e3,
+            xz: 0.0,
+            yz: 0.0,
+        };
         let w: Real = 2.0; // rad/s about z: v = (−w y, w x, 0)
         let dt: Real = 1e-3;
         let steps = 20_000; // 40 rad, more than six turns
-        let (s, _, _) = drive(&m, s0, [[0.0, -w, 0.0], [w, 0.0, 0.0], [0.0; 3]], dt, steps, |_, s| {
-            // invariants are preserved at every step
-            // f32 round-off only (a forward-Euler spin term would grow J2 by 8 % here)
-            assert!((s.trace() - s0.trace()).abs() < 1e-3 * 3.0e4, "trace drifted to {}", s.trace());
-            assert!((s.j2() - s0.j2()).abs() / s0.j2() < 1e-3);
-        });
+        let (s, _, _) = drive(
+            &m,
+            s0,
+            [[0.0, -w, 0.0], [w, 0.0, 0.0], [0.0; 3]],
+            dt,
+            steps,
+            |_, s| {
+                // invariants are preserved at every step
+                // (a forward-Euler step of ωσ − σω would grow J2 by 8 % over this run)
+                assert!(
+                    (s.trace() - s0.trace()).abs() < 1e-4 * 3.0e4,
+                    "trace drifted to {}",
+                    s.trace()
+                );
+                assert!(
+                    (s.j2() - s0.j2()).abs() / s0.j2() < 1e-4,
+                    "J2 ratio {}",
+                    s.j2() / s0.j2()
+                );
+            },
+        );
         // The exact rotation by the angle ω t.
         let th = (w * dt * steps as Real) as f64;
         let (c, sn) = (th.cos(), th.sin());
@@ -127,8 +191,16 @@ mod tests {
         let exy = c * sn * (xx - yy) + (c * c - sn * sn) * xy;
         let scale = 3.0e4;
         // The Cayley angle differs from ωΔt by O((ωΔt)³) per step.
-        assert!((s.xx as f64 - exx).abs() < 2e-3 * scale, "{} vs {exx}", s.xx);
-        assert!((s.xy as f64 - exy).abs() < 2e-3 * scale, "{} vs {exy}", s.xy);
+        assert!(
+            (s.xx as f64 - exx).abs() < 2e-3 * scale,
+            "{} vs {exx}",
+            s.xx
+        );
+        assert!(
+            (s.xy as f64 - exy).abs() < 2e-3 * scale,
+            "{} vs {exy}",
+            s.xy
+        );
         assert!((s.zz - s0.zz).abs() < 1.0);
     }
 
@@ -140,20 +212,51 @@ mod tests {
         let gd: Real = 1.0;
         let dt: Real = 1e-4;
         let steps = 30_000; // γ = 3 rad
-        let (s, _, _) = drive(&m, Sym3::ZERO, [[0.0, gd, 0.0], [0.0; 3], [0.0; 3]], dt, steps, |_, _| {});
+        let (s, _, _) = drive(
+            &m,
+            Sym3::ZERO,
+            [[0.0, gd, 0.0], [0.0; 3], [0.0; 3]],
+            dt,
+            steps,
+            |_, _| {},
+        );
         let gam = (gd * dt * steps as Real) as f64;
         let g = m.g as f64;
-        assert!((s.xy as f64 - g * gam.sin()).abs() < 2e-3 * g, "{} vs {}", s.xy, g * gam.sin());
+        assert!(
+            (s.xy as f64 - g * gam.sin()).abs() < 2e-3 * g,
+            "{} vs {}",
+            s.xy,
+            g * gam.sin()
+        );
         assert!((s.xx as f64 - g * (1.0 - gam.cos())).abs() < 2e-3 * g);
         assert!((s.yy as f64 + g * (1.0 - gam.cos())).abs() < 2e-3 * g);
     }
 
     #[test]
     fn validation_names_the_field() {
-        let p = ElasticParams { youngs_modulus: 1e6, poisson_ratio: 0.5, density: 1000.0 };
-        let e = p.validate("bodies[0].material.elastic").unwrap_err().to_string();
-        assert_eq!(e, "bodies[0].material.elastic.poisson_ratio = 0.5: must be in [0, 0.5)");
-        let p = ElasticParams { youngs_modulus: -1.0, poisson_ratio: 0.2, density: 1000.0 };
-        assert!(p.validate("m").unwrap_err().to_string().starts_with("m.youngs_modulus = -1"));
+        let p = ElasticParams {
+            youngs_modulus: 1e6,
+            poisson_ratio: 0.5,
+            density: 1000.0,
+        };
+        let e = p
+            .validate("bodies[0].material.elastic")
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "bodies[0].material.elastic.poisson_ratio = 0.5: must be in [0, 0.5)"
+        );
+        let p = ElasticParams {
+            youngs_modulus: -1.0,
+            poisson_ratio: 0.2,
+            density: 1000.0,
+        };
+        assert!(
+            p.validate("m")
+                .unwrap_err()
+                .to_string()
+                .starts_with("m.youngs_modulus = -1")
+        );
     }
 }

@@ -32,7 +32,13 @@ pub struct StressUpdate {
 pub trait Constitutive: Copy + Send + Sync + 'static {
     /// Whether the model can yield (elastic bodies skip all plastic work).
     const PLASTIC: bool;
-    fn update<S: SymTensor>(&self, stress: &mut S, rate: S, spin: S::Spin, dt: Real) -> StressUpdate;
+    fn update<S: SymTensor>(
+        &self,
+        stress: &mut S,
+        rate: S,
+        spin: S::Spin,
+        dt: Real,
+    ) -> StressUpdate;
     /// The elastic moduli (G, K) in Pa.
     fn moduli(&self) -> (Real, Real);
 }
@@ -58,11 +64,25 @@ pub enum Material {
 impl Material {
     /// An elastic material: Young's modulus E (Pa), Poisson ratio ν, density (kg/m³).
     pub fn elastic(youngs_modulus: f64, poisson_ratio: f64, density: f64) -> Self {
-        Material::Elastic(ElasticParams { youngs_modulus, poisson_ratio, density })
+        Material::Elastic(ElasticParams {
+            youngs_modulus,
+            poisson_ratio,
+            density,
+        })
     }
     /// A von Mises elastoplastic material with uniaxial yield stress σ_y (Pa).
-    pub fn von_mises(youngs_modulus: f64, poisson_ratio: f64, density: f64, yield_stress: f64) -> Self {
-        Material::VonMises(VonMisesParams { youngs_modulus, poisson_ratio, density, yield_stress })
+    pub fn von_mises(
+        youngs_modulus: f64,
+        poisson_ratio: f64,
+        density: f64,
+        yield_stress: f64,
+    ) -> Self {
+        Material::VonMises(VonMisesParams {
+            youngs_modulus,
+            poisson_ratio,
+            density,
+            yield_stress,
+        })
     }
     /// Sand: Drucker–Prager with friction angle φ and dilatancy angle ψ (degrees) and
     /// cohesion c (Pa).

@@ -33,7 +33,10 @@ impl VonMisesParams {
         check_positive(format!("{path}.yield_stress"), self.yield_stress, "Pa")
     }
     pub fn model(&self) -> VonMises {
-        VonMises { elastic: self.elastic().model(), y: (self.yield_stress / 3f64.sqrt()) as Real }
+        VonMises {
+            elastic: self.elastic().model(),
+            y: (self.yield_stress / 3f64.sqrt()) as Real,
+        }
     }
 }
 
@@ -47,7 +50,13 @@ pub struct VonMises {
 impl Constitutive for VonMises {
     const PLASTIC: bool = true;
     #[inline(always)]
-    fn update<S: SymTensor>(&self, stress: &mut S, rate: S, spin: S::Spin, dt: Real) -> StressUpdate {
+    fn update<S: SymTensor>(
+        &self,
+        stress: &mut S,
+        rate: S,
+        spin: S::Spin,
+        dt: Real,
+    ) -> StressUpdate {
         let trial = self.elastic.trial(*stress, rate, spin, dt); // Eq. 6
         let mean = trial.trace() / 3.0;
         let s_tr = trial - S::IDENTITY * mean; // Eq. 8
@@ -61,7 +70,8 @@ impl Constitutive for VonMises {
         let Elastic { g, k } = self.elastic;
         StressUpdate {
             plastic_strain: (sqrt_j2 - self.y) / (3.0f32.sqrt() as Real * g),
-            dissipation: elastic_energy_density(trial, g, k) - elastic_energy_density(*stress, g, k),
+            dissipation: elastic_energy_density(trial, g, k)
+                - elastic_energy_density(*stress, g, k),
         }
     }
     fn moduli(&self) -> (Real, Real) {
@@ -76,12 +86,23 @@ mod tests {
     use crate::math::Sym3;
 
     fn metal() -> VonMises {
-        VonMisesParams { youngs_modulus: 2.0e7, poisson_ratio: 0.3, density: 1000.0, yield_stress: 1.0e5 }.model()
+        VonMisesParams {
+            youngs_modulus: 2.0e7,
+            poisson_ratio: 0.3,
+            density: 1000.0,
+            yield_stress: 1.0e5,
+        }
+        .model()
     }
 
     /// Uniaxial stress: the axial strain rate is prescribed, the lateral rate is solved each
     /// step (secant iterations) so that the lateral stresses stay zero.
-    fn uniaxial_stress(m: &VonMises, axial_rate: Real, dt: Real, steps: usize) -> Vec<(Real, Real, Sym3, Real)> {
+    fn uniaxial_stress(
+        m: &VonMises,
+        axial_rate: Real,
+        dt: Real,
+        steps: usize,
+    ) -> Vec<(Real, Real, Sym3, Real)> {
         let mut s = Sym3::ZERO;
         let mut ep = 0.0;
         let mut out = Vec::new();
@@ -120,16 +141,28 @@ mod tests {
         let sy = 1.0e5;
         let path = uniaxial_stress(&m, 1.0, 1e-5, 1000); // to 1 % strain; yield at 0.5 %
         for &(eps, sxx, s, ep) in &path {
-            assert!(s.yy.abs() < 1e-2 * sy && s.zz.abs() < 1e-2 * sy, "lateral stress {s:?}");
+            assert!(
+                s.yy.abs() < 1e-2 * sy && s.zz.abs() < 1e-2 * sy,
+                "lateral stress {s:?}"
+            );
             if eps < 0.99 * sy / e {
-                assert!((sxx - e * eps).abs() < 2e-3 * sy, "elastic branch at {eps}: {sxx}");
+                assert!(
+                    (sxx - e * eps).abs() < 2e-3 * sy,
+                    "elastic branch at {eps}: {sxx}"
+                );
                 assert_eq!(ep, 0.0);
             } else if eps > 1.02 * sy / e {
-                assert!((sxx - sy).abs() < 2e-3 * sy, "plastic branch at {eps}: {sxx}");
+                assert!(
+                    (sxx - sy).abs() < 2e-3 * sy,
+                    "plastic branch at {eps}: {sxx}"
+                );
                 // on the yield surface: √(3 J2) = σ_y
                 assert!(((3.0 * s.j2()).sqrt() - sy).abs() < 1e-3 * sy);
                 // plastic strain ≈ total strain − σ_y/E
-                assert!((ep - (eps - sy / e)).abs() < 0.05 * (eps - sy / e) + 2e-5, "{ep} at {eps}");
+                assert!(
+                    (ep - (eps - sy / e)).abs() < 0.05 * (eps - sy / e) + 2e-5,
+                    "{ep} at {eps}"
+                );
             }
         }
     }
@@ -139,13 +172,20 @@ mod tests {
         let m = metal();
         let a = 1.0;
         let mut first_plastic = None;
-        let (s, ep, diss) = drive(&m, Sym3::ZERO, [[0.0, a, 0.0], [a, 0.0, 0.0], [0.0; 3]], 1e-5, 600, |i, s| {
-            let j2 = s.j2();
-            assert!(j2 <= m.y * m.y * 1.0001);
-            if first_plastic.is_none() && j2 > 0.9999 * m.y * m.y {
-                first_plastic = Some(i);
-            }
-        });
+        let (s, ep, diss) = drive(
+            &m,
+            Sym3::ZERO,
+            [[0.0, a, 0.0], [a, 0.0, 0.0], [0.0; 3]],
+            1e-5,
+            600,
+            |i, s| {
+                let j2 = s.j2();
+                assert!(j2 <= m.y * m.y * 1.0001);
+                if first_plastic.is_none() && j2 > 0.9999 * m.y * m.y {
+                    first_plastic = Some(i);
+                }
+            },
+        );
         // elastic until 2G γ̇/2·t = Y: t = Y/(2 G a)
         let t_yield = m.y / (2.0 * m.elastic.g * a);
         let i_yield = (t_yield / 1e-5) as usize;
@@ -154,14 +194,25 @@ mod tests {
         assert!(ep > 0.0);
         // dissipation ≈ Y × plastic shear strain γ_p, with ε̄p = γ_p/√3.
         let gamma_p = ep * 3.0f32.sqrt() as Real;
-        assert!((diss - m.y * gamma_p).abs() < 0.02 * m.y * gamma_p, "{diss} vs {}", m.y * gamma_p);
+        assert!(
+            (diss - m.y * gamma_p).abs() < 0.02 * m.y * gamma_p,
+            "{diss} vs {}",
+            m.y * gamma_p
+        );
     }
 
     #[test]
     fn pressure_is_untouched_by_the_return() {
         let m = metal();
         let r = 2.0;
-        let (s, _, _) = drive(&m, Sym3::ZERO, [[r, 0.0, 0.0], [0.0, r, 0.0], [0.0, 0.0, -r * 0.5]], 1e-5, 400, |_, _| {});
+        let (s, _, _) = drive(
+            &m,
+            Sym3::ZERO,
+            [[r, 0.0, 0.0], [0.0, r, 0.0], [0.0, 0.0, -r * 0.5]],
+            1e-5,
+            400,
+            |_, _| {},
+        );
         let k = m.elastic.k;
         let tr_eps = (r + r - 0.5 * r) * 1e-5 * 400.0;
         assert!((s.trace() / 3.0 - k * tr_eps).abs() < 1e-3 * k * tr_eps);
@@ -170,7 +221,12 @@ mod tests {
 
     #[test]
     fn validation() {
-        let p = VonMisesParams { youngs_modulus: 1e6, poisson_ratio: 0.3, density: 1.0, yield_stress: 0.0 };
+        let p = VonMisesParams {
+            youngs_modulus: 1e6,
+            poisson_ratio: 0.3,
+            density: 1.0,
+            yield_stress: 0.0,
+        };
         assert_eq!(
             p.validate("b.von_mises").unwrap_err().to_string(),
             "b.von_mises.yield_stress = 0: must be a finite number > 0 (Pa)"

@@ -12,11 +12,34 @@ use crate::config::{BodyConfig, MAX_PARTICLES, SceneConfig};
 use crate::contact::{self, ContactPair, ContactRule};
 use crate::error::{Error, Result};
 use crate::grid::{Grid, GridIndex, base_node};
-use crate::kernel::{Kernel, KernelKind, Linear, QuadraticBspline};
+use crate::kernel::{Gimp, Kernel, KernelKind, Linear, QuadraticBspline};
 use crate::material::{Constitutive, Model, elastic_energy_density};
 use crate::math::{D2, D3, Dim, Real, VectorOps};
 use passes::{GatherReport, GatherState, StressReport, StressState};
 use std::ops::Range;
+
+/// Runs `$body` with the type `$k` and const `$s` set to the kernel `$kind` and its support.
+macro_rules! with_kernel {
+    ($kind:expr, $k:ident, $s:ident => $body:expr) => {
+        match $kind {
+            KernelKind::Linear => {
+                type $k = Linear;
+                const $s: usize = 2;
+                $body
+            }
+            KernelKind::QuadraticBspline => {
+                type $k = QuadraticBspline;
+                const $s: usize = 3;
+                $body
+            }
+            KernelKind::Gimp => {
+                type $k = Gimp;
+                const $s: usize = 3;
+                $body
+            }
+        }
+    };
+}
 
 /// Runtime constants derived from the scene's world settings.
 #[derive(Clone, Copy, Debug)]
@@ -62,6 +85,8 @@ pub struct Body<D: Dim> {
     stats: BodyStats,
     /// max V_p/m_p over the body, for the wave speed.
     max_specific_volume: Real,
+    /// Half the particle spacing: how far a particle's material reaches (for the walls).
+    radius: Real,
 }
 
 impl<D: Dim> Body<D> {
@@ -105,13 +130,20 @@ impl<D: Dim> Simulation<D> {
     /// Builds a simulation from a scene (validated here).
     pub fn new(scene: SceneConfig) -> Result<Self> {
         if scene.dim != D::DIM {
-            return Err(Error::invalid("dim", scene.dim, format!("must be {} for a {}D simulation", D::DIM, D::DIM)));
+            return Err(Error::invalid(
+                "dim",
+                scene.dim,
+                format!("must be {} for a {}D simulation", D::DIM, D::DIM),
+            ));
         }
         scene.validate_world()?;
         let bodies = scene.bodies.clone();
         let mut sim = Simulation {
             world: World::new(&scene),
-            scene: SceneConfig { bodies: Vec::new(), ..scene },
+            scene: SceneConfig {
+                bodies: Vec::new(),
+                ..scene
+            },
             particles: Particles::default(),
             bodies: Vec::new(),
             contacts: Vec::new(),
@@ -130,7 +162,10 @@ impl<D: Dim> Simulation<D> {
 
     /// A builder over an empty scene with the given domain size (m) and cell size (m).
     pub fn builder(size: &[f64], cell_size: f64) -> SimulationBuilder<D> {
-        SimulationBuilder { scene: SceneConfig::new(D::DIM, size, cell_size), _dim: Default::default() }
+        SimulationBuilder {
+            scene: SceneConfig::new(D::DIM, size, cell_size),
+            _dim: Default::default(),
+        }
     }
 
     /// Samples a body's shape into particles and adds it; returns its index.
@@ -138,7 +173,10 @@ impl<D: Dim> Simulation<D> {
         let i = self.bodies.len();
         let path = format!("bodies[{i}]");
         config.validate(&path, D::DIM, &self.scene.domain.size)?;
-        let (points, volume) = config.shape.sample(D::DIM, self.scene.cell_size, config.particles_per_cell);
+        let (points, volume) =
+            config
+                .shape
+                .sample(D::DIM, self.scene.cell_size, config.particles_per_cell);
         if points.is_empty() {
             return Err(Error::invalid(
                 format!("{path}.shape"),
@@ -154,12 +192,20 @@ impl<D: Dim> Simulation<D> {
             ));
         }
         let density = config.material.density();
-        let v0 = config.velocity.as_deref().map_or(D::Vector::ZERO, |v| D::Vector::from_fn(|a| v[a] as Real));
+        let v0 = config
+            .velocity
+            .as_deref()
+            .map_or(D::Vector::ZERO, |v| D::Vector::from_fn(|a| v[a] as Real));
         let start = self.particles.len();
         let mass = (volume * density) as Real;
+        let radius = (0.5 * volume.powf(1.0 / D::DIM as f64)) as Real;
         for p in points {
-            let x = self.world.walls.clamp(D::vector(p.map(|c| c as Real)));
-            self.particles.push(x, v0, volume as Real, mass, self.next_id);
+            let x = self
+                .world
+                .walls
+                .clamp(D::vector(p.map(|c| c as Real)), radius);
+            self.particles
+                .push(x, v0, volume as Real, mass, self.next_id);
             self.next_id += 1;
         }
         self.bodies.push(Body {
@@ -169,6 +215,7 @@ impl<D: Dim> Simulation<D> {
             grid: Grid::default(),
             stats: BodyStats::default(),
             max_specific_volume: (1.0 / density) as Real,
+            radius,
         });
         self.scene.bodies.push(config);
         self.measure();
@@ -178,7 +225,11 @@ impl<D: Dim> Simulation<D> {
     /// Removes body `i` and its particles.
     pub fn remove_body(&mut self, i: usize) -> Result<()> {
         if i >= self.bodies.len() {
-            return Err(Error::invalid("body", i, format!("must be a body index below {}", self.bodies.len())));
+            return Err(Error::invalid(
+                "body",
+                i,
+                format!("must be a body index below {}", self.bodies.len()),
+            ));
         }
         let r = self.bodies[i].range.clone();
         let p = &mut self.particles;
@@ -216,20 +267,34 @@ impl<D: Dim> Simulation<D> {
         let mut next = self.scene.clone();
         f(&mut next);
         if next.dim != self.scene.dim {
-            return Err(Error::invalid("dim", next.dim, format!("cannot change while running (is {})", self.scene.dim)));
+            return Err(Error::invalid(
+                "dim",
+                next.dim,
+                format!("cannot change while running (is {})", self.scene.dim),
+            ));
         }
         if next.domain != self.scene.domain {
             return Err(Error::invalid(
                 "domain.size",
                 format!("{:?}", next.domain.size),
-                format!("cannot change while running (is {:?})", self.scene.domain.size),
+                format!(
+                    "cannot change while running (is {:?})",
+                    self.scene.domain.size
+                ),
             ));
         }
         if next.bodies.len() != self.scene.bodies.len() {
-            return Err(Error::invalid("bodies", next.bodies.len(), "use add_body/remove_body to change the bodies"));
+            return Err(Error::invalid(
+                "bodies",
+                next.bodies.len(),
+                "use add_body/remove_body to change the bodies",
+            ));
         }
         for (i, (a, b)) in next.bodies.iter().zip(&self.scene.bodies).enumerate() {
-            if a.shape != b.shape || a.particles_per_cell != b.particles_per_cell || a.velocity != b.velocity {
+            if a.shape != b.shape
+                || a.particles_per_cell != b.particles_per_cell
+                || a.velocity != b.velocity
+            {
                 return Err(Error::invalid(
                     format!("bodies[{i}]"),
                     "a new shape, sampling or initial velocity",
@@ -282,15 +347,27 @@ impl<D: Dim> Simulation<D> {
     /// Bytes of particle and grid state.
     pub fn memory_bytes(&self) -> usize {
         self.particles.x.capacity() * Particles::<D>::bytes_per_particle()
-            + self.bodies.iter().map(|b| b.grid.memory_bytes()).sum::<usize>()
+            + self
+                .bodies
+                .iter()
+                .map(|b| b.grid.memory_bytes())
+                .sum::<usize>()
     }
 
     /// The time step the next step will take: dt = CFL · h / max(c + |v|), capped by max_dt,
     /// with c = √((K + 4G/3)/ρ) at each body's lowest density.
     pub fn stable_dt(&self) -> f64 {
-        let c = self.bodies.iter().map(|b| b.wave_speed()).fold(0.0, f64::max);
+        let c = self
+            .bodies
+            .iter()
+            .map(|b| b.wave_speed())
+            .fold(0.0, f64::max);
         let speed = c + self.diagnostics.max_speed;
-        if speed > 0.0 { (self.world.cfl * self.world.h as f64 / speed).min(self.world.max_dt) } else { self.world.max_dt }
+        if speed > 0.0 {
+            (self.world.cfl * self.world.h as f64 / speed).min(self.world.max_dt)
+        } else {
+            self.world.max_dt
+        }
     }
 
     /// Advances by `duration` seconds (the last step is shortened to land on it); returns the
@@ -334,12 +411,19 @@ impl<D: Dim> Simulation<D> {
         let sort = self.sort_interval > 0 && self.steps.is_multiple_of(self.sort_interval);
         for body in &mut self.bodies {
             let x = &self.particles.x[body.range.clone()];
-            body.grid.rebuild(x.len(), kernel.support(), |p| base_node::<D>(x[p], inv_h, kernel));
+            let lp = body.radius * inv_h;
+            body.grid.rebuild(x.len(), kernel.support(), |p| {
+                base_node::<D>(x[p], inv_h, kernel, lp)
+            });
             if sort {
                 let index = &body.grid.index;
                 let keys: Vec<u32> = x
                     .iter()
-                    .map(|&xp| index.slot_of(base_node::<D>(xp, inv_h, kernel)).unwrap_or(0) as u32)
+                    .map(|&xp| {
+                        index
+                            .slot_of(base_node::<D>(xp, inv_h, kernel, lp))
+                            .unwrap_or(0) as u32
+                    })
                     .collect();
                 if keys.windows(2).any(|w| w[0] > w[1]) {
                     let order = counting_sort(&keys, index.block_count());
@@ -365,10 +449,8 @@ impl<D: Dim> Simulation<D> {
         for body in &mut self.bodies {
             let r = body.range.clone();
             let (x, v, m) = (&p.x[r.clone()], &p.v[r.clone()], &p.mass[r]);
-            match self.world.kernel {
-                KernelKind::Linear => passes::scatter::<D, Linear, 2>(&mut body.grid, x, v, m, inv_h),
-                KernelKind::QuadraticBspline => passes::scatter::<D, QuadraticBspline, 3>(&mut body.grid, x, v, m, inv_h),
-            }
+            let lp = body.radius * inv_h;
+            with_kernel!(self.world.kernel, K, S => passes::scatter::<D, K, S>(&mut body.grid, x, v, m, inv_h, lp));
             passes::grid_velocities(&mut body.grid);
         }
     }
@@ -388,12 +470,8 @@ impl<D: Dim> Simulation<D> {
                 volume: &mut p.volume[r.clone()],
                 plastic_strain: &mut p.plastic_strain[r],
             };
-            let report = match kernel {
-                KernelKind::Linear => stress_pass::<D, Linear, 2>(&mut body.grid, state, &body.model, dt, inv_h),
-                KernelKind::QuadraticBspline => {
-                    stress_pass::<D, QuadraticBspline, 3>(&mut body.grid, state, &body.model, dt, inv_h)
-                }
-            };
+            let lp = body.radius * inv_h;
+            let report = with_kernel!(kernel, K, S => stress_pass::<D, K, S>(&mut body.grid, state, &body.model, dt, inv_h, lp));
             if report.bad == 0 {
                 body.max_specific_volume = report.max_specific_volume;
             }
@@ -409,11 +487,17 @@ impl<D: Dim> Simulation<D> {
         }
         for pair in &self.contacts {
             let (left, right) = self.bodies.split_at_mut(pair.b);
-            let d = contact::resolve(&mut left[pair.a].grid, &mut right[0].grid, &pair.blocks, self.world.contact);
+            let d = contact::resolve(
+                &mut left[pair.a].grid,
+                &mut right[0].grid,
+                &pair.blocks,
+                self.world.contact,
+            );
             self.diagnostics.dissipated_contact += d;
         }
         for body in &mut self.bodies {
-            self.diagnostics.dissipated_boundary += passes::grid_walls(&mut body.grid, &self.world.walls);
+            self.diagnostics.dissipated_boundary +=
+                passes::grid_walls(&mut body.grid, &self.world.walls);
         }
     }
 
@@ -430,28 +514,32 @@ impl<D: Dim> Simulation<D> {
                 mass: &p.mass[r.clone()],
                 plastic_strain: &p.plastic_strain[r],
             };
-            reports.push(match w.kernel {
-                KernelKind::Linear => passes::gather_and_advect::<D, Linear, 2>(
-                    &body.grid, state, body.flip, dt, w.inv_h, &w.walls, w.gravity,
-                ),
-                KernelKind::QuadraticBspline => passes::gather_and_advect::<D, QuadraticBspline, 3>(
-                    &body.grid, state, body.flip, dt, w.inv_h, &w.walls, w.gravity,
-                ),
-            });
+            reports.push(
+                with_kernel!(w.kernel, K, S => passes::gather_and_advect::<D, K, S>(
+                    &body.grid, state, body.flip, dt, w.inv_h, &w.walls, body.radius, w.gravity,
+                )),
+            );
         }
         reports
     }
 
     /// Sums the reports into the diagnostics; fails on the first non-finite particle.
-    fn finish_step(&mut self, dt: f64, stress: &[StressReport], gathered: &[GatherReport<D>]) -> Result<()> {
+    fn finish_step(
+        &mut self,
+        dt: f64,
+        stress: &[StressReport],
+        gathered: &[GatherReport<D>],
+    ) -> Result<()> {
         let d = &mut self.diagnostics;
         d.time = self.time;
         d.step = self.steps;
         d.dt = dt;
         d.particles = self.particles.len();
-        d.nonfinite = stress.iter().map(|s| s.bad).sum::<usize>() + gathered.iter().map(|g| g.bad).sum::<usize>();
+        d.nonfinite = stress.iter().map(|s| s.bad).sum::<usize>()
+            + gathered.iter().map(|g| g.bad).sum::<usize>();
         d.grid_blocks = self.bodies.iter().map(|b| b.grid.index.block_count()).sum();
-        let (mut kinetic, mut grav, mut elastic, mut momentum, mut max_speed) = (0.0, 0.0, 0.0, [0.0; 3], 0.0f64);
+        let (mut kinetic, mut grav, mut elastic, mut momentum, mut max_speed) =
+            (0.0, 0.0, 0.0, [0.0; 3], 0.0f64);
         for (i, body) in self.bodies.iter_mut().enumerate() {
             let (s, g) = (&stress[i], &gathered[i]);
             d.dissipated_plastic += s.dissipated;
@@ -472,10 +560,16 @@ impl<D: Dim> Simulation<D> {
         d.elastic = elastic;
         d.momentum = momentum;
         d.max_speed = max_speed;
-        let c = self.bodies.iter().map(|b| b.wave_speed()).fold(0.0, f64::max);
+        let c = self
+            .bodies
+            .iter()
+            .map(|b| b.wave_speed())
+            .fold(0.0, f64::max);
         d.cfl = dt * (c + max_speed) / self.world.h as f64;
         for i in 0..self.bodies.len() {
-            let bad = stress[i].first_bad.or_else(|| gathered[i].first_bad.map(|p| (p, "velocity or position")));
+            let bad = stress[i]
+                .first_bad
+                .or_else(|| gathered[i].first_bad.map(|p| (p, "velocity or position")));
             if let Some((p, quantity)) = bad {
                 let e = Error::NonFinite {
                     body: self.scene.bodies[i].name.clone(),
@@ -533,6 +627,7 @@ fn stress_pass<D: Dim, K: Kernel<S>, const S: usize>(
     model: &Model,
     dt: Real,
     inv_h: Real,
+    lp: Real,
 ) -> StressReport {
     fn run<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
         grid: &mut Grid<D>,
@@ -540,13 +635,14 @@ fn stress_pass<D: Dim, K: Kernel<S>, const S: usize>(
         model: &M,
         dt: Real,
         inv_h: Real,
+        lp: Real,
     ) -> StressReport {
-        passes::update_stress::<D, K, M, S>(grid, state, model, dt, inv_h)
+        passes::update_stress::<D, K, M, S>(grid, state, model, dt, inv_h, lp)
     }
     match model {
-        Model::Elastic(m) => run::<D, K, _, S>(grid, state, m, dt, inv_h),
-        Model::VonMises(m) => run::<D, K, _, S>(grid, state, m, dt, inv_h),
-        Model::DruckerPrager(m) => run::<D, K, _, S>(grid, state, m, dt, inv_h),
+        Model::Elastic(m) => run::<D, K, _, S>(grid, state, m, dt, inv_h, lp),
+        Model::VonMises(m) => run::<D, K, _, S>(grid, state, m, dt, inv_h, lp),
+        Model::DruckerPrager(m) => run::<D, K, _, S>(grid, state, m, dt, inv_h, lp),
     }
 }
 
@@ -559,9 +655,21 @@ fn set_body_stats<D: Dim>(stats: &mut BodyStats, g: &GatherReport<D>, particles:
     stats.max_speed = g.max_speed as f64;
     stats.max_plastic_strain = g.max_plastic_strain as f64;
     for a in 0..3 {
-        stats.center_of_mass[a] = if g.mass > 0.0 { g.first_moment[a] / g.mass } else { 0.0 };
-        stats.bbox_min[a] = if a < D::DIM && particles > 0 { g.min[a] as f64 } else { 0.0 };
-        stats.bbox_max[a] = if a < D::DIM && particles > 0 { g.max[a] as f64 } else { 0.0 };
+        stats.center_of_mass[a] = if g.mass > 0.0 {
+            g.first_moment[a] / g.mass
+        } else {
+            0.0
+        };
+        stats.bbox_min[a] = if a < D::DIM && particles > 0 {
+            g.min[a] as f64
+        } else {
+            0.0
+        };
+        stats.bbox_max[a] = if a < D::DIM && particles > 0 {
+            g.max[a] as f64
+        } else {
+            0.0
+        };
     }
 }
 

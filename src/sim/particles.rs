@@ -73,7 +73,10 @@ impl<D: Dim> Particles<D> {
 
     /// Bytes of particle state per particle.
     pub fn bytes_per_particle() -> usize {
-        2 * std::mem::size_of::<D::Vector>() + std::mem::size_of::<D::Sym>() + 3 * std::mem::size_of::<Real>() + 4
+        2 * std::mem::size_of::<D::Vector>()
+            + std::mem::size_of::<D::Sym>()
+            + 3 * std::mem::size_of::<Real>()
+            + 4
     }
 
     /// Pressure P = −tr(σ)/3 of particle `p` (Pa).

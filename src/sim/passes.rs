@@ -29,11 +29,16 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
     v: &[D::Vector],
     mass: &[Real],
     inv_h: Real,
+    lp: Real,
 ) {
-    let Grid { index, nodes, mass_grad } = grid;
+    let Grid {
+        index,
+        nodes,
+        mass_grad,
+    } = grid;
     let with_gradient = !mass_grad.is_empty();
     for p in 0..x.len() {
-        let st = K::stencil(grid_coords::<D>(x[p], inv_h), D::DIM, inv_h);
+        let st = K::stencil(grid_coords::<D>(x[p], inv_h), D::DIM, inv_h, lp);
         let si = index.stencil_index::<S>(st.base);
         let (m, mv) = (mass[p], v[p] * mass[p]);
         D::for_each_node(&st, |ijk, w, g| {
@@ -89,6 +94,7 @@ pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
     model: &M,
     dt: Real,
     inv_h: Real,
+    lp: Real,
 ) -> StressReport {
     let Grid { index, nodes, .. } = grid;
     let (g_mod, k_mod) = model.moduli();
@@ -96,7 +102,7 @@ pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
     let mut idx = [0usize; MAX_STENCIL];
     let mut grads = [D::Vector::ZERO; MAX_STENCIL];
     for p in 0..ps.x.len() {
-        let st = K::stencil(grid_coords::<D>(ps.x[p], inv_h), D::DIM, inv_h);
+        let st = K::stencil(grid_coords::<D>(ps.x[p], inv_h), D::DIM, inv_h, lp);
         let si = index.stencil_index::<S>(st.base);
         let mut count = 0;
         let mut grad_v = D::GRAD_ZERO;
@@ -118,7 +124,14 @@ pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
         let sigma = ps.stress[p];
         if !(sigma.is_finite() && volume > 0.0 && volume.is_finite()) {
             report.bad += 1;
-            report.first_bad.get_or_insert((p, if sigma.is_finite() { "volume" } else { "stress" }));
+            report.first_bad.get_or_insert((
+                p,
+                if sigma.is_finite() {
+                    "volume"
+                } else {
+                    "stress"
+                },
+            ));
             continue;
         }
         report.elastic += (elastic_energy_density(sigma, g_mod, k_mod) * volume) as f64;
@@ -140,8 +153,18 @@ pub fn grid_forces<D: Dim>(grid: &mut Grid<D>, gravity: D::Vector, dt: Real) {
     }
 }
 
-/// Step 5, walls: constrains the nodes on or beyond the domain's faces; returns the kinetic
-/// energy the constraint removed.
+/// The energy a constraint removes from a mass `m` whose velocity it changes from `before` to
+/// `after` within a step that started at velocity `start`: minus the work of the impulse
+/// J = m (after − before) over the mean velocity (start + after)/2. It is ½ m v² for a mass
+/// stopped by an impact, the friction force times the distance slid for a sliding one, and
+/// zero for a mass held at rest (whose grid velocity only carries the step's Δt g).
+#[inline(always)]
+pub fn constraint_dissipation<V: VectorOps>(m: Real, start: V, before: V, after: V) -> f64 {
+    0.5 * (m * (before - after).dot(start + after)) as f64
+}
+
+/// Step 5, walls: constrains the nodes on or beyond the domain's faces; returns the energy
+/// the constraint removed.
 pub fn grid_walls<D: Dim>(grid: &mut Grid<D>, walls: &Walls<D>) -> f64 {
     let Grid { index, nodes, .. } = grid;
     let bn = GridIndex::<D>::block_nodes();
@@ -163,7 +186,7 @@ pub fn grid_walls<D: Dim>(grid: &mut Grid<D>, walls: &Walls<D>) -> f64 {
             let before = node.new_vel;
             let after = walls.node_velocity(coord, before);
             if after != before {
-                dissipated += 0.5 * (node.mass * (before.length_squared() - after.length_squared())) as f64;
+                dissipated += constraint_dissipation(node.mass, node.vel, before, after);
                 node.new_vel = after;
             }
         }
@@ -219,7 +242,14 @@ impl<D: Dim> GatherReport<D> {
 
     /// Adds one particle (`max_speed` holds the squared speed until the caller takes the root).
     #[inline(always)]
-    pub fn record(&mut self, m: Real, x: D::Vector, v: D::Vector, gravity: D::Vector, plastic_strain: Real) {
+    pub fn record(
+        &mut self,
+        m: Real,
+        x: D::Vector,
+        v: D::Vector,
+        gravity: D::Vector,
+        plastic_strain: Real,
+    ) {
         let (md, v2) = (m as f64, v.length_squared());
         self.mass += md;
         self.kinetic += 0.5 * md * v2 as f64;
@@ -236,7 +266,8 @@ impl<D: Dim> GatherReport<D> {
 }
 
 /// Steps 6–8: the PIC/FLIP blend v_p = (1 − α) Σ_i v_i^{n+1} w_ip + α (v_p + Σ_i Δv_i w_ip),
-/// the particle-side wall projection, and advection x_p += Δt v_p.
+/// the particle-side wall projection for particles of half-width `radius`, and advection
+/// x_p += Δt v_p.
 #[allow(clippy::too_many_arguments)]
 pub fn gather_and_advect<D: Dim, K: Kernel<S>, const S: usize>(
     grid: &Grid<D>,
@@ -245,13 +276,14 @@ pub fn gather_and_advect<D: Dim, K: Kernel<S>, const S: usize>(
     dt: Real,
     inv_h: Real,
     walls: &Walls<D>,
+    radius: Real,
     gravity: D::Vector,
 ) -> GatherReport<D> {
     let Grid { index, nodes, .. } = grid;
     let mut r = GatherReport::<D>::empty();
     for p in 0..ps.x.len() {
         let x = ps.x[p];
-        let st = K::stencil(grid_coords::<D>(x, inv_h), D::DIM, inv_h);
+        let st = K::stencil(grid_coords::<D>(x, inv_h), D::DIM, inv_h, radius * inv_h);
         let si = index.stencil_index::<S>(st.base);
         let mut v_pic = D::Vector::ZERO;
         let mut dv = D::Vector::ZERO;
@@ -261,12 +293,12 @@ pub fn gather_and_advect<D: Dim, K: Kernel<S>, const S: usize>(
             dv += (node.new_vel - node.vel) * w;
         });
         let blended = v_pic * (1.0 - alpha) + (ps.v[p] + dv) * alpha;
-        let v = walls.particle_velocity(x, blended, dt);
+        let v = walls.particle_velocity(x, blended, dt, radius);
         let m = ps.mass[p];
         if v != blended {
-            r.dissipated_walls += 0.5 * (m * (blended.length_squared() - v.length_squared())) as f64;
+            r.dissipated_walls += constraint_dissipation(m, ps.v[p], blended, v);
         }
-        let x = walls.clamp(x + v * dt);
+        let x = walls.clamp(x + v * dt, radius);
         if !(v.is_finite() && x.is_finite()) {
             r.bad += 1;
             r.first_bad.get_or_insert(p);
