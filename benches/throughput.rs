@@ -1,1 +1,126 @@
-fn main() {}
+//! Throughput of the solver: particle-substeps per second on blocks of sand and of elastic
+//! material settling on the ground, in 2D and 3D, with each kernel, and the cost of the same
+//! scene in a domain twice as large (the sparse grid makes it nearly free).
+//!
+//! `cargo bench --bench throughput` (pin it to one core for stable figures:
+//! `taskset -c 0 cargo bench --bench throughput`). Optional arguments filter the cases by
+//! substring, e.g. `cargo bench --bench throughput -- 3d`.
+//!
+//! Each figure is printed once for people and once as a machine-readable line:
+//! `bench scene=<name> dim=<2|3> particles=<n> substeps=<k> seconds=<s> particle_substeps_per_s=<x>`.
+
+use mpm::{AnySimulation, BodyConfig, KernelKind, Material, SceneConfig, Shape};
+use std::time::Instant;
+
+struct Case {
+    name: String,
+    scene: SceneConfig,
+}
+
+fn sand() -> Material {
+    Material::drucker_prager(3.5e5, 0.3, 2200.0, 35.0, 0.0, 0.0)
+}
+
+fn elastic() -> Material {
+    Material::elastic(1.0e5, 0.3, 1000.0)
+}
+
+/// A block resting on the ground of a domain `scale` times the base size.
+fn block(dim: usize, material: Material, kernel: KernelKind, scale: f64) -> SceneConfig {
+    let (size, h, lo, hi) = if dim == 3 {
+        (vec![1.0, 0.5, 1.0], 0.0125, vec![0.3, 0.0, 0.3], vec![0.7, 0.2, 0.7])
+    } else {
+        (vec![1.0, 0.5], 0.002, vec![0.25, 0.0], vec![0.75, 0.25])
+    };
+    let mut scene = SceneConfig::new(dim, &size.iter().map(|s| s * scale).collect::<Vec<_>>(), h);
+    scene.kernel = kernel;
+    scene.boundary.friction = 0.5;
+    scene.bodies.push(BodyConfig::new("block", Shape::cuboid(&lo, &hi), material));
+    scene
+}
+
+fn kernel_name(k: KernelKind) -> &'static str {
+    match k {
+        KernelKind::Linear => "linear",
+        KernelKind::QuadraticBspline => "bspline",
+        KernelKind::Gimp => "gimp",
+    }
+}
+
+fn cases() -> Vec<Case> {
+    let mut out = Vec::new();
+    for dim in [3, 2] {
+        for kernel in [KernelKind::Linear, KernelKind::QuadraticBspline, KernelKind::Gimp] {
+            for (mat, material) in [("sand", sand()), ("elastic", elastic())] {
+                let k = kernel_name(kernel);
+                out.push(Case {
+                    name: format!("{mat}_block_{dim}d_{k}"),
+                    scene: block(dim, material.clone(), kernel, 1.0),
+                });
+                if mat == "sand" {
+                    out.push(Case {
+                        name: format!("{mat}_block_{dim}d_{k}_domain_x2"),
+                        scene: block(dim, material, kernel, 2.0),
+                    });
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Runs `steps` substeps `rounds` times after a warm-up; returns the median seconds per round.
+fn time(sim: &mut AnySimulation, steps: usize, rounds: usize) -> f64 {
+    for _ in 0..steps {
+        sim.step().expect("warm-up step");
+    }
+    let mut t: Vec<f64> = (0..rounds)
+        .map(|_| {
+            let start = Instant::now();
+            for _ in 0..steps {
+                sim.step().expect("step");
+            }
+            start.elapsed().as_secs_f64()
+        })
+        .collect();
+    t.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    t[rounds / 2]
+}
+
+fn main() {
+    let filters: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with("--")).collect();
+    println!("MPM throughput (median of 5 rounds; particle-substeps per second, higher is better)");
+    let mut base: Option<(String, f64)> = None;
+    for case in cases() {
+        if !filters.is_empty() && !filters.iter().any(|f| case.name.contains(f.as_str())) {
+            continue;
+        }
+        let dim = case.scene.dim;
+        let mut sim = AnySimulation::new(case.scene).expect("valid benchmark scene");
+        let n = sim.particle_count();
+        let steps = if dim == 3 { 20 } else { 40 };
+        let secs = time(&mut sim, steps, 5);
+        let rate = (n * steps) as f64 / secs;
+        let bytes = sim.memory_bytes() as f64 / n as f64;
+        let mut note = String::new();
+        if let Some(name) = case.name.strip_suffix("_domain_x2") {
+            if let Some((b, r)) = &base {
+                if b == name {
+                    note = format!("  cost vs. small domain: {:.3}x", r / rate);
+                }
+            }
+        } else {
+            base = Some((case.name.clone(), rate));
+        }
+        println!(
+            "{:<32} {dim}D {n:>8} particles  {:>6.2} M particle-substeps/s  {:>5.0} B/particle{note}",
+            case.name,
+            rate / 1e6,
+            bytes
+        );
+        println!(
+            "bench scene={} dim={dim} particles={n} substeps={steps} seconds={secs:.4} particle_substeps_per_s={rate:.0}",
+            case.name
+        );
+    }
+}

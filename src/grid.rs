@@ -4,7 +4,7 @@
 //! Cost and memory follow the occupied blocks (plus a 4-byte table entry per block of the
 //! bounding box), never the domain.
 
-use crate::kernel::KernelKind;
+use crate::kernel::{KernelKind, floor_nonneg};
 use crate::math::{Dim, Real, VectorOps};
 
 /// Ghost nodes before the domain's lower corner along each axis: node `n` sits at
@@ -328,7 +328,7 @@ pub fn base_node<D: Dim>(x: D::Vector, inv_h: Real, kernel: KernelKind, lp: Real
     let off = GHOST as Real - kernel.base_offset(lp);
     let mut b = [0; 3];
     for (a, bb) in b.iter_mut().enumerate().take(D::DIM) {
-        *bb = (x[a] * inv_h + off).floor() as i32;
+        *bb = floor_nonneg(x[a] * inv_h + off);
     }
     b
 }

@@ -13,9 +13,11 @@
 //! shifted back to the apex, and a remaining f > 0 is removed by scaling the deviatoric stress
 //! back onto the cone. Cohesionless sand (c = 0) therefore carries no tension.
 
-use super::{Constitutive, Elastic, ElasticParams, StressUpdate, elastic_energy_density};
+use super::{Constitutive, Elastic, ElasticParams, StressUpdate};
 use crate::error::{Error, Result, check_non_negative, check_range};
 use crate::math::{Real, SymTensor};
+
+const SQRT_3: Real = 1.732_050_8;
 use serde::{Deserialize, Serialize};
 
 /// Parameters: E (Pa), ν, density (kg/m³), friction angle φ ∈ [0°, 90°), dilatancy angle
@@ -81,12 +83,16 @@ impl DruckerPragerParams {
         } else {
             f64::INFINITY
         };
+        let elastic = self.elastic().model();
+        let alpha_psi = alpha(self.dilatancy_angle);
+        let inv_hardening = 1.0 / (elastic.g as f64 + 9.0 * alpha_phi * alpha_psi * elastic.k as f64);
         DruckerPrager {
-            elastic: self.elastic().model(),
+            elastic,
             alpha_phi: alpha_phi as Real,
-            alpha_psi: alpha(self.dilatancy_angle) as Real,
+            alpha_psi: alpha_psi as Real,
             k_c: k_c as Real,
             apex: apex as Real,
+            inv_hardening: inv_hardening as Real,
         }
     }
 }
@@ -100,6 +106,8 @@ pub struct DruckerPrager {
     pub k_c: Real,
     /// The largest I1 the material carries (the cone's apex; 0 for cohesionless sand).
     pub apex: Real,
+    /// 1/(G + 9 α_φ α_ψ K), the denominator of Eq. 15.
+    pub inv_hardening: Real,
 }
 
 impl DruckerPrager {
@@ -112,58 +120,38 @@ impl DruckerPrager {
 impl Constitutive for DruckerPrager {
     const PLASTIC: bool = true;
     #[inline(always)]
-    fn update<S: SymTensor>(
-        &self,
-        stress: &mut S,
-        rate: S,
-        spin: S::Spin,
-        dt: Real,
-    ) -> StressUpdate {
-        let Elastic { g, k } = self.elastic;
+    fn update<S: SymTensor>(&self, stress: &mut S, rate: S, spin: S::Spin, dt: Real) -> StressUpdate {
+        let g = self.elastic.g;
         let trial = self.elastic.trial(*stress, rate, spin, dt);
-        let mut i1 = trial.trace();
-        let mut s = trial - S::IDENTITY * (i1 / 3.0);
-        let sqrt_j2_trial = (0.5 * s.ddot(s)).sqrt();
-        let f = sqrt_j2_trial + self.alpha_phi * i1 - self.k_c;
-        if f > 0.0 {
-            let dl = f / (g + 9.0 * self.alpha_phi * self.alpha_psi * k);
-            if sqrt_j2_trial > g * dl {
-                s = s * (1.0 - g * dl / sqrt_j2_trial);
-                i1 -= 9.0 * k * self.alpha_psi * dl;
-            } else {
-                // The return passes the cone's axis: only possible beyond the apex.
-                s = S::ZERO;
-            }
-        }
-        // Safeguard 1 (tension cracking): shift the hydrostatic part back to the apex.
-        if i1 > self.apex {
-            i1 = self.apex;
-        }
-        // Safeguard 2: scale the deviatoric stress back onto the cone.
-        let sqrt_j2 = (0.5 * s.ddot(s)).sqrt();
-        let limit = self.k_c - self.alpha_phi * i1;
-        let sqrt_j2 = if sqrt_j2 > limit {
-            s = if sqrt_j2 > 0.0 {
-                s * (limit / sqrt_j2)
-            } else {
-                S::ZERO
-            };
-            limit
-        } else {
-            sqrt_j2
-        };
-        *stress = s + S::IDENTITY * (i1 / 3.0);
-        if f <= 0.0 && sqrt_j2 == sqrt_j2_trial && i1 == trial.trace() {
+        let i1_trial = trial.trace();
+        let s_trial = trial - S::IDENTITY * (i1_trial * (1.0 / 3.0));
+        let sqrt_j2_trial = (0.5 * s_trial.ddot(s_trial)).sqrt();
+        let f = sqrt_j2_trial + self.alpha_phi * i1_trial - self.k_c;
+        if f <= 0.0 && i1_trial <= self.apex {
+            *stress = trial;
             return StressUpdate::default();
         }
+        // Plastic correction of Eq. 14 with the multiplier Δλ (radial in the deviatoric plane).
+        let (mut i1, mut sqrt_j2) = (i1_trial, sqrt_j2_trial);
+        if f > 0.0 {
+            let dl = f * self.inv_hardening;
+            i1 -= 9.0 * self.elastic.k * self.alpha_psi * dl;
+            // Below zero the return passes the cone's axis: only possible beyond the apex.
+            sqrt_j2 = (sqrt_j2_trial - g * dl).max(0.0);
+        }
+        // Safeguard 1 (tension cracking): shift the hydrostatic part back to the apex.
+        i1 = i1.min(self.apex);
+        // Safeguard 2: scale the deviatoric stress back onto the cone.
+        sqrt_j2 = sqrt_j2.min(self.k_c - self.alpha_phi * i1);
+        let ratio = if sqrt_j2_trial > 0.0 { sqrt_j2 / sqrt_j2_trial } else { 0.0 };
+        *stress = s_trial * ratio + S::IDENTITY * (i1 * (1.0 / 3.0));
         StressUpdate {
-            plastic_strain: (sqrt_j2_trial - sqrt_j2).max(0.0) / (3.0f32.sqrt() as Real * g),
-            dissipation: elastic_energy_density(trial, g, k)
-                - elastic_energy_density(*stress, g, k),
+            plastic_strain: (sqrt_j2_trial - sqrt_j2) * (1.0 / (SQRT_3 * g)),
+            dissipation: self.elastic.energy_density(trial) - self.elastic.energy_density(*stress),
         }
     }
-    fn moduli(&self) -> (Real, Real) {
-        (self.elastic.g, self.elastic.k)
+    fn elastic(&self) -> &Elastic {
+        &self.elastic
     }
 }
 

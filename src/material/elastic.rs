@@ -46,10 +46,7 @@ impl ElasticParams {
         check_positive(format!("{path}.density"), self.density, "kg/m³")
     }
     pub fn model(&self) -> Elastic {
-        Elastic {
-            g: self.shear_modulus() as Real,
-            k: self.bulk_modulus() as Real,
-        }
+        Elastic::new(self.shear_modulus() as Real, self.bulk_modulus() as Real)
     }
 }
 
@@ -58,9 +55,23 @@ impl ElasticParams {
 pub struct Elastic {
     pub g: Real,
     pub k: Real,
+    inv_4g: Real,
+    inv_2k: Real,
 }
 
 impl Elastic {
+    pub fn new(g: Real, k: Real) -> Self {
+        Elastic { g, k, inv_4g: 0.25 / g, inv_2k: 0.5 / k }
+    }
+
+    /// The stored elastic energy per unit volume of a stress: s:s/(4G) + P²/(2K).
+    #[inline(always)]
+    pub fn energy_density<S: SymTensor>(&self, stress: S) -> Real {
+        let p = stress.trace() * (1.0 / 3.0);
+        let s = stress - S::IDENTITY * p;
+        s.ddot(s) * self.inv_4g + p * p * self.inv_2k
+    }
+
     /// The elastic trial stress: the old stress rotated with the material, plus the
     /// elastic increment 2G dt dev(ε̇) + K dt tr(ε̇) I.
     #[inline(always)]
@@ -84,8 +95,8 @@ impl Constitutive for Elastic {
         *stress = self.trial(*stress, rate, spin, dt);
         StressUpdate::default()
     }
-    fn moduli(&self) -> (Real, Real) {
-        (self.g, self.k)
+    fn elastic(&self) -> &Elastic {
+        self
     }
 }
 

@@ -39,16 +39,8 @@ pub trait Constitutive: Copy + Send + Sync + 'static {
         spin: S::Spin,
         dt: Real,
     ) -> StressUpdate;
-    /// The elastic moduli (G, K) in Pa.
-    fn moduli(&self) -> (Real, Real);
-}
-
-/// The stored elastic energy per unit volume of a stress: s:s/(4G) + P²/(2K).
-#[inline(always)]
-pub fn elastic_energy_density<S: SymTensor>(stress: S, g: Real, k: Real) -> Real {
-    let s = stress.deviator();
-    let p = stress.trace() / 3.0;
-    s.ddot(s) / (4.0 * g) + p * p / (2.0 * k)
+    /// The elastic part of the model (moduli and stored energy).
+    fn elastic(&self) -> &Elastic;
 }
 
 /// The material of a body, as written in scene files:
@@ -169,12 +161,17 @@ pub enum Model {
 }
 
 impl Model {
-    pub fn moduli(&self) -> (Real, Real) {
+    pub fn elastic(&self) -> &Elastic {
         match self {
-            Model::Elastic(m) => m.moduli(),
-            Model::VonMises(m) => m.moduli(),
-            Model::DruckerPrager(m) => m.moduli(),
+            Model::Elastic(m) => m,
+            Model::VonMises(m) => &m.elastic,
+            Model::DruckerPrager(m) => &m.elastic,
         }
+    }
+    /// The elastic moduli (G, K) in Pa.
+    pub fn moduli(&self) -> (Real, Real) {
+        let e = self.elastic();
+        (e.g, e.k)
     }
 }
 

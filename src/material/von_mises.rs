@@ -5,9 +5,11 @@
 //! s = s_tr · Y/√J2. The user-facing `yield_stress` is the uniaxial yield stress σ_y, so
 //! Y = σ_y/√3 (a bar in uniaxial tension yields at σ_xx = σ_y). Perfect plasticity: no hardening.
 
-use super::{Constitutive, Elastic, ElasticParams, StressUpdate, elastic_energy_density};
+use super::{Constitutive, Elastic, ElasticParams, StressUpdate};
 use crate::error::{Result, check_positive};
 use crate::math::{Real, SymTensor};
+
+const SQRT_3: Real = 1.732_050_8;
 use serde::{Deserialize, Serialize};
 
 /// Parameters: E (Pa), ν, density (kg/m³) and the uniaxial yield stress σ_y (Pa).
@@ -66,16 +68,17 @@ impl Constitutive for VonMises {
             return StressUpdate::default();
         }
         let sqrt_j2 = j2.sqrt();
-        *stress = s_tr * (self.y / sqrt_j2) + S::IDENTITY * mean; // Eq. 9 (corrected), Eq. 10
-        let Elastic { g, k } = self.elastic;
+        let ratio = self.y / sqrt_j2;
+        *stress = s_tr * ratio + S::IDENTITY * mean; // Eq. 9 (corrected), Eq. 10
+        let g = self.elastic.g;
         StressUpdate {
-            plastic_strain: (sqrt_j2 - self.y) / (3.0f32.sqrt() as Real * g),
-            dissipation: elastic_energy_density(trial, g, k)
-                - elastic_energy_density(*stress, g, k),
+            plastic_strain: (sqrt_j2 - self.y) * (1.0 / (SQRT_3 * g)),
+            // the deviatoric energy s:s/(4G) = J2/(2G) drops from J2 to Y²
+            dissipation: (j2 - self.y * self.y) * (0.5 / g),
         }
     }
-    fn moduli(&self) -> (Real, Real) {
-        (self.elastic.g, self.elastic.k)
+    fn elastic(&self) -> &Elastic {
+        &self.elastic
     }
 }
 

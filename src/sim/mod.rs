@@ -13,7 +13,7 @@ use crate::contact::{self, ContactPair, ContactRule};
 use crate::error::{Error, Result};
 use crate::grid::{Grid, GridIndex, base_node};
 use crate::kernel::{Gimp, Kernel, KernelKind, Linear, QuadraticBspline};
-use crate::material::{Constitutive, Model, elastic_energy_density};
+use crate::material::{Constitutive, Model};
 use crate::math::{D2, D3, Dim, Real, VectorOps};
 use passes::{GatherReport, GatherState, StressReport, StressState};
 use std::ops::Range;
@@ -83,8 +83,10 @@ pub struct Body<D: Dim> {
     range: Range<usize>,
     grid: Grid<D>,
     stats: BodyStats,
-    /// max V_p/m_p over the body, for the wave speed.
-    max_specific_volume: Real,
+    /// The largest particle volume and the smallest particle mass, which bound the lowest
+    /// density (for the wave speed).
+    max_volume: Real,
+    min_mass: Real,
     /// Half the particle spacing: how far a particle's material reaches (for the walls).
     radius: Real,
 }
@@ -105,7 +107,7 @@ impl<D: Dim> Body<D> {
     /// The dilatational wave speed √((K + 4G/3)/ρ) at the body's lowest density (m/s).
     pub fn wave_speed(&self) -> f64 {
         let (g, k) = self.model.moduli();
-        ((k + 4.0 * g / 3.0) as f64 * self.max_specific_volume as f64).sqrt()
+        ((k + 4.0 * g / 3.0) as f64 * self.max_volume as f64 / self.min_mass as f64).sqrt()
     }
 }
 
@@ -214,7 +216,8 @@ impl<D: Dim> Simulation<D> {
             range: start..self.particles.len(),
             grid: Grid::default(),
             stats: BodyStats::default(),
-            max_specific_volume: (1.0 / density) as Real,
+            max_volume: volume as Real,
+            min_mass: mass,
             radius,
         });
         self.scene.bodies.push(config);
@@ -465,7 +468,6 @@ impl<D: Dim> Simulation<D> {
             let r = body.range.clone();
             let state = StressState {
                 x: &p.x[r.clone()],
-                mass: &p.mass[r.clone()],
                 stress: &mut p.stress[r.clone()],
                 volume: &mut p.volume[r.clone()],
                 plastic_strain: &mut p.plastic_strain[r],
@@ -473,7 +475,7 @@ impl<D: Dim> Simulation<D> {
             let lp = body.radius * inv_h;
             let report = with_kernel!(kernel, K, S => stress_pass::<D, K, S>(&mut body.grid, state, &body.model, dt, inv_h, lp));
             if report.bad == 0 {
-                body.max_specific_volume = report.max_specific_volume;
+                body.max_volume = report.max_volume;
             }
             reports.push(report);
         }
@@ -593,16 +595,18 @@ impl<D: Dim> Simulation<D> {
         let mut gathered = Vec::new();
         for body in &mut self.bodies {
             let r = body.range.clone();
-            let (g, k) = body.model.moduli();
+            let elastic = *body.model.elastic();
             let mut s = StressReport::default();
             let mut acc = passes::GatherReport::<D>::empty();
+            body.min_mass = Real::INFINITY;
             for i in r {
-                s.elastic += (elastic_energy_density(p.stress[i], g, k) * p.volume[i]) as f64;
-                s.max_specific_volume = s.max_specific_volume.max(p.volume[i] / p.mass[i]);
+                s.elastic += (elastic.energy_density(p.stress[i]) * p.volume[i]) as f64;
+                s.max_volume = s.max_volume.max(p.volume[i]);
+                body.min_mass = body.min_mass.min(p.mass[i]);
                 acc.record(p.mass[i], p.x[i], p.v[i], w.gravity, p.plastic_strain[i]);
             }
             acc.max_speed = acc.max_speed.sqrt();
-            body.max_specific_volume = s.max_specific_volume;
+            body.max_volume = s.max_volume;
             stress.push(s);
             gathered.push(acc);
         }

@@ -5,7 +5,7 @@
 use crate::boundary::Walls;
 use crate::grid::{GHOST, Grid, GridIndex};
 use crate::kernel::Kernel;
-use crate::material::{Constitutive, elastic_energy_density};
+use crate::material::Constitutive;
 use crate::math::{Dim, Real, SymTensor, VectorOps};
 
 /// The most nodes a stencil has (quadratic B-spline in 3D).
@@ -65,7 +65,6 @@ pub fn grid_velocities<D: Dim>(grid: &mut Grid<D>) {
 /// The mutable particle state the stress pass touches.
 pub struct StressState<'a, D: Dim> {
     pub x: &'a [D::Vector],
-    pub mass: &'a [Real],
     pub stress: &'a mut [D::Sym],
     pub volume: &'a mut [Real],
     pub plastic_strain: &'a mut [Real],
@@ -78,8 +77,9 @@ pub struct StressReport {
     pub elastic: f64,
     /// Energy removed by plastic correction in this step.
     pub dissipated: f64,
-    /// max V_p/m_p, i.e. 1/ρ_min (for the wave speed).
-    pub max_specific_volume: Real,
+    /// The largest particle volume (with the body's smallest particle mass it bounds the
+    /// lowest density, for the wave speed).
+    pub max_volume: Real,
     /// Number of particles whose stress or volume went non-finite, and the first of them.
     pub bad: usize,
     pub first_bad: Option<(usize, &'static str)>,
@@ -97,7 +97,7 @@ pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
     lp: Real,
 ) -> StressReport {
     let Grid { index, nodes, .. } = grid;
-    let (g_mod, k_mod) = model.moduli();
+    let elastic = model.elastic();
     let mut report = StressReport::default();
     let mut idx = [0usize; MAX_STENCIL];
     let mut grads = [D::Vector::ZERO; MAX_STENCIL];
@@ -122,7 +122,9 @@ pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
         let volume = ps.volume[p] * (1.0 + dt * rate.trace());
         ps.volume[p] = volume;
         let sigma = ps.stress[p];
-        if !(sigma.is_finite() && volume > 0.0 && volume.is_finite()) {
+        // One finiteness test for all components: a sum of finite numbers this size is finite.
+        let sum: Real = sigma.components().iter().sum();
+        if !((sum + volume).is_finite() && volume > 0.0) {
             report.bad += 1;
             report.first_bad.get_or_insert((
                 p,
@@ -134,8 +136,8 @@ pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
             ));
             continue;
         }
-        report.elastic += (elastic_energy_density(sigma, g_mod, k_mod) * volume) as f64;
-        report.max_specific_volume = report.max_specific_volume.max(volume / ps.mass[p]);
+        report.elastic += (elastic.energy_density(sigma) * volume) as f64;
+        report.max_volume = report.max_volume.max(volume);
         let vs = sigma * -volume;
         for c in 0..count {
             nodes[idx[c]].new_vel += D::sym_mul(vs, grads[c]);
