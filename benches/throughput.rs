@@ -28,14 +28,21 @@ fn elastic() -> Material {
 /// A block resting on the ground of a domain `scale` times the base size.
 fn block(dim: usize, material: Material, kernel: KernelKind, scale: f64) -> SceneConfig {
     let (size, h, lo, hi) = if dim == 3 {
-        (vec![1.0, 0.5, 1.0], 0.0125, vec![0.3, 0.0, 0.3], vec![0.7, 0.2, 0.7])
+        (
+            vec![1.0, 0.5, 1.0],
+            0.0125,
+            vec![0.3, 0.0, 0.3],
+            vec![0.7, 0.2, 0.7],
+        )
     } else {
         (vec![1.0, 0.5], 0.002, vec![0.25, 0.0], vec![0.75, 0.25])
     };
     let mut scene = SceneConfig::new(dim, &size.iter().map(|s| s * scale).collect::<Vec<_>>(), h);
     scene.kernel = kernel;
     scene.boundary.friction = 0.5;
-    scene.bodies.push(BodyConfig::new("block", Shape::cuboid(&lo, &hi), material));
+    scene
+        .bodies
+        .push(BodyConfig::new("block", Shape::cuboid(&lo, &hi), material));
     scene
 }
 
@@ -50,7 +57,11 @@ fn kernel_name(k: KernelKind) -> &'static str {
 fn cases() -> Vec<Case> {
     let mut out = Vec::new();
     for dim in [3, 2] {
-        for kernel in [KernelKind::Linear, KernelKind::QuadraticBspline, KernelKind::Gimp] {
+        for kernel in [
+            KernelKind::Linear,
+            KernelKind::QuadraticBspline,
+            KernelKind::Gimp,
+        ] {
             for (mat, material) in [("sand", sand()), ("elastic", elastic())] {
                 let k = kernel_name(kernel);
                 out.push(Case {
@@ -88,7 +99,10 @@ fn time(sim: &mut AnySimulation, steps: usize, rounds: usize) -> f64 {
 }
 
 fn main() {
-    let filters: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with("--")).collect();
+    let filters: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with("--"))
+        .collect();
     println!("MPM throughput (median of 5 rounds; particle-substeps per second, higher is better)");
     let mut base: Option<(String, f64)> = None;
     for case in cases() {
@@ -104,10 +118,8 @@ fn main() {
         let bytes = sim.memory_bytes() as f64 / n as f64;
         let mut note = String::new();
         if let Some(name) = case.name.strip_suffix("_domain_x2") {
-            if let Some((b, r)) = &base {
-                if b == name {
-                    note = format!("  cost vs. small domain: {:.3}x", r / rate);
-                }
+            if let Some((_, r)) = base.as_ref().filter(|(b, _)| b == name) {
+                note = format!("  cost vs. small domain: {:.3}x", r / rate);
             }
         } else {
             base = Some((case.name.clone(), rate));

@@ -88,7 +88,7 @@ impl<D: Dim> Walls<D> {
     /// Whether any node of the block with first node `origin` (edge `block` nodes) is a wall node.
     #[inline]
     pub fn block_touches(&self, origin: [i32; 3], block: i32) -> bool {
-        (0..D::DIM).any(|a| origin[a] <= GHOST || origin[a] + block - 1 >= self.node_hi[a])
+        (0..D::DIM).any(|a| origin[a] <= GHOST || origin[a] + block > self.node_hi[a])
     }
 
     /// Step 5: the velocity of the grid node with coordinate `node` after the walls.

@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 /// that cost a sixth of the whole step.
 #[inline(always)]
 pub fn floor_nonneg(x: Real) -> i32 {
-    debug_assert!(!(x < 0.0), "negative grid coordinate {x}");
+    debug_assert!(x >= 0.0 || x.is_nan(), "negative grid coordinate {x}");
     x as i32
 }
 
@@ -24,10 +24,10 @@ pub enum KernelKind {
     /// The paper's multilinear shape function (2 nodes per axis).
     Linear,
     /// The quadratic B-spline (3 nodes per axis), C¹: no cell-crossing error.
-    #[default]
     QuadraticBspline,
     /// uGIMP (Bardenhagen & Kober 2004): the linear kernel averaged over each particle's
     /// domain of half-width h/(2 × particles per cell); C¹, up to 3 nodes per axis.
+    #[default]
     Gimp,
 }
 

@@ -85,7 +85,8 @@ impl DruckerPragerParams {
         };
         let elastic = self.elastic().model();
         let alpha_psi = alpha(self.dilatancy_angle);
-        let inv_hardening = 1.0 / (elastic.g as f64 + 9.0 * alpha_phi * alpha_psi * elastic.k as f64);
+        let inv_hardening =
+            1.0 / (elastic.g as f64 + 9.0 * alpha_phi * alpha_psi * elastic.k as f64);
         DruckerPrager {
             elastic,
             alpha_phi: alpha_phi as Real,
@@ -120,7 +121,13 @@ impl DruckerPrager {
 impl Constitutive for DruckerPrager {
     const PLASTIC: bool = true;
     #[inline(always)]
-    fn update<S: SymTensor>(&self, stress: &mut S, rate: S, spin: S::Spin, dt: Real) -> StressUpdate {
+    fn update<S: SymTensor>(
+        &self,
+        stress: &mut S,
+        rate: S,
+        spin: S::Spin,
+        dt: Real,
+    ) -> StressUpdate {
         let g = self.elastic.g;
         let trial = self.elastic.trial(*stress, rate, spin, dt);
         let i1_trial = trial.trace();
@@ -143,7 +150,11 @@ impl Constitutive for DruckerPrager {
         i1 = i1.min(self.apex);
         // Safeguard 2: scale the deviatoric stress back onto the cone.
         sqrt_j2 = sqrt_j2.min(self.k_c - self.alpha_phi * i1);
-        let ratio = if sqrt_j2_trial > 0.0 { sqrt_j2 / sqrt_j2_trial } else { 0.0 };
+        let ratio = if sqrt_j2_trial > 0.0 {
+            sqrt_j2 / sqrt_j2_trial
+        } else {
+            0.0
+        };
         *stress = s_trial * ratio + S::IDENTITY * (i1 * (1.0 / 3.0));
         StressUpdate {
             plastic_strain: (sqrt_j2_trial - sqrt_j2) * (1.0 / (SQRT_3 * g)),

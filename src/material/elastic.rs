@@ -61,7 +61,12 @@ pub struct Elastic {
 
 impl Elastic {
     pub fn new(g: Real, k: Real) -> Self {
-        Elastic { g, k, inv_4g: 0.25 / g, inv_2k: 0.5 / k }
+        Elastic {
+            g,
+            k,
+            inv_4g: 0.25 / g,
+            inv_2k: 0.5 / k,
+        }
     }
 
     /// The stored elastic energy per unit volume of a stress: s:s/(4G) + P²/(2K).

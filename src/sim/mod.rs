@@ -221,7 +221,7 @@ impl<D: Dim> Simulation<D> {
             radius,
         });
         self.scene.bodies.push(config);
-        self.measure();
+        self.refresh_diagnostics();
         Ok(i)
     }
 
@@ -248,7 +248,7 @@ impl<D: Dim> Simulation<D> {
         for b in &mut self.bodies[i..] {
             b.range = b.range.start - r.len()..b.range.end - r.len();
         }
-        self.measure();
+        self.refresh_diagnostics();
         Ok(())
     }
 
@@ -259,7 +259,7 @@ impl<D: Dim> Simulation<D> {
         self.scene.bodies.clear();
         self.contacts.clear();
         self.failed = None;
-        self.measure();
+        self.refresh_diagnostics();
     }
 
     /// Changes parameters while running: `f` edits a copy of the scene; the copy is validated
@@ -587,8 +587,8 @@ impl<D: Dim> Simulation<D> {
     }
 
     /// Recomputes the diagnostics and per-body figures from the particle state, without
-    /// stepping (after bodies are added or removed).
-    fn measure(&mut self) {
+    /// stepping (after bodies are added or removed, or particle state is edited directly).
+    pub fn refresh_diagnostics(&mut self) {
         let w = self.world;
         let p = &self.particles;
         let mut stress = Vec::new();
