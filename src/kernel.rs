@@ -39,15 +39,6 @@ impl KernelKind {
             KernelKind::QuadraticBspline | KernelKind::Gimp => 3,
         }
     }
-    /// Grid-unit offset from a particle's coordinate to the first node of its stencil,
-    /// i.e. `base = floor(xg - offset)`, for particles of half-width `lp` grid units.
-    pub fn base_offset(self, lp: Real) -> Real {
-        match self {
-            KernelKind::Linear => 0.0,
-            KernelKind::QuadraticBspline => 0.5,
-            KernelKind::Gimp => lp,
-        }
-    }
 }
 
 /// A shape function with `S` nodes per axis.
@@ -56,6 +47,17 @@ pub trait Kernel<const S: usize>: Copy + Send + Sync + 'static {
     /// Base node index, weights and weight derivatives (per grid unit) along one axis for a
     /// particle at grid coordinate `xg` of half-width `lp` grid units (used by GIMP only).
     fn axis(xg: Real, lp: Real) -> (i32, [Real; S], [Real; S]);
+
+    /// The first stencil node of a particle at grid coordinates `xg` (as [`Kernel::stencil`]
+    /// computes it, bit for bit).
+    #[inline(always)]
+    fn base(xg: [Real; 3], dim: usize, lp: Real) -> [i32; 3] {
+        let mut b = [0; 3];
+        for a in 0..dim {
+            b[a] = Self::axis(xg[a], lp).0;
+        }
+        b
+    }
 
     /// The full stencil of a particle at grid coordinates `xg` (the first `dim` entries used),
     /// with derivatives scaled by `inv_h` to physical units.
