@@ -79,13 +79,13 @@ impl<D: Dim> GridIndex<D> {
     }
 
     /// Allocates the blocks touched by the stencils of particles whose first stencil nodes are
-    /// `base_of(p)` for `p in 0..count`; `support` is the number of stencil nodes per axis.
-    /// Slots are assigned in table order, so blocks are laid out in space-filling order.
-    pub fn rebuild(&mut self, count: usize, support: usize, base_of: impl Fn(usize) -> [i32; 3]) {
+    /// `bases`; `support` is the number of stencil nodes per axis. Slots are assigned in table
+    /// order, so blocks are laid out in space-filling order.
+    pub fn rebuild(&mut self, bases: &[[i32; 3]], support: usize) {
         self.blocks.clear();
         self.table.clear();
         self.dims = [0; 3];
-        if count == 0 {
+        if bases.is_empty() {
             return;
         }
         let reach = support as i32 - 1;
@@ -93,8 +93,7 @@ impl<D: Dim> GridIndex<D> {
         for a in 0..D::DIM {
             (lo[a], hi[a]) = (i32::MAX, i32::MIN);
         }
-        for p in 0..count {
-            let b = base_of(p);
+        for b in bases {
             for a in 0..D::DIM {
                 lo[a] = lo[a].min(b[a]);
                 hi[a] = hi[a].max(b[a] + reach);
@@ -112,8 +111,7 @@ impl<D: Dim> GridIndex<D> {
 
         // Mark every block a stencil reaches (0 = marked, not yet numbered).
         let mut last = ([i32::MIN; 3], [i32::MIN; 3]);
-        for p in 0..count {
-            let b = base_of(p);
+        for b in bases {
             let mut blo = [0i32; 3];
             let mut bhi = [0i32; 3];
             for a in 0..D::DIM {
@@ -352,6 +350,8 @@ pub struct Grid<D: Dim> {
     pub mass_grad: Vec<D::Vector>,
     /// For each particle of the body: the slot of the block holding its first stencil node.
     pub particle_slot: Vec<u32>,
+    /// Scratch: each particle's first stencil node.
+    bases: Vec<[i32; 3]>,
 }
 
 impl<D: Dim> Default for Grid<D> {
@@ -362,6 +362,7 @@ impl<D: Dim> Default for Grid<D> {
             nodes: Vec::new(),
             mass_grad: Vec::new(),
             particle_slot: Vec::new(),
+            bases: Vec::new(),
         }
     }
 }
@@ -377,13 +378,15 @@ impl<D: Dim> Grid<D> {
         if support - 1 != self.layout.halo {
             self.layout = BlockLayout::new(support);
         }
-        self.index.rebuild(count, support, &base_of);
+        self.bases.clear();
+        self.bases.extend((0..count).map(base_of));
+        self.index.rebuild(&self.bases, support);
         self.nodes.clear();
         self.nodes.resize(self.index.block_count() * self.layout.padded_nodes(), Node::default());
         self.mass_grad.clear();
         self.particle_slot.clear();
         let index = &self.index;
-        self.particle_slot.extend((0..count).map(|p| index.slot_of(base_of(p)).expect("stencil block allocated") as u32));
+        self.particle_slot.extend(self.bases.iter().map(|&b| index.slot_of(b).expect("stencil block allocated") as u32));
     }
 
     /// Allocates (zeroed) mass gradients for every node.
