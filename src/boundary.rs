@@ -116,7 +116,10 @@ impl<D: Dim> Walls<D> {
         radius: Real,
     ) -> D::Vector {
         let next = x + v * dt;
-        let (lo, hi) = (D::Vector::splat(radius), self.size - D::Vector::splat(radius));
+        let (lo, hi) = (
+            D::Vector::splat(radius),
+            self.size - D::Vector::splat(radius),
+        );
         if next.max(lo).min(hi) == next {
             return v; // stays inside: the common case
         }

@@ -45,7 +45,13 @@ pub struct GridIndex<D: Dim> {
 
 impl<D: Dim> Default for GridIndex<D> {
     fn default() -> Self {
-        GridIndex { origin: [0; 3], dims: [0; 3], table: Vec::new(), blocks: Vec::new(), _dim: Default::default() }
+        GridIndex {
+            origin: [0; 3],
+            dims: [0; 3],
+            table: Vec::new(),
+            blocks: Vec::new(),
+            _dim: Default::default(),
+        }
     }
 }
 
@@ -135,8 +141,16 @@ impl<D: Dim> GridIndex<D> {
         for (t, entry) in self.table.iter_mut().enumerate() {
             if *entry == 0 {
                 *entry = self.blocks.len() as u32;
-                let (x, y, z) = (t % dims[0], (t / dims[0]) % dims[1], t / (dims[0] * dims[1]));
-                self.blocks.push([self.origin[0] + x as i32, self.origin[1] + y as i32, self.origin[2] + z as i32]);
+                let (x, y, z) = (
+                    t % dims[0],
+                    (t / dims[0]) % dims[1],
+                    t / (dims[0] * dims[1]),
+                );
+                self.blocks.push([
+                    self.origin[0] + x as i32,
+                    self.origin[1] + y as i32,
+                    self.origin[2] + z as i32,
+                ]);
             }
         }
     }
@@ -205,7 +219,11 @@ impl<D: Dim> BlockLayout<D> {
 
     /// The layout for stencils of `support` nodes per axis.
     pub fn new(support: usize) -> Self {
-        let mut l = BlockLayout { halo: support - 1, links: Vec::new(), _dim: Default::default() };
+        let mut l = BlockLayout {
+            halo: support - 1,
+            links: Vec::new(),
+            _dim: Default::default(),
+        };
         l.links = l.halo_links();
         l
     }
@@ -249,7 +267,12 @@ impl<D: Dim> BlockLayout<D> {
     }
 
     /// Visits every node block `slot` owns: `f(grid coordinate, storage index)`.
-    pub fn for_each_owned(&self, index: &GridIndex<D>, slot: usize, mut f: impl FnMut([i32; 3], usize)) {
+    pub fn for_each_owned(
+        &self,
+        index: &GridIndex<D>,
+        slot: usize,
+        mut f: impl FnMut([i32; 3], usize),
+    ) {
         let origin = index.block_origin(slot);
         let base = slot * self.padded_nodes();
         let b = Self::BLOCK;
@@ -291,7 +314,10 @@ impl<D: Dim> BlockLayout<D> {
                     let pair = (self.local_index(l) as u32, self.local_index(owner) as u32);
                     match out.iter_mut().find(|h| h.offset == offset) {
                         Some(h) => h.pairs.push(pair),
-                        None => out.push(HaloLinks { offset, pairs: vec![pair] }),
+                        None => out.push(HaloLinks {
+                            offset,
+                            pairs: vec![pair],
+                        }),
                     }
                 }
             }
@@ -317,7 +343,12 @@ impl<D: Dim> BlockLayout<D> {
 
     /// Adds the halo values of `data` (laid out like the nodes) into the nodes that own them.
     /// Halo nodes whose owner is not allocated hold nothing (no stencil reached them).
-    pub fn reduce_halo<T: Copy>(&self, index: &GridIndex<D>, data: &mut [T], add: impl Fn(&mut T, &T)) {
+    pub fn reduce_halo<T: Copy>(
+        &self,
+        index: &GridIndex<D>,
+        data: &mut [T],
+        add: impl Fn(&mut T, &T),
+    ) {
         let pn = self.padded_nodes();
         self.for_each_link(index, |slot, owner, pairs| {
             for &(h, o) in pairs {
@@ -328,7 +359,12 @@ impl<D: Dim> BlockLayout<D> {
     }
 
     /// Copies the owners' values into the halos of `data` with `copy(halo, owner)`.
-    pub fn fill_halo<T: Copy>(&self, index: &GridIndex<D>, data: &mut [T], copy: impl Fn(&mut T, &T)) {
+    pub fn fill_halo<T: Copy>(
+        &self,
+        index: &GridIndex<D>,
+        data: &mut [T],
+        copy: impl Fn(&mut T, &T),
+    ) {
         let pn = self.padded_nodes();
         self.for_each_link(index, |slot, owner, pairs| {
             for &(h, o) in pairs {
@@ -382,11 +418,18 @@ impl<D: Dim> Grid<D> {
         self.bases.extend((0..count).map(base_of));
         self.index.rebuild(&self.bases, support);
         self.nodes.clear();
-        self.nodes.resize(self.index.block_count() * self.layout.padded_nodes(), Node::default());
+        self.nodes.resize(
+            self.index.block_count() * self.layout.padded_nodes(),
+            Node::default(),
+        );
         self.mass_grad.clear();
         self.particle_slot.clear();
         let index = &self.index;
-        self.particle_slot.extend(self.bases.iter().map(|&b| index.slot_of(b).expect("stencil block allocated") as u32));
+        self.particle_slot.extend(
+            self.bases
+                .iter()
+                .map(|&b| index.slot_of(b).expect("stencil block allocated") as u32),
+        );
     }
 
     /// Allocates (zeroed) mass gradients for every node.
@@ -415,7 +458,8 @@ impl<D: Dim> Grid<D> {
 
     /// Adds halo mass gradients into their owners.
     pub fn reduce_mass_gradient(&mut self) {
-        self.layout.reduce_halo(&self.index, &mut self.mass_grad, |o, h| *o += *h);
+        self.layout
+            .reduce_halo(&self.index, &mut self.mass_grad, |o, h| *o += *h);
     }
 
     /// The storage index of grid node `node` in the block that owns it, if allocated.
@@ -488,20 +532,32 @@ mod tests {
             for ((i, j, k), n) in stencil(origin) {
                 let w = (p + 1) as f64;
                 data[n] += w;
-                let key = [b[0] + i as i32, b[1] + j as i32, if D::DIM == 3 { b[2] + k as i32 } else { 0 }];
+                let key = [
+                    b[0] + i as i32,
+                    b[1] + j as i32,
+                    if D::DIM == 3 { b[2] + k as i32 } else { 0 },
+                ];
                 *direct.entry(key).or_insert(0.0) += w;
             }
         }
         g.layout.reduce_halo(&g.index, &mut data, |o, h| *o += *h);
         for (node, sum) in &direct {
             let n = g.node_index(*node).unwrap();
-            assert!((data[n] - sum).abs() < 1e-9, "node {node:?}: {} vs {sum}", data[n]);
+            assert!(
+                (data[n] - sum).abs() < 1e-9,
+                "node {node:?}: {} vs {sum}",
+                data[n]
+            );
         }
         g.layout.fill_halo(&g.index, &mut data, |h, o| *h = *o);
         for (p, b) in bases.iter().enumerate() {
             let origin = g.layout.stencil_origin(g.particle_slot[p], *b);
             for ((i, j, k), n) in stencil(origin) {
-                let key = [b[0] + i as i32, b[1] + j as i32, if D::DIM == 3 { b[2] + k as i32 } else { 0 }];
+                let key = [
+                    b[0] + i as i32,
+                    b[1] + j as i32,
+                    if D::DIM == 3 { b[2] + k as i32 } else { 0 },
+                ];
                 assert_eq!(data[n], direct[&key]);
             }
         }

@@ -16,8 +16,10 @@ mod precision {
     pub type Real = f32;
     pub type Vec2 = glam::Vec2;
     pub type Vec3 = glam::Vec3;
+    pub type Vec3A = glam::Vec3A;
     pub type Mat2 = glam::Mat2;
     pub type Mat3 = glam::Mat3;
+    pub type Mat3A = glam::Mat3A;
 }
 #[cfg(feature = "f64")]
 mod precision {
@@ -25,8 +27,10 @@ mod precision {
     pub type Real = f64;
     pub type Vec2 = glam::DVec2;
     pub type Vec3 = glam::DVec3;
+    pub type Vec3A = glam::DVec3;
     pub type Mat2 = glam::DMat2;
     pub type Mat3 = glam::DMat3;
+    pub type Mat3A = glam::DMat3;
 }
 pub use precision::*;
 
@@ -105,6 +109,8 @@ macro_rules! impl_vector_ops {
 }
 impl_vector_ops!(Vec2, 2);
 impl_vector_ops!(Vec3, 3);
+#[cfg(not(feature = "f64"))]
+impl_vector_ops!(Vec3A, 3);
 
 /// A symmetric second-order tensor holding a (plane-strain or 3D) stress or strain rate.
 ///
@@ -394,9 +400,18 @@ pub trait Dim: Copy + Default + Debug + Send + Sync + 'static {
         mv: Self::Vector,
     );
     /// Step 2: ∇v_p = Σ_i v_i ⊗ ∇w_ip, from the nodes' `vel`.
-    fn velocity_gradient<const S: usize>(nodes: &[Node<Self::Vector>], p: usize, st: &Stencil<S>) -> Self::Grad;
+    fn velocity_gradient<const S: usize>(
+        nodes: &[Node<Self::Vector>],
+        p: usize,
+        st: &Stencil<S>,
+    ) -> Self::Grad;
     /// Step 4: f_i += A ∇w_ip for the symmetric A = −V_p σ_p, into the nodes' `new_vel`.
-    fn scatter_force<const S: usize>(nodes: &mut [Node<Self::Vector>], p: usize, st: &Stencil<S>, a: Self::Sym);
+    fn scatter_force<const S: usize>(
+        nodes: &mut [Node<Self::Vector>],
+        p: usize,
+        st: &Stencil<S>,
+        a: Self::Sym,
+    );
     /// Step 6: (Σ_i w_ip v_i^{n+1}, Σ_i w_ip v_i^n).
     fn gather_velocity<const S: usize>(
         nodes: &[Node<Self::Vector>],
@@ -471,7 +486,8 @@ impl Dim for D2 {
             }
             if let Some(g) = grad.as_deref_mut() {
                 for i in 0..S {
-                    g[j * p + i] += Vec2::new(st.dw[0][i] * st.w[1][j], st.w[0][i] * st.dw[1][j]) * m;
+                    g[j * p + i] +=
+                        Vec2::new(st.dw[0][i] * st.w[1][j], st.w[0][i] * st.dw[1][j]) * m;
                 }
             }
         }
@@ -505,7 +521,11 @@ impl Dim for D2 {
         }
     }
     #[inline(always)]
-    fn gather_velocity<const S: usize>(nodes: &[Node<Vec2>], p: usize, st: &Stencil<S>) -> (Vec2, Vec2) {
+    fn gather_velocity<const S: usize>(
+        nodes: &[Node<Vec2>],
+        p: usize,
+        st: &Stencil<S>,
+    ) -> (Vec2, Vec2) {
         let nodes = &nodes[..stencil_span(2, p, S)];
         let (mut new, mut old) = (Vec2::ZERO, Vec2::ZERO);
         for j in 0..S {
@@ -525,17 +545,17 @@ impl Dim for D2 {
 impl Dim for D3 {
     const DIM: usize = 3;
     const LOG_BLOCK: u32 = 2;
-    type Vector = Vec3;
-    type Grad = Mat3;
+    type Vector = Vec3A;
+    type Grad = Mat3A;
     type Sym = Sym3;
-    const GRAD_ZERO: Mat3 = Mat3::ZERO;
+    const GRAD_ZERO: Mat3A = Mat3A::ZERO;
 
     #[inline(always)]
-    fn outer(v: Vec3, g: Vec3) -> Mat3 {
-        Mat3::from_cols(v * g.x, v * g.y, v * g.z)
+    fn outer(v: Vec3A, g: Vec3A) -> Mat3A {
+        Mat3A::from_cols(v * g.x, v * g.y, v * g.z)
     }
     #[inline(always)]
-    fn rate_and_spin(l: Mat3) -> (Sym3, Vec3) {
+    fn rate_and_spin(l: Mat3A) -> (Sym3, Vec3) {
         // Column j of `l` holds ∂v/∂x_j, so L_ij = l.col(j)[i].
         let (c0, c1, c2) = (l.x_axis, l.y_axis, l.z_axis);
         let rate = Sym3 {
@@ -554,25 +574,25 @@ impl Dim for D3 {
         (rate, spin)
     }
     #[inline(always)]
-    fn sym_mul(s: Sym3, g: Vec3) -> Vec3 {
-        Vec3::new(
+    fn sym_mul(s: Sym3, g: Vec3A) -> Vec3A {
+        Vec3A::new(
             s.xx * g.x + s.xy * g.y + s.xz * g.z,
             s.xy * g.x + s.yy * g.y + s.yz * g.z,
             s.xz * g.x + s.yz * g.y + s.zz * g.z,
         )
     }
     #[inline(always)]
-    fn vector(xyz: [Real; 3]) -> Vec3 {
-        Vec3::new(xyz[0], xyz[1], xyz[2])
+    fn vector(xyz: [Real; 3]) -> Vec3A {
+        Vec3A::new(xyz[0], xyz[1], xyz[2])
     }
     #[inline(always)]
     fn scatter_mass<const S: usize>(
-        nodes: &mut [Node<Vec3>],
-        mut grad: Option<&mut [Vec3]>,
+        nodes: &mut [Node<Vec3A>],
+        mut grad: Option<&mut [Vec3A]>,
         p: usize,
         st: &Stencil<S>,
         m: Real,
-        mv: Vec3,
+        mv: Vec3A,
     ) {
         let nodes = &mut nodes[..stencil_span(3, p, S)];
         for k in 0..S {
@@ -588,21 +608,26 @@ impl Dim for D3 {
                 if let Some(g) = grad.as_deref_mut() {
                     let (djk, wdjk) = (st.dw[1][j] * st.w[2][k], st.w[1][j] * st.dw[2][k]);
                     for i in 0..S {
-                        g[base + i] += Vec3::new(st.dw[0][i] * wjk, st.w[0][i] * djk, st.w[0][i] * wdjk) * m;
+                        g[base + i] +=
+                            Vec3A::new(st.dw[0][i] * wjk, st.w[0][i] * djk, st.w[0][i] * wdjk) * m;
                     }
                 }
             }
         }
     }
     #[inline(always)]
-    fn velocity_gradient<const S: usize>(nodes: &[Node<Vec3>], p: usize, st: &Stencil<S>) -> Mat3 {
+    fn velocity_gradient<const S: usize>(
+        nodes: &[Node<Vec3A>],
+        p: usize,
+        st: &Stencil<S>,
+    ) -> Mat3A {
         let nodes = &nodes[..stencil_span(3, p, S)];
-        let (mut c0, mut c1, mut c2) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
+        let (mut c0, mut c1, mut c2) = (Vec3A::ZERO, Vec3A::ZERO, Vec3A::ZERO);
         for k in 0..S {
             for j in 0..S {
                 let base = j * p + k * p * p;
                 let row = &nodes[base..base + S];
-                let (mut a, mut b) = (Vec3::ZERO, Vec3::ZERO);
+                let (mut a, mut b) = (Vec3A::ZERO, Vec3A::ZERO);
                 for i in 0..S {
                     a += row[i].vel * st.dw[0][i];
                     b += row[i].vel * st.w[0][i];
@@ -612,14 +637,19 @@ impl Dim for D3 {
                 c2 += b * (st.w[1][j] * st.dw[2][k]);
             }
         }
-        Mat3::from_cols(c0, c1, c2)
+        Mat3A::from_cols(c0, c1, c2)
     }
     #[inline(always)]
-    fn scatter_force<const S: usize>(nodes: &mut [Node<Vec3>], p: usize, st: &Stencil<S>, a: Sym3) {
+    fn scatter_force<const S: usize>(
+        nodes: &mut [Node<Vec3A>],
+        p: usize,
+        st: &Stencil<S>,
+        a: Sym3,
+    ) {
         let nodes = &mut nodes[..stencil_span(3, p, S)];
-        let a0 = Vec3::new(a.xx, a.xy, a.xz);
-        let a1 = Vec3::new(a.xy, a.yy, a.yz);
-        let a2 = Vec3::new(a.xz, a.yz, a.zz);
+        let a0 = Vec3A::new(a.xx, a.xy, a.xz);
+        let a1 = Vec3A::new(a.xy, a.yy, a.yz);
+        let a2 = Vec3A::new(a.xz, a.yz, a.zz);
         for k in 0..S {
             for j in 0..S {
                 let base = j * p + k * p * p;
@@ -633,14 +663,18 @@ impl Dim for D3 {
         }
     }
     #[inline(always)]
-    fn gather_velocity<const S: usize>(nodes: &[Node<Vec3>], p: usize, st: &Stencil<S>) -> (Vec3, Vec3) {
+    fn gather_velocity<const S: usize>(
+        nodes: &[Node<Vec3A>],
+        p: usize,
+        st: &Stencil<S>,
+    ) -> (Vec3A, Vec3A) {
         let nodes = &nodes[..stencil_span(3, p, S)];
-        let (mut new, mut old) = (Vec3::ZERO, Vec3::ZERO);
+        let (mut new, mut old) = (Vec3A::ZERO, Vec3A::ZERO);
         for k in 0..S {
             for j in 0..S {
                 let base = j * p + k * p * p;
                 let row = &nodes[base..base + S];
-                let (mut rn, mut ro) = (Vec3::ZERO, Vec3::ZERO);
+                let (mut rn, mut ro) = (Vec3A::ZERO, Vec3A::ZERO);
                 for i in 0..S {
                     rn += row[i].new_vel * st.w[0][i];
                     ro += row[i].vel * st.w[0][i];
@@ -740,7 +774,7 @@ mod tests {
             }
         );
         assert_eq!(w, -1.0);
-        let l3 = D3::outer(Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0));
+        let l3 = D3::outer(Vec3A::new(1.0, 0.0, 0.0), Vec3A::new(0.0, 2.0, 0.0));
         let (d3, w3) = D3::rate_and_spin(l3);
         assert_eq!(d3.xy, 1.0);
         assert_eq!(w3, Vec3::new(1.0, 0.0, 0.0));

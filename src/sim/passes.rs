@@ -38,13 +38,30 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
     lp: Real,
 ) {
     let (p, span) = layout::<D, S>(grid);
-    let Grid { layout, nodes, mass_grad, particle_slot, .. } = &mut *grid;
+    let Grid {
+        layout,
+        nodes,
+        mass_grad,
+        particle_slot,
+        ..
+    } = &mut *grid;
     let with_gradient = !mass_grad.is_empty();
     for q in 0..x.len() {
         let st = K::stencil(grid_coords::<D>(x[q], inv_h), D::DIM, inv_h, lp);
         let origin = layout.stencil_origin(particle_slot[q], st.base);
-        let grad = if with_gradient { Some(&mut mass_grad[origin..origin + span]) } else { None };
-        D::scatter_mass(&mut nodes[origin..origin + span], grad, p, &st, mass[q], v[q] * mass[q]);
+        let grad = if with_gradient {
+            Some(&mut mass_grad[origin..origin + span])
+        } else {
+            None
+        };
+        D::scatter_mass(
+            &mut nodes[origin..origin + span],
+            grad,
+            p,
+            &st,
+            mass[q],
+            v[q] * mass[q],
+        );
     }
     grid.reduce_nodes(|o, h| {
         o.mass += h.mass;
@@ -104,7 +121,12 @@ pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
     lp: Real,
 ) -> StressReport {
     let (p, span) = layout::<D, S>(grid);
-    let Grid { layout, nodes, particle_slot, .. } = &mut *grid;
+    let Grid {
+        layout,
+        nodes,
+        particle_slot,
+        ..
+    } = &mut *grid;
     let elastic = model.elastic();
     let mut report = StressReport::default();
     for q in 0..ps.x.len() {
@@ -124,7 +146,14 @@ pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
         let sum: Real = sigma.components().iter().sum();
         if !((sum + volume).is_finite() && volume > 0.0) {
             report.bad += 1;
-            report.first_bad.get_or_insert((q, if sigma.is_finite() { "volume" } else { "stress" }));
+            report.first_bad.get_or_insert((
+                q,
+                if sigma.is_finite() {
+                    "volume"
+                } else {
+                    "stress"
+                },
+            ));
             continue;
         }
         report.elastic += (elastic.energy_density(sigma) * volume) as f64;
@@ -160,7 +189,12 @@ pub fn constraint_dissipation<V: VectorOps>(m: Real, start: V, before: V, after:
 pub fn grid_walls<D: Dim>(grid: &mut Grid<D>, walls: &Walls<D>) -> f64 {
     let edge = Grid::<D>::BLOCK as i32;
     let mut dissipated = 0.0;
-    let Grid { index, layout, nodes, .. } = grid;
+    let Grid {
+        index,
+        layout,
+        nodes,
+        ..
+    } = grid;
     for slot in 0..index.block_count() {
         if !walls.block_touches(index.block_origin(slot), edge) {
             continue;
@@ -272,7 +306,12 @@ pub fn gather_and_advect<D: Dim, K: Kernel<S>, const S: usize>(
     gravity: D::Vector,
 ) -> GatherReport<D> {
     let (p, span) = layout::<D, S>(grid);
-    let Grid { layout, nodes, particle_slot, .. } = grid;
+    let Grid {
+        layout,
+        nodes,
+        particle_slot,
+        ..
+    } = grid;
     let mut r = GatherReport::<D>::empty();
     for q in 0..ps.x.len() {
         let x = ps.x[q];
