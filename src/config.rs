@@ -249,7 +249,7 @@ impl SceneConfig {
         let scene: SceneConfig = serde_path_to_error::deserialize(de).map_err(|e| {
             let path = e.path().to_string();
             let inner = e.into_inner();
-            if path == "." || path.is_empty() {
+            if path == "." || path == "?" || path.is_empty() {
                 Error::Parse(format!("scene: {inner}"))
             } else {
                 Error::Parse(format!("{path}: {inner}"))
@@ -347,9 +347,10 @@ impl SceneConfig {
         for (a, &s) in self.domain.size.iter().enumerate() {
             let n = s / self.cell_size;
             if (n - n.round()).abs() > 1e-6 * n.max(1.0) {
+                let tidy = |x: f64| (x * 1e9).round() / 1e9;
                 let (lo, hi) = (
-                    n.floor().max(1.0) * self.cell_size,
-                    n.ceil() * self.cell_size,
+                    tidy(n.floor().max(1.0) * self.cell_size),
+                    tidy(n.ceil() * self.cell_size),
                 );
                 return Err(Error::invalid(
                     format!("domain.size[{a}]"),
