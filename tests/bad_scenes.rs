@@ -54,7 +54,11 @@ fn every_bad_scene_gives_the_expected_error() {
     let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
     fs::copy(scenes.join("bunny.obj"), dir.path().join("bunny.obj")).unwrap();
     fs::copy(scenes.join("bunny2d.txt"), dir.path().join("bunny2d.txt")).unwrap();
-    fs::write(dir.path().join("broken.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n").unwrap();
+    fs::write(
+        dir.path().join("broken.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n",
+    )
+    .unwrap();
     fs::write(dir.path().join("lines.obj"), "v 0 0 0\nv 1 0 0\nl 1 2\n").unwrap();
     fs::write(dir.path().join("broken.txt"), "0 0\n1 0\n1 one\n").unwrap();
 
@@ -339,9 +343,13 @@ fn every_bad_scene_gives_the_expected_error() {
     let mut failures = Vec::new();
     for (what, text, expected) in &cases {
         let got = error_of(dir.path(), text);
-        if std::env::var("SHOW").is_ok() { eprintln!("{got}"); }
+        if std::env::var("SHOW").is_ok() {
+            eprintln!("{got}");
+        }
         if !got.starts_with(expected) {
-            failures.push(format!("{what}:\n  expected {expected:?}\n  got      {got:?}"));
+            failures.push(format!(
+                "{what}:\n  expected {expected:?}\n  got      {got:?}"
+            ));
         }
         assert!(!got.contains('\n'), "{what}: one line, got {got:?}");
     }

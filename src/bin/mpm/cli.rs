@@ -37,7 +37,7 @@ pub struct SceneArgs {
     pub scene: PathBuf,
     /// Override the scene's cell size (m), e.g. for a quick coarse run; the domain must stay a
     /// whole number of cells.
-    #[arg(long, value_name = "METRES")]
+    #[arg(long, value_name = "METRES", allow_negative_numbers = true)]
     pub cell_size: Option<f64>,
 }
 
@@ -46,7 +46,12 @@ struct RunArgs {
     #[command(flatten)]
     scene: SceneArgs,
     /// Simulated time to run (s).
-    #[arg(long, short = 't', value_name = "SECONDS")]
+    #[arg(
+        long,
+        short = 't',
+        value_name = "SECONDS",
+        allow_negative_numbers = true
+    )]
     time: f64,
     /// Number of frames to write, evenly spaced in time, the last at the end [default: 1 when
     /// --out is given, else 0].
@@ -380,10 +385,10 @@ fn report<D: Dim>(sim: &Simulation<D>, sampling: f64) -> Result<(), Failure> {
     let step_wall = step_wall.elapsed().as_secs_f64();
     let particle_bytes = n * mpm::sim::Particles::<D>::bytes_per_particle();
     println!(
-        "memory: about {:.1} MB ({:.1} MB of particles, {:.1} MB of grid after the first step)",
-        probe.memory_bytes() as f64 / 1e6,
-        particle_bytes as f64 / 1e6,
-        probe.memory_bytes().saturating_sub(particle_bytes) as f64 / 1e6
+        "memory: about {} ({} of particles, {} of grid after the first step)",
+        bytes(probe.memory_bytes()),
+        bytes(particle_bytes),
+        bytes(probe.memory_bytes().saturating_sub(particle_bytes))
     );
     let dt = sim.stable_dt();
     println!(
@@ -398,4 +403,16 @@ fn report<D: Dim>(sim: &Simulation<D>, sampling: f64) -> Result<(), Failure> {
         n as f64 / step_wall.max(1e-9) / 1e6
     );
     stepped.map_err(|e| Failure(format!("the first step failed: {e}")))
+}
+
+/// A byte count in kB, MB or GB.
+fn bytes(n: usize) -> String {
+    let n = n as f64;
+    if n < 1e6 {
+        format!("{:.1} kB", n / 1e3)
+    } else if n < 1e9 {
+        format!("{:.1} MB", n / 1e6)
+    } else {
+        format!("{:.2} GB", n / 1e9)
+    }
 }
