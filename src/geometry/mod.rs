@@ -770,9 +770,12 @@ impl Shape {
         }
     }
 
-    /// The lattice points [`Shape::sample_jittered`] would test: the lattice of spacing
-    /// cell_size / per_cell over the shape's bounds.
+    /// How many points [`Shape::sample_jittered`] would test: the lattice of spacing
+    /// cell_size / per_cell over the shape's bounds (explicit points: their number).
     pub fn lattice_candidates(&self, dim: usize, cell_size: f64, per_cell: u32) -> f64 {
+        if let Shape::Points { positions, .. } = self {
+            return positions.len() as f64; // taken as they are, no lattice
+        }
         let (lo, hi) = self.lattice_range(dim, cell_size / per_cell as f64, 0.0);
         (0..dim)
             .map(|a| (hi[a] - lo[a] + 1).max(0) as f64)
