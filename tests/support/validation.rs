@@ -1,0 +1,838 @@
+//! Validation cases: each loads a scene of `scenes/validation/`, overrides the numerical
+//! options under study ([`Numerics`]), runs it and compares a measured quantity with a closed
+//! form or a published measurement. Shared by the fast tests (`tests/validation.rs`), the long
+//! validation run (`cargo bench --bench validate`) and the work–precision study
+//! (`cargo bench --bench work_precision`).
+#![allow(dead_code)]
+
+use mpm::math::{Dim, SymTensor, VectorOps};
+use mpm::{KernelKind, Material, Real, SceneConfig, Simulation};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// The directory of the validation scenes.
+pub fn scene_path(file: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join("validation")
+        .join(file)
+}
+
+/// The numerical options a case is run with (they replace the scene's).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Numerics {
+    pub cell_size: f64,
+    pub ppc: u32,
+    pub kernel: KernelKind,
+    /// PIC/FLIP α of the body under test; `None` keeps the scene's.
+    pub flip: Option<f64>,
+    pub cfl: f64,
+}
+
+impl Numerics {
+    pub fn new(cell_size: f64, kernel: KernelKind) -> Self {
+        Numerics {
+            cell_size,
+            ppc: 2,
+            kernel,
+            flip: None,
+            cfl: 0.4,
+        }
+    }
+    pub fn ppc(mut self, ppc: u32) -> Self {
+        self.ppc = ppc;
+        self
+    }
+    pub fn flip(mut self, alpha: f64) -> Self {
+        self.flip = Some(alpha);
+        self
+    }
+    pub fn cfl(mut self, cfl: f64) -> Self {
+        self.cfl = cfl;
+        self
+    }
+    /// Applies the options to a scene: cell size, kernel and CFL for the world, particles per
+    /// cell for every body, α for the first body (the material under test).
+    pub fn apply(&self, scene: &mut SceneConfig) {
+        scene.cell_size = self.cell_size;
+        scene.kernel = self.kernel;
+        scene.cfl = self.cfl;
+        for b in &mut scene.bodies {
+            b.particles_per_cell = self.ppc;
+        }
+        if let Some(a) = self.flip {
+            scene.bodies[0].flip = Some(a);
+        }
+    }
+    /// A short label, e.g. `gimp h=0.0125 ppc=2 α=1 cfl=0.4`.
+    pub fn label(&self) -> String {
+        let alpha = self.flip.map_or("scene".to_string(), |a| format!("{a}"));
+        format!(
+            "{} h={} ppc={} α={alpha} cfl={}",
+            kernel_name(self.kernel),
+            self.cell_size,
+            self.ppc,
+            self.cfl
+        )
+    }
+}
+
+pub fn kernel_name(k: KernelKind) -> &'static str {
+    match k {
+        KernelKind::Linear => "linear",
+        KernelKind::QuadraticBspline => "bspline",
+        KernelKind::Gimp => "gimp",
+    }
+}
+
+/// The cost of a run.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Cost {
+    pub wall_seconds: f64,
+    pub steps: u64,
+    pub particles: usize,
+}
+
+/// Loads a validation scene and applies `n`.
+pub fn load(file: &str, n: &Numerics) -> SceneConfig {
+    let mut scene = SceneConfig::load(&scene_path(file))
+        .unwrap_or_else(|e| panic!("validation scene {file}: {e}"));
+    n.apply(&mut scene);
+    scene
+}
+
+fn cost<D: Dim>(sim: &Simulation<D>, start: Instant) -> Cost {
+    Cost {
+        wall_seconds: start.elapsed().as_secs_f64(),
+        steps: sim.steps(),
+        particles: sim.particles().len(),
+    }
+}
+
+/// Initial positions by particle id (ids are given in creation order and survive reordering).
+fn rest_positions<D: Dim>(sim: &Simulation<D>) -> Vec<[f64; 3]> {
+    let p = sim.particles();
+    let mut rest = vec![[0.0; 3]; p.len()];
+    for i in 0..p.len() {
+        for a in 0..D::DIM {
+            rest[p.id[i] as usize][a] = p.x[i][a] as f64;
+        }
+    }
+    rest
+}
+
+/// The particle spacing of body 0 (cell size / particles per cell).
+fn spacing(scene: &SceneConfig) -> f64 {
+    scene.cell_size / scene.bodies[0].particles_per_cell as f64
+}
+
+// ---------------------------------------------------------------------------------------------
+// Elastic: the free–free bar
+
+/// The first axial mode of a free–free bar, against u(x, t) = (v0/ω) sin ωt cos(π x/L),
+/// ω = π c/L, c = √(E/ρ) (ν = 0, so plane strain, plane stress and 3D agree).
+#[derive(Clone, Debug)]
+pub struct Bar {
+    pub period: f64,
+    pub period_exact: f64,
+    /// Mean peak modal displacement over the run.
+    pub amplitude: f64,
+    pub amplitude_exact: f64,
+    /// The last peak over the first: how much of the amplitude survives the run.
+    pub amplitude_kept: f64,
+    /// ‖q − q_exact‖₂ / ‖q_exact‖₂ over the run (the modal displacement history).
+    pub l2_error: f64,
+    pub cost: Cost,
+}
+
+impl Bar {
+    pub fn period_error(&self) -> f64 {
+        self.period / self.period_exact - 1.0
+    }
+    pub fn amplitude_error(&self) -> f64 {
+        self.amplitude / self.amplitude_exact - 1.0
+    }
+}
+
+/// Runs the bar of `file` for `periods` analytic periods with initial modal velocity `v0`.
+pub fn vibrating_bar<D: Dim>(file: &str, n: &Numerics, periods: f64) -> Bar {
+    let scene = load(file, n);
+    let Material::Elastic(m) = scene.bodies[0].material else {
+        panic!("the bar is elastic");
+    };
+    assert_eq!(m.poisson_ratio, 0.0, "the bar's closed form needs ν = 0");
+    let c = (m.youngs_modulus / m.density).sqrt();
+    let s = spacing(&scene);
+    let mut sim = Simulation::<D>::new(scene).expect("bar scene");
+    let rest = rest_positions(&sim);
+    let lo = rest.iter().map(|r| r[0]).fold(f64::INFINITY, f64::min) - 0.5 * s;
+    let hi = rest.iter().map(|r| r[0]).fold(f64::NEG_INFINITY, f64::max) + 0.5 * s;
+    let len = hi - lo;
+    let omega = std::f64::consts::PI * c / len;
+    let v0 = 0.05;
+    let mode = |x: f64| (std::f64::consts::PI * (x - lo) / len).cos();
+    let norm: f64 = rest.iter().map(|r| mode(r[0]).powi(2)).sum();
+    {
+        let p = sim.particles_mut();
+        for i in 0..p.len() {
+            p.v[i][0] = (v0 * mode(rest[p.id[i] as usize][0])) as Real;
+        }
+    }
+    sim.refresh_diagnostics();
+    let period_exact = 2.0 * std::f64::consts::PI / omega;
+    let amplitude_exact = v0 / omega;
+    let start = Instant::now();
+    let (mut t, mut q) = (vec![0.0], vec![0.0]);
+    let (mut err2, mut ref2) = (0.0, 0.0);
+    while sim.time() < periods * period_exact {
+        let dt = sim.stable_dt();
+        sim.step().expect("bar step");
+        let p = sim.particles();
+        let s: f64 = (0..p.len())
+            .map(|i| {
+                let r = rest[p.id[i] as usize][0];
+                (p.x[i][0] as f64 - r) * mode(r)
+            })
+            .sum::<f64>()
+            / norm;
+        let exact = amplitude_exact * (omega * sim.time()).sin();
+        err2 += (s - exact).powi(2) * dt;
+        ref2 += exact.powi(2) * dt;
+        t.push(sim.time());
+        q.push(s);
+    }
+    let cost = cost(&sim, start);
+    let zc = zero_crossings(&t, &q);
+    // zero crossings after the start (q(0) = 0 is not one)
+    let zc: Vec<f64> = zc.into_iter().filter(|&z| z > 0.1 * period_exact).collect();
+    let period = if zc.len() >= 2 {
+        (zc[zc.len() - 1] - zc[0]) / (zc.len() - 1) as f64 * 2.0
+    } else {
+        f64::NAN
+    };
+    let peaks = peaks(&q);
+    let amplitude = if peaks.is_empty() {
+        f64::NAN
+    } else {
+        peaks.iter().sum::<f64>() / peaks.len() as f64
+    };
+    let amplitude_kept = match (peaks.first(), peaks.last()) {
+        (Some(a), Some(b)) => b / a,
+        _ => f64::NAN,
+    };
+    Bar {
+        period,
+        period_exact,
+        amplitude,
+        amplitude_exact,
+        amplitude_kept,
+        l2_error: (err2 / ref2).sqrt(),
+        cost,
+    }
+}
+
+/// Zero crossings (linear interpolation) of a sampled signal.
+pub fn zero_crossings(t: &[f64], y: &[f64]) -> Vec<f64> {
+    let mut out = Vec::new();
+    for i in 1..y.len() {
+        if y[i - 1] != 0.0 && (y[i - 1] < 0.0) != (y[i] < 0.0) {
+            let f = y[i - 1] / (y[i - 1] - y[i]);
+            out.push(t[i - 1] + f * (t[i] - t[i - 1]));
+        }
+    }
+    out
+}
+
+/// |y| at each local extremum of the half-waves of a signal (one per half-period).
+fn peaks(y: &[f64]) -> Vec<f64> {
+    let mut out = Vec::new();
+    let mut best = 0.0f64;
+    for i in 1..y.len() {
+        if (y[i - 1] < 0.0) != (y[i] < 0.0) && y[i - 1] != 0.0 {
+            if best > 0.0 {
+                out.push(best);
+            }
+            best = 0.0;
+        }
+        best = best.max(y[i].abs());
+    }
+    out
+}
+
+// ---------------------------------------------------------------------------------------------
+// Elastic: the dilatational wave speed
+
+/// A Gaussian pressure pulse in a slab held between slip walls (uniaxial strain) splits into
+/// two compressive pulses travelling at c_p = √((K + 4G/3)/ρ); their kinetic-energy centroids
+/// are tracked.
+#[derive(Clone, Debug)]
+pub struct Wave {
+    pub speed: f64,
+    pub speed_exact: f64,
+    /// The bar speed √(E/ρ), which a wrong constraint would give.
+    pub bar_speed: f64,
+    pub cost: Cost,
+}
+
+impl Wave {
+    pub fn error(&self) -> f64 {
+        self.speed / self.speed_exact - 1.0
+    }
+}
+
+pub fn wave_speed(n: &Numerics) -> Wave {
+    let scene = load("wave_pulse_2d.json", n);
+    let Material::Elastic(m) = scene.bodies[0].material else {
+        panic!("the slab is elastic");
+    };
+    let (e, nu, rho) = (m.youngs_modulus, m.poisson_ratio, m.density);
+    let k = e / (3.0 * (1.0 - 2.0 * nu));
+    let g = e / (2.0 * (1.0 + nu));
+    let speed_exact = ((k + 4.0 * g / 3.0) / rho).sqrt();
+    let length = scene.domain.size[0];
+    let mut sim = Simulation::<mpm::D2>::new(scene).expect("wave scene");
+    let rest = rest_positions(&sim);
+    // a compressive pressure pulse in uniaxial strain (σ_yy = σ_zz = ν/(1 − ν) σ_xx), at rest:
+    // it splits into two compressive halves, which the slip walls confine laterally
+    let (xc, width, s0) = (0.5 * length, 0.1, 1.0e3);
+    let lateral = nu / (1.0 - nu);
+    {
+        let p = sim.particles_mut();
+        for i in 0..p.len() {
+            let x = rest[p.id[i] as usize][0];
+            let sxx = -s0 * (-((x - xc) / width).powi(2)).exp();
+            p.stress[i] = mpm::math::Sym2 {
+                xx: sxx as Real,
+                yy: (lateral * sxx) as Real,
+                zz: (lateral * sxx) as Real,
+                xy: 0.0,
+            };
+        }
+    }
+    sim.refresh_diagnostics();
+    // travel 30 % of the half-length: the pulses stay clear of the end walls
+    let t_end = 0.3 * 0.5 * length / speed_exact;
+    let t_start = 3.0 * width / speed_exact; // the two halves have separated
+    let start = Instant::now();
+    let (mut ts, mut right, mut left) = (Vec::new(), Vec::new(), Vec::new());
+    while sim.time() < t_end {
+        sim.step().expect("wave step");
+        if sim.time() < t_start {
+            continue;
+        }
+        let p = sim.particles();
+        let (mut wr, mut xr, mut wl, mut xl) = (0.0, 0.0, 0.0, 0.0);
+        for i in 0..p.len() {
+            let x = rest[p.id[i] as usize][0];
+            let w = (p.v[i][0] as f64).powi(2) + (p.v[i][1] as f64).powi(2);
+            if x > xc {
+                wr += w;
+                xr += w * x;
+            } else {
+                wl += w;
+                xl += w * x;
+            }
+        }
+        ts.push(sim.time());
+        right.push(xr / wr);
+        left.push(xl / wl);
+    }
+    let speed = 0.5 * (slope(&ts, &right) - slope(&ts, &left));
+    Wave {
+        speed,
+        speed_exact,
+        bar_speed: (e / rho).sqrt(),
+        cost: cost(&sim, start),
+    }
+}
+
+/// Least-squares slope of y(x).
+pub fn slope(x: &[f64], y: &[f64]) -> f64 {
+    let n = x.len() as f64;
+    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
+    let sxy: f64 = x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum();
+    let sxx: f64 = x.iter().map(|a| (a - mx).powi(2)).sum();
+    sxy / sxx
+}
+
+// ---------------------------------------------------------------------------------------------
+// von Mises: a block squeezed by a driven plate
+
+/// The stress–strain curve of a von Mises block squeezed between a slip floor and a driven
+/// frictionless plate, against the closed form (uniaxial stress in 3D: σ = Eε up to σ_y,
+/// then σ_y; plane strain in 2D, see [`plane_strain_curve`]).
+#[derive(Clone, Debug)]
+pub struct Squeeze {
+    /// (strain, mean axial stress in the block (compression positive), closed form).
+    pub curve: Vec<(f64, f64, f64)>,
+    pub yield_stress: f64,
+    pub youngs_modulus: f64,
+    /// The largest |σ − σ_exact| over the curve, relative to σ_y.
+    pub max_error: f64,
+    /// Mean relative error of the plastic plateau (strain above twice the yield strain).
+    pub plateau_error: f64,
+    /// Slope of the elastic part (below 60 % of the yield strain) against the closed form.
+    pub modulus_error: f64,
+    pub cost: Cost,
+}
+
+/// Plate speed (m/s) after the ramp, and the ramp time (s).
+pub const PLATE_SPEED: f64 = 0.01;
+pub const PLATE_RAMP: f64 = 0.05;
+
+pub fn squeeze<D: Dim>(file: &str, n: &Numerics, max_strain: f64) -> Squeeze {
+    let scene = load(file, n);
+    let Material::VonMises(m) = scene.bodies[0].material else {
+        panic!("the block is von Mises");
+    };
+    let (e, nu, sy) = (m.youngs_modulus, m.poisson_ratio, m.yield_stress);
+    let s = spacing(&scene);
+    let mut sim = Simulation::<D>::new(scene).expect("squeeze scene");
+    sim.sort_interval = 0; // keep the plate's particles where the driver finds them
+    let rest = rest_positions(&sim);
+    let block = sim.bodies()[0].range();
+    let plate = sim.bodies()[1].range();
+    let top = block
+        .clone()
+        .map(|i| rest[i][1])
+        .fold(f64::NEG_INFINITY, f64::max);
+    let top_row: Vec<usize> = block
+        .clone()
+        .filter(|&i| rest[i][1] > top - 0.5 * s)
+        .collect();
+    let y0 = top_row.iter().map(|&i| rest[i][1]).sum::<f64>() / top_row.len() as f64;
+    // the closed form, tabulated up to beyond the largest strain
+    let table_max = 1.5 * max_strain;
+    let table = plane_strain_curve(e, nu, sy, table_max, 3000);
+    let exact = |strain: f64| {
+        if D::DIM == 3 {
+            (e * strain).min(sy)
+        } else {
+            let f = (strain.max(0.0) / table_max * (table.len() - 1) as f64)
+                .min((table.len() - 1) as f64 - 1e-9);
+            let k = f as usize;
+            table[k] + (f - k as f64) * (table[k + 1] - table[k])
+        }
+    };
+    // strain at first yield: σ_y/E in 3D; σ_y/√(1 − ν + ν²) over E/(1 − ν²) in plane strain
+    let yield_strain = if D::DIM == 3 {
+        sy / e
+    } else {
+        sy / (1.0 - nu + nu * nu).sqrt() * (1.0 - nu * nu) / e
+    };
+    let start = Instant::now();
+    let mut curve = Vec::new();
+    loop {
+        let v = PLATE_SPEED * (sim.time() / PLATE_RAMP).min(1.0);
+        {
+            let p = sim.particles_mut();
+            for i in plate.clone() {
+                p.v[i] = D::Vector::from_fn(|a| if a == 1 { -v as Real } else { 0.0 });
+            }
+        }
+        sim.step().expect("squeeze step");
+        let p = sim.particles();
+        let y = top_row.iter().map(|&i| p.x[i][1] as f64).sum::<f64>() / top_row.len() as f64;
+        let strain = (y0 - y) / y0;
+        let (mut sv, mut vol) = (0.0, 0.0);
+        for i in block.clone() {
+            sv += -(p.stress[i].components()[1] as f64) * p.volume[i] as f64;
+            vol += p.volume[i] as f64;
+        }
+        let stress = sv / vol;
+        curve.push((strain, stress, exact(strain)));
+        if strain > max_strain {
+            break;
+        }
+    }
+    let cost = cost(&sim, start);
+    let max_error = curve
+        .iter()
+        .filter(|c| c.0 > 0.2 * yield_strain)
+        .map(|c| (c.1 - c.2).abs() / sy)
+        .fold(0.0, f64::max);
+    let plateau: Vec<f64> = curve
+        .iter()
+        .filter(|c| c.0 > 2.0 * yield_strain)
+        .map(|c| c.1 / c.2 - 1.0)
+        .collect();
+    let plateau_error = plateau.iter().sum::<f64>() / plateau.len().max(1) as f64;
+    let elastic: Vec<&(f64, f64, f64)> = curve
+        .iter()
+        .filter(|c| c.0 > 0.1 * yield_strain && c.0 < 0.6 * yield_strain)
+        .collect();
+    let xs: Vec<f64> = elastic.iter().map(|c| c.0).collect();
+    let modulus = slope(&xs, &elastic.iter().map(|c| c.1).collect::<Vec<_>>());
+    let modulus_exact = slope(&xs, &elastic.iter().map(|c| c.2).collect::<Vec<_>>());
+    Squeeze {
+        curve,
+        yield_stress: sy,
+        youngs_modulus: e,
+        max_error,
+        plateau_error,
+        modulus_error: modulus / modulus_exact - 1.0,
+        cost,
+    }
+}
+
+/// The closed form of plane-strain uniaxial compression of an elastic–perfectly plastic von
+/// Mises material (σ_xx = 0, ε_zz = 0, compression ε along y): the axial stress (compression
+/// positive) at the strains `k · max_strain / n`, k = 0..=n. Elastic: σ = E/(1 − ν²) ε with
+/// σ_zz = ν σ_yy, up to the first yield at σ_y/√(1 − ν + ν²); then the out-of-plane stress
+/// relaxes towards the mean of the in-plane ones and σ tends to the plane-strain limit
+/// 2σ_y/√3. Integrated with small strain increments (20 per entry) and an independent radial
+/// return in principal stresses.
+pub fn plane_strain_curve(e: f64, nu: f64, sy: f64, max_strain: f64, n: usize) -> Vec<f64> {
+    let g = e / (2.0 * (1.0 + nu));
+    let lam = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+    let sub = 20;
+    let de_y = -max_strain / (n * sub) as f64;
+    // the stress after a strain increment (dx, de_y, 0) from `s` (xx, yy, zz)
+    let update = |s: [f64; 3], dx: f64| -> [f64; 3] {
+        let d = [dx, de_y, 0.0];
+        let tr = d[0] + d[1] + d[2];
+        let mut t = [0.0; 3];
+        for a in 0..3 {
+            t[a] = s[a] + lam * tr + 2.0 * g * d[a];
+        }
+        let p = (t[0] + t[1] + t[2]) / 3.0;
+        let dev = [t[0] - p, t[1] - p, t[2] - p];
+        let q = (1.5 * (dev[0] * dev[0] + dev[1] * dev[1] + dev[2] * dev[2])).sqrt();
+        if q > sy {
+            let f = sy / q;
+            for a in 0..3 {
+                t[a] = p + dev[a] * f;
+            }
+        }
+        t
+    };
+    let mut s = [0.0f64; 3];
+    let mut out = vec![0.0];
+    for _ in 0..n {
+        for _ in 0..sub {
+            // σ_xx = 0: bisection on the lateral strain increment (σ_xx grows with it)
+            let (mut lo, mut hi) = (-10.0 * de_y.abs(), 10.0 * de_y.abs());
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                if update(s, mid)[0] > 0.0 {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            s = update(s, 0.5 * (lo + hi));
+        }
+        out.push(-s[1]);
+    }
+    out
+}
+
+// ---------------------------------------------------------------------------------------------
+// Drucker–Prager: granular column collapse
+
+/// The plane (2D) collapse of a granular column of half-width L0 and height H0 = a L0 on a
+/// rough floor: normalised run-out (L∞ − L0)/L0 and final height H∞/H0.
+#[derive(Clone, Debug)]
+pub struct Collapse {
+    pub aspect_ratio: f64,
+    pub runout: f64,
+    pub height: f64,
+    /// Time at which the deposit came to rest (s).
+    pub settled_at: f64,
+    pub cost: Cost,
+}
+
+/// Lube, Huppert, Sparks & Freundt (2005), plane collapses: (L∞ − L0)/L0 = 1.2 a for
+/// a ≲ 2.3, 1.9 a^(2/3) above.
+pub fn lube_runout(a: f64) -> f64 {
+    if a < 2.3 { 1.2 * a } else { 1.9 * a.powf(2.0 / 3.0) }
+}
+
+/// Lube et al. (2005), plane collapses: H∞/H0 = 1 for a ≲ 1.15 (the top is not reached by
+/// the failure), H∞/L0 ≈ a^(2/5) above, i.e. H∞/H0 = a^(−3/5).
+pub fn lube_height(a: f64) -> f64 {
+    if a < 1.15 { 1.0 } else { a.powf(-0.6) }
+}
+
+pub fn column_collapse(file: &str, n: &Numerics, t_max: f64) -> Collapse {
+    let scene = load(file, n);
+    let s = spacing(&scene);
+    let g = scene.gravity_vector()[1].abs();
+    let mut sim = Simulation::<mpm::D2>::new(scene).expect("column scene");
+    let rest = rest_positions(&sim);
+    let xs: Vec<f64> = rest.iter().map(|r| r[0]).collect();
+    let (lo, hi) = (
+        xs.iter().cloned().fold(f64::INFINITY, f64::min) - 0.5 * s,
+        xs.iter().cloned().fold(f64::NEG_INFINITY, f64::max) + 0.5 * s,
+    );
+    let (xc, l0) = (0.5 * (lo + hi), 0.5 * (hi - lo));
+    let h0 = rest.iter().map(|r| r[1]).fold(0.0, f64::max) + 0.5 * s;
+    let t_min = 4.0 * (h0 / g).sqrt();
+    let rest_speed = 0.01 * (g * h0).sqrt();
+    let start = Instant::now();
+    loop {
+        sim.advance(0.02).expect("column step");
+        let t = sim.time();
+        if (t > t_min && sim.diagnostics().max_speed < rest_speed) || t >= t_max {
+            break;
+        }
+    }
+    let settled_at = sim.time();
+    let cost = cost(&sim, start);
+    let p = sim.particles();
+    let front = |sign: f64| {
+        let mut d: Vec<f64> = (0..p.len())
+            .map(|i| sign * (p.x[i][0] as f64 - xc))
+            .filter(|&d| d > 0.0)
+            .collect();
+        d.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        // the deposit ends at the first gap wider than two particle spacings
+        let mut end = d.first().copied().unwrap_or(0.0);
+        for w in d.windows(2) {
+            if w[1] - w[0] > 2.0 * s {
+                break;
+            }
+            end = w[1];
+        }
+        end + 0.5 * s
+    };
+    let l_inf = 0.5 * (front(1.0) + front(-1.0));
+    let h_inf = (0..p.len())
+        .filter(|&i| (p.x[i][0] as f64 - xc).abs() < l0)
+        .map(|i| p.x[i][1] as f64)
+        .fold(0.0, f64::max)
+        + 0.5 * s;
+    Collapse {
+        aspect_ratio: h0 / l0,
+        runout: (l_inf - l0) / l0,
+        height: h_inf / h0,
+        settled_at,
+        cost,
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Drucker–Prager: the angle of repose
+
+/// The angle of repose by the lifted-cylinder method: a sand column between two smooth walls
+/// that are lifted slowly ([`LIFT_SPEED`]); the sand flows out beneath them and comes to rest
+/// as a heap whose flanks stand at the angle of repose.
+#[derive(Clone, Debug)]
+pub struct Pile {
+    pub friction_angle: f64,
+    /// The friction angle of the Mohr–Coulomb criterion the model's cone matches in plane
+    /// strain with ψ = 0: sin φ_ps = 3 α_φ (Eq. 13's α_φ = tan φ/√(9 + 12 tan² φ)).
+    pub plane_strain_angle: f64,
+    /// Mean of the two flanks (degrees).
+    pub angle: f64,
+    pub flanks: [f64; 2],
+    /// Height of the heap (m).
+    pub height: f64,
+    pub settled_at: f64,
+    pub cost: Cost,
+}
+
+/// Speed at which the walls are lifted (m/s): √(g H) / 30 for the 0.2 m column.
+pub const LIFT_SPEED: f64 = 0.05;
+
+/// The plane-strain Mohr–Coulomb angle of the paper's Drucker–Prager cone with ψ = 0.
+pub fn plane_strain_angle(phi_deg: f64) -> f64 {
+    let t = phi_deg.to_radians().tan();
+    (3.0 * t / (9.0 + 12.0 * t * t).sqrt()).asin().to_degrees()
+}
+
+pub fn repose_pile(n: &Numerics, t_max: f64) -> Pile {
+    let scene = load("repose_pile_2d.json", n);
+    let Material::DruckerPrager(m) = scene.bodies[0].material else {
+        panic!("the pile is sand");
+    };
+    let s = spacing(&scene);
+    let mut sim = Simulation::<mpm::D2>::new(scene).expect("pile scene");
+    sim.sort_interval = 0; // the walls' particles stay where the driver finds them
+    let walls: Vec<usize> = sim.bodies()[1..]
+        .iter()
+        .flat_map(|b| b.range())
+        .collect();
+    let sand = sim.bodies()[0].range();
+    let h0 = sand
+        .clone()
+        .map(|i| sim.particles().x[i][1] as f64)
+        .fold(0.0, f64::max)
+        + 0.5 * s;
+    let lift = <mpm::D2 as Dim>::Vector::from_fn(|a| if a == 1 { LIFT_SPEED as Real } else { 0.0 });
+    let start = Instant::now();
+    // lift until the walls clear the sand, then let it settle
+    let t_clear = 1.2 * h0 / LIFT_SPEED;
+    loop {
+        for _ in 0..50 {
+            // lifted until they clear the sand, then held
+            let v = if sim.time() < t_clear {
+                lift
+            } else {
+                <mpm::D2 as Dim>::Vector::ZERO
+            };
+            {
+                let p = sim.particles_mut();
+                for &i in &walls {
+                    p.v[i] = v;
+                }
+            }
+            sim.step().expect("pile step");
+        }
+        let p = sim.particles();
+        let moving = sand
+            .clone()
+            .map(|i| p.v[i].length() as f64)
+            .fold(0.0, f64::max);
+        if (sim.time() > t_clear && moving < 0.005) || sim.time() >= t_max {
+            break;
+        }
+    }
+    let settled_at = sim.time();
+    let cost = cost(&sim, start);
+    if std::env::var("MPM_DEBUG_MAP").is_ok() {
+        eprintln!("{}", ascii_map(&sim, 100, 25));
+    }
+    let p = sim.particles();
+    let pile: Vec<(f64, f64)> = sand
+        .clone()
+        .map(|i| (p.x[i][0] as f64, p.x[i][1] as f64))
+        .collect();
+    let (height, flanks) = flank_angles(&pile, s, sim.cell_size(), sim.scene().domain.size[0]);
+    Pile {
+        friction_angle: m.friction_angle,
+        plane_strain_angle: plane_strain_angle(m.friction_angle),
+        angle: 0.5 * (flanks[0] + flanks[1]),
+        flanks,
+        height,
+        settled_at,
+        cost,
+    }
+}
+
+/// The height of a heap of particles (spacing `s`) and the slope angles (degrees) of its two
+/// flanks: the surface is the highest particle in columns of width `bin`; each flank's slope
+/// is fitted between 20 % and 80 % of the height.
+pub fn flank_angles(points: &[(f64, f64)], s: f64, bin: f64, width: f64) -> (f64, [f64; 2]) {
+    let nbins = (width / bin).round() as usize;
+    let mut top = vec![f64::NAN; nbins];
+    for &(x, y) in points {
+        let b = ((x / bin) as usize).min(nbins - 1);
+        if top[b].is_nan() || y + 0.5 * s > top[b] {
+            top[b] = y + 0.5 * s;
+        }
+    }
+    let height = top.iter().cloned().filter(|v| !v.is_nan()).fold(0.0, f64::max);
+    let peak = top.iter().position(|&v| v == height).unwrap_or(0);
+    let mut flanks = [f64::NAN; 2];
+    for (k, range) in [(0..peak), (peak + 1..nbins)].into_iter().enumerate() {
+        let (xs, ys): (Vec<f64>, Vec<f64>) = range
+            .filter(|&b| !top[b].is_nan() && top[b] > 0.2 * height && top[b] < 0.8 * height)
+            .map(|b| ((b as f64 + 0.5) * bin, top[b]))
+            .unzip();
+        if xs.len() >= 2 {
+            flanks[k] = slope(&xs, &ys).abs().atan().to_degrees();
+        }
+    }
+    (height, flanks)
+}
+
+// ---------------------------------------------------------------------------------------------
+// Elastic: a soft column resting on the floor (the cell-crossing study)
+
+/// A soft elastic column (ν = 0) released stress-free on a frictionless floor settles to
+/// u(Y) = −ρ g (H Y − Y²/2)/E; the top sinks by δ = ρ g H²/(2E).
+#[derive(Clone, Debug)]
+pub struct Resting {
+    /// Top settlement (m), simulated (mean of the last tenth of the run) and exact.
+    pub settlement: f64,
+    pub settlement_exact: f64,
+    /// Sinking rate of the top over the second half of the run (m/s; positive: sinking).
+    pub drift_rate: f64,
+    pub final_kinetic: f64,
+    pub max_speed: f64,
+    /// The error that stopped the run, if any.
+    pub failure: Option<String>,
+    pub cost: Cost,
+}
+
+impl Resting {
+    pub fn error(&self) -> f64 {
+        if self.failure.is_some() {
+            return f64::INFINITY;
+        }
+        (self.settlement / self.settlement_exact - 1.0).abs()
+    }
+}
+
+pub fn resting_column(n: &Numerics, duration: f64) -> Resting {
+    let scene = load("resting_column_2d.json", n);
+    let Material::Elastic(m) = scene.bodies[0].material else {
+        panic!("the column is elastic");
+    };
+    assert_eq!(m.poisson_ratio, 0.0, "the closed form needs ν = 0");
+    let s = spacing(&scene);
+    let g = scene.gravity_vector()[1].abs();
+    let mut sim = Simulation::<mpm::D2>::new(scene).expect("resting scene");
+    let rest = rest_positions(&sim);
+    let h = rest.iter().map(|r| r[1]).fold(0.0, f64::max) + 0.5 * s;
+    let top_row: Vec<u32> = (0..rest.len() as u32)
+        .filter(|&i| rest[i as usize][1] > h - s)
+        .collect();
+    let y_top = rest[top_row[0] as usize][1];
+    let exact = m.density * g * (h * y_top - 0.5 * y_top * y_top) / m.youngs_modulus;
+    let start = Instant::now();
+    let (mut ts, mut ds) = (Vec::new(), Vec::new());
+    let mut failure = None;
+    let sample = duration / 400.0;
+    while sim.time() < duration {
+        if let Err(e) = sim.advance(sample) {
+            failure = Some(e.to_string());
+            break;
+        }
+        let p = sim.particles();
+        let mut sum = 0.0;
+        let mut count = 0;
+        for i in 0..p.len() {
+            if rest[p.id[i] as usize][1] > h - s {
+                sum += rest[p.id[i] as usize][1] - p.x[i][1] as f64;
+                count += 1;
+            }
+        }
+        ts.push(sim.time());
+        ds.push(sum / count as f64);
+    }
+    let cost = cost(&sim, start);
+    let n = ts.len();
+    let tail = &ds[n - (n / 10).max(1)..];
+    let half = n / 2;
+    Resting {
+        settlement: tail.iter().sum::<f64>() / tail.len() as f64,
+        settlement_exact: exact,
+        drift_rate: if n >= 4 {
+            slope(&ts[half..], &ds[half..])
+        } else {
+            f64::NAN
+        },
+        final_kinetic: sim.diagnostics().kinetic,
+        max_speed: sim.diagnostics().max_speed,
+        failure,
+        cost,
+    }
+}
+
+/// A coarse character map of particle positions (for looking at a state while debugging).
+pub fn ascii_map<D: Dim>(sim: &Simulation<D>, cols: usize, rows: usize) -> String {
+    let size = &sim.scene().domain.size;
+    let mut grid = vec![vec![b' '; cols]; rows];
+    let p = sim.particles();
+    for i in 0..p.len() {
+        let c = ((p.x[i][0] as f64 / size[0]) * cols as f64) as usize;
+        let r = ((p.x[i][1] as f64 / size[1]) * rows as f64) as usize;
+        grid[rows - 1 - r.min(rows - 1)][c.min(cols - 1)] = b'#';
+    }
+    grid.into_iter()
+        .map(|r| String::from_utf8(r).unwrap())
+        .collect::<Vec<_>>()
+        .join("\n")
+}

@@ -1,0 +1,152 @@
+//! Validation against known answers, at the coarse resolutions the test suite can afford
+//! (the long versions: `cargo xtask validate`; see docs/validation.md). Each case runs a
+//! scene of `scenes/validation/` and asserts its error against a closed form or a published
+//! measurement within a stated tolerance.
+
+#[path = "support/validation.rs"]
+mod validation;
+
+use mpm::{D2, D3, KernelKind};
+use validation::*;
+
+/// The first axial mode of a free–free bar: period and amplitude of u = (v0/ω) sin ωt
+/// cos(πx/L) over three periods, with FLIP (α = 1, energy-conserving transfers) in 2D and 3D.
+#[test]
+fn vibrating_bar_period_and_amplitude() {
+    let n = Numerics::new(0.025, KernelKind::Gimp).flip(1.0);
+    let b2 = vibrating_bar::<D2>("vibrating_bar_2d.json", &n, 3.0);
+    eprintln!("bar 2D: {b2:?}");
+    assert!(
+        b2.period_error().abs() < 0.01,
+        "2D period {} vs {}",
+        b2.period,
+        b2.period_exact
+    );
+    assert!(
+        b2.amplitude_error().abs() < 0.03,
+        "2D amplitude {} vs {}",
+        b2.amplitude,
+        b2.amplitude_exact
+    );
+    assert!(b2.l2_error < 0.08, "2D L2 error {}", b2.l2_error);
+    let n3 = Numerics::new(0.05, KernelKind::Gimp).flip(1.0);
+    let b3 = vibrating_bar::<D3>("vibrating_bar_3d.json", &n3, 2.0);
+    eprintln!("bar 3D: {b3:?}");
+    assert!(
+        b3.period_error().abs() < 0.02,
+        "3D period {} vs {}",
+        b3.period,
+        b3.period_exact
+    );
+    assert!(
+        b3.amplitude_error().abs() < 0.05,
+        "3D amplitude {} vs {}",
+        b3.amplitude,
+        b3.amplitude_exact
+    );
+}
+
+/// PIC (α = 0) damps the vibration; FLIP keeps it. Both converge with the cell size.
+#[test]
+fn pic_damps_the_bar_and_the_damping_shrinks_with_the_cell_size() {
+    let coarse = Numerics::new(0.05, KernelKind::Gimp).flip(0.0);
+    let fine = Numerics::new(0.025, KernelKind::Gimp).flip(0.0);
+    let flip = Numerics::new(0.05, KernelKind::Gimp).flip(1.0);
+    let (c, f, x) = (
+        vibrating_bar::<D2>("vibrating_bar_2d.json", &coarse, 3.0),
+        vibrating_bar::<D2>("vibrating_bar_2d.json", &fine, 3.0),
+        vibrating_bar::<D2>("vibrating_bar_2d.json", &flip, 3.0),
+    );
+    eprintln!(
+        "kept: PIC h=0.05 {}, PIC h=0.025 {}, FLIP h=0.05 {}",
+        c.amplitude_kept, f.amplitude_kept, x.amplitude_kept
+    );
+    assert!(x.amplitude_kept > 0.97, "FLIP lost amplitude: {x:?}");
+    assert!(c.amplitude_kept < 0.9, "PIC should damp: {c:?}");
+    assert!(
+        f.amplitude_kept > c.amplitude_kept,
+        "PIC damping should shrink with h: {} vs {}",
+        f.amplitude_kept,
+        c.amplitude_kept
+    );
+    assert!(f.l2_error < c.l2_error);
+}
+
+/// A Gaussian velocity pulse in a slab between slip walls travels at the dilatational speed
+/// √((K + 4G/3)/ρ), not at the bar speed √(E/ρ) (16 % lower for ν = 0.3).
+#[test]
+fn dilatational_wave_speed() {
+    let w = wave_speed(&Numerics::new(0.02, KernelKind::Gimp).flip(1.0));
+    eprintln!("wave: {w:?} error {}", w.error());
+    assert!(
+        w.error().abs() < 0.03,
+        "speed {} vs {}",
+        w.speed,
+        w.speed_exact
+    );
+    assert!((w.speed - w.speed_exact).abs() < 0.2 * (w.speed_exact - w.bar_speed));
+}
+
+/// von Mises in plane strain: elastic at E/(1 − ν²), first yield at σ_y/√(1 − ν + ν²), then
+/// towards 2σ_y/√3; in 3D uniaxial stress: E, then flat at σ_y.
+#[test]
+fn von_mises_squeeze_follows_the_elastic_perfectly_plastic_curve() {
+    let n = Numerics::new(0.01, KernelKind::Gimp);
+    let s2 = squeeze::<D2>("von_mises_compression_2d.json", &n, 0.03);
+    eprintln!(
+        "squeeze 2D: max {} plateau {} modulus {} ({} steps)",
+        s2.max_error, s2.plateau_error, s2.modulus_error, s2.cost.steps
+    );
+    assert!(s2.plateau_error.abs() < 0.03, "2D plateau {s2:?}");
+    assert!(s2.modulus_error.abs() < 0.1, "2D modulus {}", s2.modulus_error);
+    assert!(s2.max_error < 0.1, "2D max error {}", s2.max_error);
+    let n3 = Numerics::new(0.02, KernelKind::Gimp);
+    let s3 = squeeze::<D3>("von_mises_compression_3d.json", &n3, 0.03);
+    eprintln!(
+        "squeeze 3D: max {} plateau {} modulus {} ({} steps)",
+        s3.max_error, s3.plateau_error, s3.modulus_error, s3.cost.steps
+    );
+    assert!(s3.plateau_error.abs() < 0.03, "3D plateau {}", s3.plateau_error);
+    assert!(s3.modulus_error.abs() < 0.1, "3D modulus {}", s3.modulus_error);
+    assert!(s3.max_error < 0.1, "3D max error {}", s3.max_error);
+}
+
+/// Plane granular column collapse on a rough floor against Lube et al. (2005).
+#[test]
+fn column_collapse_runout_and_height() {
+    for (file, a) in [
+        ("column_collapse_a0.5_2d.json", 0.5),
+        ("column_collapse_a2_2d.json", 2.0),
+    ] {
+        let c = column_collapse(file, &Numerics::new(0.01, KernelKind::Gimp), 3.0);
+        eprintln!(
+            "collapse a={a}: {c:?}; Lube: runout {} height {}",
+            lube_runout(a),
+            lube_height(a)
+        );
+        assert!((c.aspect_ratio - a).abs() < 1e-6);
+    }
+}
+
+/// A heap left by slowly lifted walls stands at about the friction angle.
+#[test]
+fn angle_of_repose() {
+    let p = repose_pile(&Numerics::new(0.01, KernelKind::Gimp), 8.0);
+    eprintln!("pile: {p:?}");
+    // A cohesionless Mohr–Coulomb slope cannot stand steeper than its friction angle (here
+    // the plane-strain angle of the model's cone, 30.4° for φ = 32°); the surface fit on a
+    // grid of 1 cm is good to about 2°. Deposition leaves it a little shallower.
+    assert!(
+        p.angle < p.plane_strain_angle + 2.0,
+        "the heap stands at {:.1}°, steeper than φ_ps = {:.1}°",
+        p.angle,
+        p.plane_strain_angle
+    );
+    assert!(
+        p.angle > p.plane_strain_angle - 6.0,
+        "the heap stands at {:.1}°, far below φ_ps = {:.1}°",
+        p.angle,
+        p.plane_strain_angle
+    );
+    assert!((p.flanks[0] - p.flanks[1]).abs() < 4.0, "asymmetric heap {p:?}");
+}
