@@ -98,7 +98,11 @@ fn von_mises_squeeze_follows_the_elastic_perfectly_plastic_curve() {
         s2.max_error, s2.plateau_error, s2.modulus_error, s2.cost.steps
     );
     assert!(s2.plateau_error.abs() < 0.03, "2D plateau {s2:?}");
-    assert!(s2.modulus_error.abs() < 0.1, "2D modulus {}", s2.modulus_error);
+    assert!(
+        s2.modulus_error.abs() < 0.1,
+        "2D modulus {}",
+        s2.modulus_error
+    );
     assert!(s2.max_error < 0.1, "2D max error {}", s2.max_error);
     let n3 = Numerics::new(0.02, KernelKind::Gimp);
     let s3 = squeeze::<D3>("von_mises_compression_3d.json", &n3, 0.03);
@@ -106,8 +110,16 @@ fn von_mises_squeeze_follows_the_elastic_perfectly_plastic_curve() {
         "squeeze 3D: max {} plateau {} modulus {} ({} steps)",
         s3.max_error, s3.plateau_error, s3.modulus_error, s3.cost.steps
     );
-    assert!(s3.plateau_error.abs() < 0.03, "3D plateau {}", s3.plateau_error);
-    assert!(s3.modulus_error.abs() < 0.1, "3D modulus {}", s3.modulus_error);
+    assert!(
+        s3.plateau_error.abs() < 0.03,
+        "3D plateau {}",
+        s3.plateau_error
+    );
+    assert!(
+        s3.modulus_error.abs() < 0.1,
+        "3D modulus {}",
+        s3.modulus_error
+    );
     assert!(s3.max_error < 0.1, "3D max error {}", s3.max_error);
 }
 
@@ -148,5 +160,8 @@ fn angle_of_repose() {
         p.angle,
         p.plane_strain_angle
     );
-    assert!((p.flanks[0] - p.flanks[1]).abs() < 4.0, "asymmetric heap {p:?}");
+    assert!(
+        (p.flanks[0] - p.flanks[1]).abs() < 4.0,
+        "asymmetric heap {p:?}"
+    );
 }

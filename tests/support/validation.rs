@@ -545,7 +545,11 @@ pub struct Collapse {
 /// Lube, Huppert, Sparks & Freundt (2005), plane collapses: (L∞ − L0)/L0 = 1.2 a for
 /// a ≲ 2.3, 1.9 a^(2/3) above.
 pub fn lube_runout(a: f64) -> f64 {
-    if a < 2.3 { 1.2 * a } else { 1.9 * a.powf(2.0 / 3.0) }
+    if a < 2.3 {
+        1.2 * a
+    } else {
+        1.9 * a.powf(2.0 / 3.0)
+    }
 }
 
 /// Lube et al. (2005), plane collapses: H∞/H0 = 1 for a ≲ 1.15 (the top is not reached by
@@ -649,10 +653,7 @@ pub fn repose_pile(n: &Numerics, t_max: f64) -> Pile {
     let s = spacing(&scene);
     let mut sim = Simulation::<mpm::D2>::new(scene).expect("pile scene");
     sim.sort_interval = 0; // the walls' particles stay where the driver finds them
-    let walls: Vec<usize> = sim.bodies()[1..]
-        .iter()
-        .flat_map(|b| b.range())
-        .collect();
+    let walls: Vec<usize> = sim.bodies()[1..].iter().flat_map(|b| b.range()).collect();
     let sand = sim.bodies()[0].range();
     let h0 = sand
         .clone()
@@ -722,7 +723,11 @@ pub fn flank_angles(points: &[(f64, f64)], s: f64, bin: f64, width: f64) -> (f64
             top[b] = y + 0.5 * s;
         }
     }
-    let height = top.iter().cloned().filter(|v| !v.is_nan()).fold(0.0, f64::max);
+    let height = top
+        .iter()
+        .cloned()
+        .filter(|v| !v.is_nan())
+        .fold(0.0, f64::max);
     let peak = top.iter().position(|&v| v == height).unwrap_or(0);
     let mut flanks = [f64::NAN; 2];
     for (k, range) in [(0..peak), (peak + 1..nbins)].into_iter().enumerate() {
