@@ -143,7 +143,7 @@ fn column_collapse_runout_and_height() {
 /// A heap left by slowly lifted walls stands at about the friction angle.
 #[test]
 fn angle_of_repose() {
-    let p = repose_pile(&Numerics::new(0.01, KernelKind::Gimp), 8.0);
+    let p = repose_pile(&Numerics::new(0.01, KernelKind::Gimp), 8.0, None);
     eprintln!("pile: {p:?}");
     // A cohesionless Mohr–Coulomb slope cannot stand steeper than its friction angle (here
     // the plane-strain angle of the model's cone, 30.4° for φ = 32°); the surface fit on a

@@ -645,8 +645,12 @@ pub fn plane_strain_angle(phi_deg: f64) -> f64 {
     (3.0 * t / (9.0 + 12.0 * t * t).sqrt()).asin().to_degrees()
 }
 
-pub fn repose_pile(n: &Numerics, t_max: f64) -> Pile {
-    let scene = load("repose_pile_2d.json", n);
+/// `phi` replaces the scene's friction angle (degrees) when given.
+pub fn repose_pile(n: &Numerics, t_max: f64, phi: Option<f64>) -> Pile {
+    let mut scene = load("repose_pile_2d.json", n);
+    if let (Some(phi), Material::DruckerPrager(m)) = (phi, &mut scene.bodies[0].material) {
+        m.friction_angle = phi;
+    }
     let Material::DruckerPrager(m) = scene.bodies[0].material else {
         panic!("the pile is sand");
     };

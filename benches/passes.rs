@@ -1,0 +1,176 @@
+//! Skipping what a scene does not need, measured: the cost of each pass of the step
+//! (`Simulation::timings`) for scenes that need different work — one elastic body (no plastic
+//! return, no contact), sand (the plastic return), many bodies apart (no contact work), many
+//! bodies touching (contact), the same scene in a domain 4× larger per axis (the sparse grid
+//! keeps the cost flat), each in 2D and 3D. Writes `docs/passes-report.md`.
+//!
+//! `taskset -c 0 cargo bench --bench passes` (or `cargo xtask passes`; about two minutes).
+
+#[path = "support/report.rs"]
+mod report;
+
+use mpm::math::Dim;
+use mpm::{BodyConfig, D2, D3, Material, PassTimings, SceneConfig, Shape, Simulation};
+use report::*;
+use std::fmt::Write;
+use std::time::Instant;
+
+fn elastic() -> Material {
+    Material::elastic(1.0e5, 0.3, 1000.0)
+}
+fn sand() -> Material {
+    Material::drucker_prager(3.5e5, 0.3, 2200.0, 35.0, 0.0, 0.0)
+}
+
+/// Boxes [lo, hi] in 3D coordinates, cut to `dim`.
+fn body(name: &str, lo: [f64; 3], hi: [f64; 3], m: Material, dim: usize) -> BodyConfig {
+    BodyConfig::new(name, Shape::cuboid(&lo[..dim], &hi[..dim]), m)
+}
+
+/// The scenes: (name, scene). The block is 0.4 × 0.2 (× 0.4) m on the floor of a 1 × 0.5
+/// (× 1) m domain; the eight-body scenes split the same volume into eight blocks, 0.05 m
+/// wide, either 0.05 m apart or side by side.
+fn scenes(dim: usize) -> Vec<(String, SceneConfig)> {
+    let h = if dim == 2 { 0.004 } else { 0.02 };
+    let size = |scale: f64| -> Vec<f64> {
+        [1.0, 0.5, 1.0][..dim]
+            .iter()
+            .map(|s| s * scale)
+            .collect::<Vec<_>>()
+    };
+    let new = |scale: f64| {
+        let mut s = SceneConfig::new(dim, &size(scale), h);
+        s.boundary.friction = 0.5;
+        s
+    };
+    let mut out = Vec::new();
+    let mut one = new(1.0);
+    one.bodies.push(body("block", [0.3, 0.0, 0.3], [0.7, 0.2, 0.7], elastic(), dim));
+    out.push(("one elastic body".to_string(), one.clone()));
+    let mut s = new(1.0);
+    s.bodies.push(body("sand", [0.3, 0.0, 0.3], [0.7, 0.2, 0.7], sand(), dim));
+    out.push(("sand only".to_string(), s));
+    let mut apart = new(1.0);
+    let mut touching = new(1.0);
+    for i in 0..8 {
+        let x = 0.05 + 0.1 * i as f64;
+        apart.bodies.push(body(
+            &format!("apart {i}"),
+            [x, 0.0, 0.3],
+            [x + 0.05, 0.2, 0.7],
+            elastic(),
+            dim,
+        ));
+        let x = 0.3 + 0.05 * i as f64;
+        touching.bodies.push(body(
+            &format!("touching {i}"),
+            [x, 0.0, 0.3],
+            [x + 0.05, 0.2, 0.7],
+            elastic(),
+            dim,
+        ));
+    }
+    out.push(("8 elastic bodies apart".to_string(), apart));
+    out.push(("8 elastic bodies touching".to_string(), touching));
+    let mut big = new(4.0);
+    big.bodies = one.bodies.clone();
+    out.push(("one elastic body, domain 4× per axis".to_string(), big));
+    out
+}
+
+struct Measured {
+    particles: usize,
+    blocks: usize,
+    t: PassTimings,
+}
+
+fn measure<D: Dim>(scene: SceneConfig, steps: u64) -> Measured {
+    let mut sim = Simulation::<D>::new(scene).expect("bench scene");
+    for _ in 0..steps {
+        sim.step().expect("warm-up");
+    }
+    let mut rounds: Vec<PassTimings> = (0..5)
+        .map(|_| {
+            sim.timings = Some(PassTimings::default());
+            let start = Instant::now();
+            for _ in 0..steps {
+                sim.step().expect("step");
+            }
+            let _ = start.elapsed();
+            sim.timings.take().unwrap()
+        })
+        .collect();
+    rounds.sort_by(|a, b| total(a).partial_cmp(&total(b)).unwrap());
+    Measured {
+        particles: sim.particles().len(),
+        blocks: sim.diagnostics().grid_blocks,
+        t: rounds[2],
+    }
+}
+
+fn total(t: &PassTimings) -> f64 {
+    t.allocate + t.scatter + t.stress + t.grid + t.contact + t.walls + t.gather
+}
+
+fn main() {
+    let mut rows = Vec::new();
+    for dim in [2, 3] {
+        let mut base = None;
+        for (name, scene) in scenes(dim) {
+            let steps = if dim == 2 { 100 } else { 30 };
+            let m = if dim == 2 {
+                measure::<D2>(scene, steps)
+            } else {
+                measure::<D3>(scene, steps)
+            };
+            let per = |x: f64| 1e9 * x / (m.particles as f64 * m.t.steps as f64);
+            let tot = per(total(&m.t));
+            if name == "one elastic body" {
+                base = Some(tot);
+            }
+            let rel = base.map_or(String::new(), |b| format!("{:.2}×", tot / b));
+            println!("{dim}D {name}: {} particles, {tot:.1} ns/particle-step {rel}", m.particles);
+            rows.push(vec![
+                format!("{dim}D"),
+                name,
+                format!("{}", m.particles),
+                format!("{}", m.blocks),
+                format!("{:.1}", per(m.t.allocate)),
+                format!("{:.1}", per(m.t.scatter)),
+                format!("{:.1}", per(m.t.stress)),
+                format!("{:.1}", per(m.t.grid)),
+                format!("{:.1}", per(m.t.contact)),
+                format!("{:.1}", per(m.t.walls)),
+                format!("{:.1}", per(m.t.gather)),
+                format!("{tot:.1}"),
+                rel,
+            ]);
+        }
+    }
+    let mut md = String::new();
+    let _ = writeln!(
+        md,
+        "# Cost of each pass (generated)\n\nRegenerate with `taskset -c 0 cargo bench --bench passes` (or `cargo xtask passes`). Nanoseconds per particle per step, median of five rounds (100 steps in 2D, 30 in 3D, after as many warm-up steps), one core; the last column is the total against the one elastic body of the same dimension. Written by `benches/passes.rs`; the discussion is in [work-precision.md](work-precision.md#skipping-what-a-scene-does-not-need).\n\n{}",
+        table(
+            &[
+                "dim",
+                "scene",
+                "particles",
+                "grid blocks",
+                "allocate",
+                "scatter",
+                "stress",
+                "grid",
+                "contact",
+                "walls",
+                "gather",
+                "total",
+                "vs one body"
+            ],
+            &rows
+        )
+    );
+    let path = root().join("docs").join("passes-report.md");
+    std::fs::write(&path, md).unwrap();
+    println!("wrote {}", path.display());
+}

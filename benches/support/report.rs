@@ -1,0 +1,235 @@
+//! Helpers of the report-writing benches: markdown tables, a log–log SVG plot, least-squares
+//! convergence orders.
+#![allow(dead_code)]
+
+use std::fmt::Write;
+
+/// A markdown table.
+pub fn table(header: &[&str], rows: &[Vec<String>]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "| {} |", header.join(" | "));
+    let _ = writeln!(
+        s,
+        "|{}",
+        header.iter().map(|_| " --- |").collect::<String>()
+    );
+    for r in rows {
+        let _ = writeln!(s, "| {} |", r.join(" | "));
+    }
+    s
+}
+
+/// The slope of log y against log x (a convergence order when x is the cell size).
+pub fn log_slope(x: &[f64], y: &[f64]) -> f64 {
+    let pts: Vec<(f64, f64)> = x
+        .iter()
+        .zip(y)
+        .filter(|(a, b)| **a > 0.0 && **b > 0.0 && b.is_finite())
+        .map(|(a, b)| (a.ln(), b.ln()))
+        .collect();
+    let n = pts.len() as f64;
+    if n < 2.0 {
+        return f64::NAN;
+    }
+    let (mx, my) = (
+        pts.iter().map(|p| p.0).sum::<f64>() / n,
+        pts.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    sxy / sxx
+}
+
+/// One series of a plot: points (x, y), drawn as markers joined by a line.
+pub struct Series {
+    pub label: String,
+    pub colour: &'static str,
+    pub points: Vec<(f64, f64)>,
+    pub dashed: bool,
+}
+
+pub const COLOURS: [&str; 8] = [
+    "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#7f7f7f",
+];
+
+/// A log–log plot as a standalone SVG document.
+pub fn loglog_svg(title: &str, xlabel: &str, ylabel: &str, series: &[Series]) -> String {
+    let (w, h) = (760.0, 520.0);
+    let (left, right, top, bottom) = (80.0, 230.0, 40.0, 60.0);
+    let pts: Vec<(f64, f64)> = series
+        .iter()
+        .flat_map(|s| s.points.iter().cloned())
+        .filter(|(x, y)| *x > 0.0 && *y > 0.0 && x.is_finite() && y.is_finite())
+        .collect();
+    let lx: Vec<f64> = pts.iter().map(|p| p.0.log10()).collect();
+    let ly: Vec<f64> = pts.iter().map(|p| p.1.log10()).collect();
+    let (x0, x1) = (
+        lx.iter().cloned().fold(f64::INFINITY, f64::min).floor(),
+        lx.iter().cloned().fold(f64::NEG_INFINITY, f64::max).ceil(),
+    );
+    let (y0, y1) = (
+        ly.iter().cloned().fold(f64::INFINITY, f64::min).floor(),
+        ly.iter().cloned().fold(f64::NEG_INFINITY, f64::max).ceil(),
+    );
+    let (x1, y1) = (x1.max(x0 + 1.0), y1.max(y0 + 1.0));
+    let pw = w - left - right;
+    let ph = h - top - bottom;
+    let sx = |x: f64| left + (x.log10() - x0) / (x1 - x0) * pw;
+    let sy = |y: f64| top + (1.0 - (y.log10() - y0) / (y1 - y0)) * ph;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="sans-serif" font-size="12">"#
+    );
+    let _ = writeln!(s, r#"<rect width="{w}" height="{h}" fill="white"/>"#);
+    let _ = writeln!(
+        s,
+        r#"<text x="{}" y="22" text-anchor="middle" font-size="15">{}</text>"#,
+        left + pw / 2.0,
+        esc(title)
+    );
+    // grid and ticks: decades, with 2 and 5 between
+    for d in (x0 as i32)..=(x1 as i32) {
+        for m in [1.0, 2.0, 5.0] {
+            let v = m * 10f64.powi(d);
+            if v.log10() > x1 + 1e-9 {
+                continue;
+            }
+            let x = sx(v);
+            let major = m == 1.0;
+            let _ = writeln!(
+                s,
+                r##"<line x1="{x:.1}" y1="{top}" x2="{x:.1}" y2="{}" stroke="{}" />"##,
+                top + ph,
+                if major { "#ccc" } else { "#eee" }
+            );
+            if major || x1 - x0 <= 2.0 {
+                let _ = writeln!(
+                    s,
+                    r#"<text x="{x:.1}" y="{}" text-anchor="middle">{}</text>"#,
+                    top + ph + 16.0,
+                    num(v)
+                );
+            }
+        }
+    }
+    for d in (y0 as i32)..=(y1 as i32) {
+        for m in [1.0, 2.0, 5.0] {
+            let v = m * 10f64.powi(d);
+            if v.log10() > y1 + 1e-9 {
+                continue;
+            }
+            let y = sy(v);
+            let major = m == 1.0;
+            let _ = writeln!(
+                s,
+                r##"<line x1="{left}" y1="{y:.1}" x2="{}" y2="{y:.1}" stroke="{}" />"##,
+                left + pw,
+                if major { "#ccc" } else { "#eee" }
+            );
+            if major || y1 - y0 <= 2.0 {
+                let _ = writeln!(
+                    s,
+                    r#"<text x="{}" y="{:.1}" text-anchor="end">{}</text>"#,
+                    left - 6.0,
+                    y + 4.0,
+                    num(v)
+                );
+            }
+        }
+    }
+    let _ = writeln!(
+        s,
+        r#"<rect x="{left}" y="{top}" width="{pw}" height="{ph}" fill="none" stroke="black"/>"#
+    );
+    let _ = writeln!(
+        s,
+        r#"<text x="{}" y="{}" text-anchor="middle">{}</text>"#,
+        left + pw / 2.0,
+        h - 18.0,
+        esc(xlabel)
+    );
+    let _ = writeln!(
+        s,
+        r#"<text x="20" y="{}" text-anchor="middle" transform="rotate(-90 20 {})">{}</text>"#,
+        top + ph / 2.0,
+        top + ph / 2.0,
+        esc(ylabel)
+    );
+    for (k, se) in series.iter().enumerate() {
+        let p: Vec<(f64, f64)> = se
+            .points
+            .iter()
+            .cloned()
+            .filter(|(x, y)| *x > 0.0 && *y > 0.0 && x.is_finite() && y.is_finite())
+            .collect();
+        let path: Vec<String> = p
+            .iter()
+            .map(|&(x, y)| format!("{:.1},{:.1}", sx(x), sy(y)))
+            .collect();
+        if path.len() > 1 {
+            let _ = writeln!(
+                s,
+                r#"<polyline points="{}" fill="none" stroke="{}" stroke-width="1.5"{}/>"#,
+                path.join(" "),
+                se.colour,
+                if se.dashed {
+                    r#" stroke-dasharray="5,3""#
+                } else {
+                    ""
+                }
+            );
+        }
+        for &(x, y) in &p {
+            let _ = writeln!(
+                s,
+                r#"<circle cx="{:.1}" cy="{:.1}" r="3.5" fill="{}"/>"#,
+                sx(x),
+                sy(y),
+                se.colour
+            );
+        }
+        let ly = top + 10.0 + 18.0 * k as f64;
+        let lx = left + pw + 12.0;
+        let _ = writeln!(
+            s,
+            r#"<line x1="{lx}" y1="{ly}" x2="{}" y2="{ly}" stroke="{}" stroke-width="2"{}/>"#,
+            lx + 22.0,
+            se.colour,
+            if se.dashed {
+                r#" stroke-dasharray="5,3""#
+            } else {
+                ""
+            }
+        );
+        let _ = writeln!(
+            s,
+            r#"<text x="{}" y="{}">{}</text>"#,
+            lx + 28.0,
+            ly + 4.0,
+            esc(&se.label)
+        );
+    }
+    s.push_str("</svg>\n");
+    s
+}
+
+fn esc(t: &str) -> String {
+    t.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
+fn num(v: f64) -> String {
+    if (1e-3..1e4).contains(&v) {
+        let s = format!("{v:.3}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{v:.0e}")
+    }
+}
+
+/// The repository root.
+pub fn root() -> std::path::PathBuf {
+    std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}

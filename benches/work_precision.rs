@@ -1,0 +1,350 @@
+//! Run time against error (the work–precision study): sweeps the cell size, particles per
+//! cell, PIC/FLIP α, CFL number and kernel on three cases and writes
+//! `docs/work-precision-report.md` with the tables and convergence orders, and one log–log
+//! SVG of error against run time per case.
+//!
+//! `taskset -c 0 cargo bench --bench work_precision` (about 15 minutes on one core; the
+//! run times are single-core wall-clock seconds). Arguments filter the studies:
+//! `bar`, `column`, `resting`.
+
+#[path = "../tests/support/validation.rs"]
+mod validation;
+#[path = "support/report.rs"]
+mod report;
+
+use mpm::{D2, KernelKind};
+use report::*;
+use std::fmt::Write;
+use validation::*;
+
+const KERNELS: [KernelKind; 3] = [
+    KernelKind::Linear,
+    KernelKind::Gimp,
+    KernelKind::QuadraticBspline,
+];
+
+struct Row {
+    n: Numerics,
+    seconds: f64,
+    particles: usize,
+    steps: u64,
+    error: f64,
+    extra: String,
+}
+
+fn row_cells(r: &Row) -> Vec<String> {
+    vec![
+        kernel_name(r.n.kernel).to_string(),
+        format!("{}", r.n.cell_size),
+        format!("{}", r.n.ppc),
+        r.n.flip.map_or("scene".into(), |a| format!("{a}")),
+        format!("{}", r.n.cfl),
+        format!("{}", r.particles),
+        format!("{}", r.steps),
+        format!("{:.3}", r.seconds),
+        format!("{:.3e}", r.error),
+        r.extra.clone(),
+    ]
+}
+
+const HEADER: [&str; 10] = [
+    "kernel",
+    "h (m)",
+    "ppc",
+    "α",
+    "CFL",
+    "particles",
+    "steps",
+    "run time (s)",
+    "error",
+    "details",
+];
+
+fn main() {
+    let filters: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with("--"))
+        .collect();
+    let want = |s: &str| filters.is_empty() || filters.iter().any(|f| f == s);
+    let mut md = String::new();
+    let _ = writeln!(
+        md,
+        "# Work–precision report (generated)\n\nRegenerate with `taskset -c 0 cargo bench --bench work_precision` (or `cargo xtask work-precision`). Run times are wall-clock seconds on one core of the shared development machine; errors are defined per case below. Written by `benches/work_precision.rs`; the discussion is in [work-precision.md](work-precision.md).\n"
+    );
+    if want("bar") {
+        bar_study(&mut md);
+    }
+    if want("column") {
+        column_study(&mut md);
+    }
+    if want("resting") {
+        resting_study(&mut md);
+    }
+    let path = root().join("docs").join(if filters.is_empty() {
+        "work-precision-report.md".to_string()
+    } else {
+        format!("work-precision-report-{}.md", filters.join("-"))
+    });
+    std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+    std::fs::write(&path, md).unwrap();
+    println!("wrote {}", path.display());
+}
+
+fn save_svg(name: &str, svg: String) {
+    let path = root().join("docs").join(name);
+    std::fs::write(&path, svg).unwrap();
+    println!("wrote {}", path.display());
+}
+
+// ---------------------------------------------------------------------------------------------
+
+fn bar_run(n: Numerics) -> Row {
+    let b = vibrating_bar::<D2>("vibrating_bar_2d.json", &n, 3.0);
+    let row = Row {
+        n,
+        seconds: b.cost.wall_seconds,
+        particles: b.cost.particles,
+        steps: b.cost.steps,
+        error: b.l2_error,
+        extra: format!(
+            "period {:+.3}%, amplitude {:+.2}%, kept {:.3}",
+            100.0 * b.period_error(),
+            100.0 * b.amplitude_error(),
+            b.amplitude_kept
+        ),
+    };
+    println!("bar {}: {:.3e} in {:.2} s", n.label(), row.error, row.seconds);
+    row
+}
+
+fn bar_study(md: &mut String) {
+    let _ = writeln!(
+        md,
+        "## Vibrating bar (2D, `scenes/validation/vibrating_bar_2d.json`)\n\nError: ‖q − q_exact‖₂/‖q_exact‖₂ of the first-mode modal displacement over three periods (phase, period and amplitude errors together), against u = (v0/ω) sin ωt cos(πx/L).\n"
+    );
+    let hs = [0.05, 0.025, 0.0125, 0.00625];
+    let mut rows = Vec::new();
+    let mut series = Vec::new();
+    let mut orders = Vec::new();
+    for (ka, &alpha) in [1.0, 0.0].iter().enumerate() {
+        for (kk, &k) in KERNELS.iter().enumerate() {
+            let mut pts = Vec::new();
+            let (mut xs, mut ys) = (Vec::new(), Vec::new());
+            for &h in &hs {
+                let r = bar_run(Numerics::new(h, k).flip(alpha));
+                pts.push((r.seconds, r.error));
+                xs.push(h);
+                ys.push(r.error);
+                rows.push(r);
+            }
+            orders.push(vec![
+                kernel_name(k).to_string(),
+                format!("{alpha}"),
+                format!("{:.2}", log_slope(&xs, &ys)),
+                format!("{:.2}", log_slope(&xs[1..], &ys[1..])),
+            ]);
+            series.push(Series {
+                label: format!("{} α={alpha}", kernel_name(k)),
+                colour: COLOURS[kk],
+                points: pts,
+                dashed: ka == 1,
+            });
+        }
+    }
+    // particles per cell and CFL at a middle resolution
+    for &k in &KERNELS {
+        for ppc in [1, 3, 4] {
+            rows.push(bar_run(Numerics::new(0.0125, k).flip(1.0).ppc(ppc)));
+        }
+    }
+    for cfl in [0.1, 0.2, 0.8, 1.0] {
+        rows.push(bar_run(
+            Numerics::new(0.0125, KernelKind::Gimp).flip(1.0).cfl(cfl),
+        ));
+    }
+    for alpha in [0.05, 0.5, 0.95] {
+        rows.push(bar_run(
+            Numerics::new(0.0125, KernelKind::Gimp).flip(alpha),
+        ));
+    }
+    let _ = writeln!(
+        md,
+        "Convergence order (slope of log error against log h; all four cell sizes, and the three finest):\n\n{}",
+        table(
+            &["kernel", "α", "order (4 h)", "order (3 finest)"],
+            &orders
+        )
+    );
+    let _ = writeln!(
+        md,
+        "All runs:\n\n{}\n![bar](work-precision-bar.svg)\n",
+        table(&HEADER, &rows.iter().map(row_cells).collect::<Vec<_>>())
+    );
+    save_svg(
+        "work-precision-bar.svg",
+        loglog_svg(
+            "Vibrating bar: error against run time (h = 0.05 … 0.00625 m)",
+            "run time (s, one core)",
+            "relative L2 error of the modal displacement",
+            &series,
+        ),
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+
+fn column_study(md: &mut String) {
+    let file = "column_collapse_a2_2d.json";
+    let reference = column_collapse(file, &Numerics::new(0.0025, KernelKind::Gimp), 4.0);
+    println!("column reference: {reference:?}");
+    let _ = writeln!(
+        md,
+        "## Column collapse (2D, a = 2, `scenes/validation/{file}`)\n\nNo closed form: the error is measured against a reference run (GIMP, h = 0.0025 m, ppc 2, α = 0.05, CFL 0.4, {} particles, {:.0} s): max of the relative errors of the normalised run-out (L∞ − L0)/L0 = {:.3} and final height H∞/H0 = {:.3} (Lube et al. 2005: {:.2} and {:.3}).\n",
+        reference.cost.particles,
+        reference.cost.wall_seconds,
+        reference.runout,
+        reference.height,
+        lube_runout(2.0),
+        lube_height(2.0)
+    );
+    let run = |n: Numerics| {
+        let c = column_collapse(file, &n, 4.0);
+        let e = ((c.runout / reference.runout - 1.0).abs())
+            .max((c.height / reference.height - 1.0).abs());
+        println!("column {}: {e:.3e} in {:.2} s", n.label(), c.cost.wall_seconds);
+        Row {
+            n,
+            seconds: c.cost.wall_seconds,
+            particles: c.cost.particles,
+            steps: c.cost.steps,
+            error: e,
+            extra: format!(
+                "run-out {:.3}, height {:.3}, settled at {:.2} s",
+                c.runout, c.height, c.settled_at
+            ),
+        }
+    };
+    let mut rows = Vec::new();
+    let mut series = Vec::new();
+    let mut orders = Vec::new();
+    for (kk, &k) in KERNELS.iter().enumerate() {
+        let mut pts = Vec::new();
+        let (mut xs, mut ys) = (Vec::new(), Vec::new());
+        for h in [0.02, 0.01, 0.005] {
+            let r = run(Numerics::new(h, k));
+            pts.push((r.seconds, r.error));
+            xs.push(h);
+            ys.push(r.error);
+            rows.push(r);
+        }
+        orders.push(vec![
+            kernel_name(k).to_string(),
+            format!("{:.2}", log_slope(&xs, &ys)),
+        ]);
+        series.push(Series {
+            label: kernel_name(k).to_string(),
+            colour: COLOURS[kk],
+            points: pts,
+            dashed: false,
+        });
+    }
+    let mut other = Vec::new();
+    for alpha in [0.0, 0.5, 1.0] {
+        other.push(run(Numerics::new(0.01, KernelKind::Gimp).flip(alpha)));
+    }
+    for ppc in [1, 3] {
+        other.push(run(Numerics::new(0.01, KernelKind::Gimp).ppc(ppc)));
+    }
+    for cfl in [0.2, 0.8] {
+        other.push(run(Numerics::new(0.01, KernelKind::Gimp).cfl(cfl)));
+    }
+    series.push(Series {
+        label: "gimp h=0.01, other α/ppc/CFL".into(),
+        colour: COLOURS[4],
+        points: other.iter().map(|r| (r.seconds, r.error)).collect(),
+        dashed: true,
+    });
+    rows.extend(other);
+    let _ = writeln!(
+        md,
+        "Convergence order against the reference (h = 0.02, 0.01, 0.005):\n\n{}",
+        table(&["kernel", "order"], &orders)
+    );
+    let _ = writeln!(
+        md,
+        "All runs:\n\n{}\n![column](work-precision-column.svg)\n",
+        table(&HEADER, &rows.iter().map(row_cells).collect::<Vec<_>>())
+    );
+    save_svg(
+        "work-precision-column.svg",
+        loglog_svg(
+            "Column collapse a = 2: error against run time",
+            "run time (s, one core)",
+            "relative error of run-out / height vs reference",
+            &series,
+        ),
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+
+fn resting_study(md: &mut String) {
+    let duration = 10.0;
+    let _ = writeln!(
+        md,
+        "## Resting soft column (2D, `scenes/validation/resting_column_2d.json`): the cell-crossing study\n\nA soft elastic column (E = 100 kPa, ν = 0, 0.2 × 0.4 m) released stress-free on a frictionless floor, PIC (α = 0), run for {duration} s (about 60 oscillation periods). Error: |δ/δ_exact − 1| of the top settlement δ (mean over the last tenth of the run), δ_exact = ρ g (H Y − Y²/2)/E at the top row. The drift is the sinking rate of the top over the second half of the run (a resting column should not sink). A run that failed is marked.\n"
+    );
+    let mut rows = Vec::new();
+    let mut series = Vec::new();
+    for (kk, &k) in KERNELS.iter().enumerate() {
+        for (kc, &cfl) in [0.4, 0.8].iter().enumerate() {
+            let mut pts = Vec::new();
+            for h in [0.04, 0.02, 0.01] {
+                let n = Numerics::new(h, k).flip(0.0).cfl(cfl);
+                let r = resting_column(&n, duration);
+                println!("resting {}: {r:?}", n.label());
+                let row = Row {
+                    n,
+                    seconds: r.cost.wall_seconds,
+                    particles: r.cost.particles,
+                    steps: r.cost.steps,
+                    error: r.error(),
+                    extra: match &r.failure {
+                        Some(f) => format!("FAILED after {} steps: {f}", r.cost.steps),
+                        None => format!(
+                            "δ = {:.3} mm (exact {:.3}), drift {:+.2e} m/s, final max speed {:.1e} m/s",
+                            1e3 * r.settlement,
+                            1e3 * r.settlement_exact,
+                            r.drift_rate,
+                            r.max_speed
+                        ),
+                    },
+                };
+                if r.failure.is_none() {
+                    pts.push((row.seconds, row.error));
+                }
+                rows.push(row);
+            }
+            series.push(Series {
+                label: format!("{} CFL {cfl}", kernel_name(k)),
+                colour: COLOURS[kk],
+                points: pts,
+                dashed: kc == 1,
+            });
+        }
+    }
+    let _ = writeln!(
+        md,
+        "{}\n![resting](work-precision-resting.svg)\n",
+        table(&HEADER, &rows.iter().map(row_cells).collect::<Vec<_>>())
+    );
+    save_svg(
+        "work-precision-resting.svg",
+        loglog_svg(
+            "Resting soft column, 10 s: settlement error against run time",
+            "run time (s, one core)",
+            "|settlement / exact − 1|",
+            &series,
+        ),
+    );
+}
