@@ -45,10 +45,17 @@ fn scenes(dim: usize) -> Vec<(String, SceneConfig)> {
     };
     let mut out = Vec::new();
     let mut one = new(1.0);
-    one.bodies.push(body("block", [0.3, 0.0, 0.3], [0.7, 0.2, 0.7], elastic(), dim));
+    one.bodies.push(body(
+        "block",
+        [0.3, 0.0, 0.3],
+        [0.7, 0.2, 0.7],
+        elastic(),
+        dim,
+    ));
     out.push(("one elastic body".to_string(), one.clone()));
     let mut s = new(1.0);
-    s.bodies.push(body("sand", [0.3, 0.0, 0.3], [0.7, 0.2, 0.7], sand(), dim));
+    s.bodies
+        .push(body("sand", [0.3, 0.0, 0.3], [0.7, 0.2, 0.7], sand(), dim));
     out.push(("sand only".to_string(), s));
     let mut apart = new(1.0);
     let mut touching = new(1.0);
@@ -129,7 +136,10 @@ fn main() {
                 base = Some(tot);
             }
             let rel = base.map_or(String::new(), |b| format!("{:.2}×", tot / b));
-            println!("{dim}D {name}: {} particles, {tot:.1} ns/particle-step {rel}", m.particles);
+            println!(
+                "{dim}D {name}: {} particles, {tot:.1} ns/particle-step {rel}",
+                m.particles
+            );
             rows.push(vec![
                 format!("{dim}D"),
                 name,

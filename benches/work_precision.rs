@@ -7,10 +7,10 @@
 //! run times are single-core wall-clock seconds). Arguments filter the studies:
 //! `bar`, `column`, `resting`.
 
-#[path = "../tests/support/validation.rs"]
-mod validation;
 #[path = "support/report.rs"]
 mod report;
+#[path = "../tests/support/validation.rs"]
+mod validation;
 
 use mpm::{D2, KernelKind};
 use report::*;
@@ -113,7 +113,12 @@ fn bar_run(n: Numerics) -> Row {
             b.amplitude_kept
         ),
     };
-    println!("bar {}: {:.3e} in {:.2} s", n.label(), row.error, row.seconds);
+    println!(
+        "bar {}: {:.3e} in {:.2} s",
+        n.label(),
+        row.error,
+        row.seconds
+    );
     row
 }
 
@@ -163,17 +168,12 @@ fn bar_study(md: &mut String) {
         ));
     }
     for alpha in [0.05, 0.5, 0.95] {
-        rows.push(bar_run(
-            Numerics::new(0.0125, KernelKind::Gimp).flip(alpha),
-        ));
+        rows.push(bar_run(Numerics::new(0.0125, KernelKind::Gimp).flip(alpha)));
     }
     let _ = writeln!(
         md,
         "Convergence order (slope of log error against log h; all four cell sizes, and the three finest):\n\n{}",
-        table(
-            &["kernel", "α", "order (4 h)", "order (3 finest)"],
-            &orders
-        )
+        table(&["kernel", "α", "order (4 h)", "order (3 finest)"], &orders)
     );
     let _ = writeln!(
         md,
@@ -211,7 +211,11 @@ fn column_study(md: &mut String) {
         let c = column_collapse(file, &n, 4.0);
         let e = ((c.runout / reference.runout - 1.0).abs())
             .max((c.height / reference.height - 1.0).abs());
-        println!("column {}: {e:.3e} in {:.2} s", n.label(), c.cost.wall_seconds);
+        println!(
+            "column {}: {e:.3e} in {:.2} s",
+            n.label(),
+            c.cost.wall_seconds
+        );
         Row {
             n,
             seconds: c.cost.wall_seconds,

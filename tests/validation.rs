@@ -123,9 +123,13 @@ fn von_mises_squeeze_follows_the_elastic_perfectly_plastic_curve() {
     assert!(s3.max_error < 0.1, "3D max error {}", s3.max_error);
 }
 
-/// Plane granular column collapse on a rough floor against Lube et al. (2005).
+/// Plane granular column collapse on a rough floor against Lube et al. (2005): the final
+/// height follows the measured law within 10 %; the run-out grows with the aspect ratio but
+/// is about half the measured one (see docs/validation.md), bounded here so that a change of
+/// the solver's granular flow shows.
 #[test]
 fn column_collapse_runout_and_height() {
+    let mut runouts = Vec::new();
     for (file, a) in [
         ("column_collapse_a0.5_2d.json", 0.5),
         ("column_collapse_a2_2d.json", 2.0),
@@ -137,7 +141,23 @@ fn column_collapse_runout_and_height() {
             lube_height(a)
         );
         assert!((c.aspect_ratio - a).abs() < 1e-6);
+        assert!(c.settled_at < 3.0, "a = {a}: still moving at 3 s");
+        assert!(
+            (c.height / lube_height(a) - 1.0).abs() < 0.1,
+            "a = {a}: H∞/H0 = {:.3}, Lube et al. {:.3}",
+            c.height,
+            lube_height(a)
+        );
+        let ratio = c.runout / lube_runout(a);
+        assert!(
+            (0.4..1.0).contains(&ratio),
+            "a = {a}: run-out {:.3} is {ratio:.2} of Lube et al.'s {:.2}",
+            c.runout,
+            lube_runout(a)
+        );
+        runouts.push(c.runout);
     }
+    assert!(runouts[1] > 2.0 * runouts[0], "run-out should grow with a");
 }
 
 /// A heap left by slowly lifted walls stands at about the friction angle.
