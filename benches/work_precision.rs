@@ -71,23 +71,25 @@ fn main() {
         md,
         "# Work–precision report (generated)\n\nRegenerate with `taskset -c 0 cargo bench --bench work_precision` (or `cargo xtask work-precision`). Run times are wall-clock seconds on one core of the shared development machine; errors are defined per case below. Written by `benches/work_precision.rs`; the discussion is in [work-precision.md](work-precision.md).\n"
     );
-    if want("bar") {
-        bar_study(&mut md);
-    }
-    if want("column") {
-        column_study(&mut md);
-    }
-    if want("resting") {
-        resting_study(&mut md);
-    }
     let path = root().join("docs").join(if filters.is_empty() {
         "work-precision-report.md".to_string()
     } else {
         format!("work-precision-report-{}.md", filters.join("-"))
     });
     std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-    std::fs::write(&path, md).unwrap();
-    println!("wrote {}", path.display());
+    // the report is rewritten after each study, so that an interrupted run keeps its results
+    let studies: [(&str, fn(&mut String)); 3] = [
+        ("bar", bar_study),
+        ("column", column_study),
+        ("resting", resting_study),
+    ];
+    for (name, study) in studies {
+        if want(name) {
+            study(&mut md);
+            std::fs::write(&path, &md).unwrap();
+            println!("wrote {}", path.display());
+        }
+    }
 }
 
 fn save_svg(name: &str, svg: String) {
@@ -195,7 +197,7 @@ fn bar_study(md: &mut String) {
 
 fn column_study(md: &mut String) {
     let file = "column_collapse_a2_2d.json";
-    let reference = column_collapse(file, &Numerics::new(0.0025, KernelKind::Gimp), 4.0);
+    let reference = column_reference(file);
     println!("column reference: {reference:?}");
     let _ = writeln!(
         md,
@@ -209,8 +211,12 @@ fn column_study(md: &mut String) {
     );
     let run = |n: Numerics| {
         let c = column_collapse(file, &n, 4.0);
-        let e = ((c.runout / reference.runout - 1.0).abs())
-            .max((c.height / reference.height - 1.0).abs());
+        let e = if c.failure.is_some() {
+            f64::INFINITY
+        } else {
+            ((c.runout / reference.runout - 1.0).abs())
+                .max((c.height / reference.height - 1.0).abs())
+        };
         println!(
             "column {}: {e:.3e} in {:.2} s",
             n.label(),
@@ -222,10 +228,13 @@ fn column_study(md: &mut String) {
             particles: c.cost.particles,
             steps: c.cost.steps,
             error: e,
-            extra: format!(
-                "run-out {:.3}, height {:.3}, settled at {:.2} s",
-                c.runout, c.height, c.settled_at
-            ),
+            extra: match &c.failure {
+                Some(f) => format!("FAILED: {f}"),
+                None => format!(
+                    "run-out {:.3}, height {:.3}, at rest at {:.2} s",
+                    c.runout, c.height, c.settled_at
+                ),
+            },
         }
     };
     let mut rows = Vec::new();
@@ -288,6 +297,52 @@ fn column_study(md: &mut String) {
             &series,
         ),
     );
+}
+
+/// The reference run of the column study (about ten minutes on one core), kept in
+/// `target/work-precision-column-reference.txt` for later runs of the bench (delete the file
+/// to recompute it).
+fn column_reference(file: &str) -> Collapse {
+    let cache = root()
+        .join("target")
+        .join("work-precision-column-reference.txt");
+    if let Ok(text) = std::fs::read_to_string(&cache) {
+        let v: Vec<f64> = text
+            .split_whitespace()
+            .filter_map(|w| w.parse().ok())
+            .collect();
+        if v.len() == 7 {
+            println!("column reference from {}", cache.display());
+            return Collapse {
+                aspect_ratio: v[0],
+                runout: v[1],
+                height: v[2],
+                settled_at: v[3],
+                failure: None,
+                cost: Cost {
+                    wall_seconds: v[4],
+                    steps: v[5] as u64,
+                    particles: v[6] as usize,
+                },
+            };
+        }
+    }
+    let c = column_collapse(file, &Numerics::new(0.0025, KernelKind::Gimp), 4.0);
+    assert!(c.failure.is_none(), "the reference run failed: {c:?}");
+    let _ = std::fs::write(
+        &cache,
+        format!(
+            "{} {} {} {} {} {} {}\n",
+            c.aspect_ratio,
+            c.runout,
+            c.height,
+            c.settled_at,
+            c.cost.wall_seconds,
+            c.cost.steps,
+            c.cost.particles
+        ),
+    );
+    c
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -9,13 +9,23 @@ use mpm::{
     AnySimulation, BodyConfig, D2, D3, Diagnostics, Material, SceneConfig, Shape, Simulation,
 };
 use proptest::prelude::*;
-use proptest::test_runner::{Config, TestCaseError, TestRunner};
+use proptest::test_runner::{Config, RngAlgorithm, TestCaseError, TestRng, TestRunner};
 use std::cell::Cell;
 use std::path::Path;
 use std::sync::Mutex;
 
 fn long() -> bool {
     std::env::var("MPM_LONG").is_ok_and(|v| v != "0")
+}
+
+/// A test runner: the same cases on every default run (CI stays reproducible), fresh random
+/// cases in the long sweep.
+fn runner(config: Config) -> TestRunner {
+    if long() {
+        TestRunner::new(config)
+    } else {
+        TestRunner::new_with_rng(config, TestRng::deterministic_rng(RngAlgorithm::ChaCha))
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -283,7 +293,7 @@ fn run_case<D: Dim>(scene: SceneConfig, steps: u64) -> Result<(), TestCaseError>
 #[test]
 fn random_scenes_stay_finite_inside_and_bounded() {
     let cases = if long() { 1000 } else { 64 };
-    let mut runner = TestRunner::new(Config {
+    let mut runner = runner(Config {
         cases,
         failure_persistence: None,
         ..Config::default()
@@ -594,7 +604,7 @@ fn very_soft_and_very_stiff_bodies_side_by_side() {
 #[test]
 fn the_scene_parser_survives_arbitrary_bytes() {
     let cases = if long() { 20_000 } else { 2_000 };
-    let mut runner = TestRunner::new(Config {
+    let mut runner = runner(Config {
         cases,
         failure_persistence: None,
         ..Config::default()
@@ -681,7 +691,7 @@ fn mutated_scenes_never_panic() {
         }
     }
     let cases = if long() { 5_000 } else { 400 };
-    let mut runner = TestRunner::new(Config {
+    let mut runner = runner(Config {
         cases,
         failure_persistence: None,
         ..Config::default()

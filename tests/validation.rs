@@ -141,6 +141,7 @@ fn column_collapse_runout_and_height() {
             lube_height(a)
         );
         assert!((c.aspect_ratio - a).abs() < 1e-6);
+        assert!(c.failure.is_none(), "a = {a}: {:?}", c.failure);
         assert!(c.settled_at < 3.0, "a = {a}: still moving at 3 s");
         assert!(
             (c.height / lube_height(a) - 1.0).abs() < 0.1,
