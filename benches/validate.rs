@@ -4,7 +4,7 @@
 //!
 //! `taskset -c 0 cargo bench --bench validate` (or `cargo xtask validate`; about 10 minutes
 //! on one core). Arguments filter the cases: `bar`, `wave`, `squeeze`, `collapse`, `repose`,
-//! `resting`.
+//! `steep`, `resting`.
 
 #[path = "support/report.rs"]
 mod report;
@@ -234,7 +234,7 @@ fn main() {
         }
         let _ = writeln!(
             md,
-            "## Angle of repose (lifted walls)\n\n{}",
+            "## Angle of repose (lifted walls, floor μ = tan φ)\n\n{}",
             table(
                 &[
                     "numerics",
@@ -243,6 +243,54 @@ fn main() {
                     "heap angle (°) (left, right)",
                     "vs φ_ps",
                     "at rest (s)",
+                    "s"
+                ],
+                &rows
+            )
+        );
+    }
+    if want("steep") {
+        let mut rows = Vec::new();
+        let cases: [(f64, f64, f64, f64, KernelKind); 7] = [
+            (32.0, 40.0, 3.5e5, 0.05, KernelKind::Gimp),
+            (32.0, 40.0, 3.5e5, 0.0, KernelKind::Gimp),
+            (32.0, 40.0, 3.5e5, 0.5, KernelKind::Gimp),
+            (32.0, 40.0, 3.5e5, 1.0, KernelKind::Gimp),
+            (32.0, 40.0, 3.5e7, 0.05, KernelKind::Gimp),
+            (32.0, 40.0, 3.5e5, 0.05, KernelKind::QuadraticBspline),
+            (20.0, 30.0, 3.5e5, 0.05, KernelKind::Gimp),
+        ];
+        for (phi, slope, e, alpha, kernel) in cases {
+            let n = Numerics::new(0.01, kernel).flip(alpha);
+            let r = steep_heap(phi, slope, e, &n, 2.0);
+            println!("steep φ={phi} θ={slope} E={e} {}: {r:?}", n.label());
+            rows.push(vec![
+                format!("{phi}"),
+                format!("{:.1}", r.plane_strain_angle),
+                format!("{slope}"),
+                format!("{e:.1e}"),
+                n.label(),
+                format!("{:.1}", r.angle),
+                format!("{:.1}", 1e3 * r.widening),
+                format!("{:.2e}", r.peak_speed),
+                format!("{:.2e}", r.final_speed),
+                format!("{:.1}", r.cost.wall_seconds),
+            ]);
+        }
+        let _ = writeln!(
+            md,
+            "## A heap steeper than its friction angle, after 2 s\n\n{}",
+            table(
+                &[
+                    "φ (°)",
+                    "φ_ps (°)",
+                    "initial flanks (°)",
+                    "E (Pa)",
+                    "numerics",
+                    "flanks after 2 s (°)",
+                    "widening (mm)",
+                    "peak speed (m/s)",
+                    "final speed (m/s)",
                     "s"
                 ],
                 &rows

@@ -231,8 +231,11 @@ fn column_study(md: &mut String) {
             extra: match &c.failure {
                 Some(f) => format!("FAILED: {f}"),
                 None => format!(
-                    "run-out {:.3}, height {:.3}, at rest at {:.2} s",
-                    c.runout, c.height, c.settled_at
+                    "run-out {:.3} ({:+.0} % vs Lube), height {:.3}, at rest at {:.2} s",
+                    c.runout,
+                    100.0 * (c.runout / lube_runout(2.0) - 1.0),
+                    c.height,
+                    c.settled_at
                 ),
             },
         }
@@ -262,7 +265,7 @@ fn column_study(md: &mut String) {
         });
     }
     let mut other = Vec::new();
-    for alpha in [0.0, 0.5, 1.0] {
+    for alpha in [0.0, 0.5, 0.8, 0.9, 0.95, 0.99, 1.0] {
         other.push(run(Numerics::new(0.01, KernelKind::Gimp).flip(alpha)));
     }
     for ppc in [1, 3] {

@@ -866,3 +866,74 @@ pub fn ascii_map<D: Dim>(sim: &Simulation<D>, cols: usize, rows: usize) -> Strin
         .collect::<Vec<_>>()
         .join("\n")
 }
+
+// ---------------------------------------------------------------------------------------------
+// Drucker–Prager: a heap steeper than the friction angle
+
+/// A symmetric heap (flat top 0.1 m wide, 0.1 m high, flanks at `slope` degrees) of sand with
+/// friction angle `phi` released on a floor as rough as the sand. Steeper than the
+/// plane-strain friction angle it cannot stand: its flanks must avalanche (the surface layer
+/// accelerates at g (sin θ − cos θ tan φ_ps)) down to at most that angle.
+#[derive(Clone, Debug)]
+pub struct SteepHeap {
+    /// Flank angle (degrees) after `duration`, and the plane-strain friction angle.
+    pub angle: f64,
+    pub plane_strain_angle: f64,
+    /// Largest particle speed seen, and the speed at the end (m/s).
+    pub peak_speed: f64,
+    pub final_speed: f64,
+    /// Widening of the heap (m).
+    pub widening: f64,
+    pub cost: Cost,
+}
+
+pub fn steep_heap(
+    phi: f64,
+    slope: f64,
+    youngs_modulus: f64,
+    n: &Numerics,
+    duration: f64,
+) -> SteepHeap {
+    let (height, top) = (0.1, 0.05);
+    let run = height / slope.to_radians().tan();
+    let mut scene = SceneConfig::new(2, &[1.2, 0.4], n.cell_size);
+    scene.boundary.friction = phi.to_radians().tan();
+    scene.bodies.push(mpm::BodyConfig::new(
+        "heap",
+        mpm::Shape::polygon(&[
+            [0.6 - top - run, 0.0],
+            [0.6 + top + run, 0.0],
+            [0.6 + top, height],
+            [0.6 - top, height],
+        ]),
+        Material::drucker_prager(youngs_modulus, 0.3, 2200.0, phi, 0.0, 0.0),
+    ));
+    n.apply(&mut scene);
+    let s = spacing(&scene);
+    let mut sim = Simulation::<mpm::D2>::new(scene).expect("heap scene");
+    let width = |sim: &Simulation<mpm::D2>| {
+        let b = sim.bodies()[0].stats();
+        b.bbox_max[0] - b.bbox_min[0]
+    };
+    let w0 = width(&sim);
+    let start = Instant::now();
+    let mut peak_speed = 0.0f64;
+    while sim.time() < duration {
+        sim.advance(0.01).expect("heap step");
+        peak_speed = peak_speed.max(sim.diagnostics().max_speed);
+    }
+    let cost = cost(&sim, start);
+    let p = sim.particles();
+    let pts: Vec<(f64, f64)> = (0..p.len())
+        .map(|i| (p.x[i][0] as f64, p.x[i][1] as f64))
+        .collect();
+    let (_, flanks) = flank_angles(&pts, s, sim.cell_size(), 1.2);
+    SteepHeap {
+        angle: 0.5 * (flanks[0] + flanks[1]),
+        plane_strain_angle: plane_strain_angle(phi),
+        peak_speed,
+        final_speed: sim.diagnostics().max_speed,
+        widening: width(&sim) - w0,
+        cost,
+    }
+}
