@@ -17,6 +17,9 @@ use report::*;
 use std::fmt::Write;
 use validation::*;
 
+/// A study: its name (the filter) and the function that appends its section to the report.
+type Study = (&'static str, fn(&mut String));
+
 const KERNELS: [KernelKind; 3] = [
     KernelKind::Linear,
     KernelKind::Gimp,
@@ -78,7 +81,7 @@ fn main() {
     });
     std::fs::create_dir_all(path.parent().unwrap()).unwrap();
     // the report is rewritten after each study, so that an interrupted run keeps its results
-    let studies: [(&str, fn(&mut String)); 3] = [
+    let studies: [Study; 3] = [
         ("bar", bar_study),
         ("column", column_study),
         ("resting", resting_study),
