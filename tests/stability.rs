@@ -322,11 +322,29 @@ fn resting_pile<D: Dim>(h: f64, steps: u64) -> String {
     let shape = if d == 2 {
         Shape::polygon(&[[0.3, 0.0], [0.7, 0.0], [0.55, 0.08], [0.45, 0.08]])
     } else {
-        // a stepped heap: a wide slab under a narrower one
-        Shape::Union(vec![
-            Shape::cuboid(&[0.3, 0.0, 0.3], &[0.7, 0.04, 0.7]),
-            Shape::cuboid(&[0.4, 0.04, 0.4], &[0.6, 0.08, 0.6]),
-        ])
+        // a square frustum with the same 28° flanks, as explicit lattice points
+        let s = h / 2.0;
+        let n = (0.4 / s).round() as usize;
+        let mut positions = Vec::new();
+        for i in 0..n {
+            for j in 0..(0.08 / s).round() as usize {
+                for k in 0..n {
+                    let (x, y, z) = (
+                        0.3 + (i as f64 + 0.5) * s,
+                        (j as f64 + 0.5) * s,
+                        0.3 + (k as f64 + 0.5) * s,
+                    );
+                    let half = 0.2 - y * 0.15 / 0.08;
+                    if (x - 0.5).abs() <= half && (z - 0.5).abs() <= half {
+                        positions.push(vec![x, y, z]);
+                    }
+                }
+            }
+        }
+        Shape::Points {
+            positions,
+            particle_volume: None,
+        }
     };
     let mut size = vec![1.0; d];
     size[1] = 0.4;
