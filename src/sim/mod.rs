@@ -449,6 +449,9 @@ impl<D: Dim> Simulation<D> {
         if let Some(e) = &self.failed {
             return Err(e.clone());
         }
+        if limit.is_nan() || limit <= 0.0 {
+            return Err(Error::invalid("step limit", limit, "must be > 0 (s)"));
+        }
         let dt = self.stable_dt().min(limit);
         let on = self.timings.is_some();
         let mut t = [clock(on); 8];
