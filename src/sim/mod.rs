@@ -91,6 +91,8 @@ pub struct Body<D: Dim> {
     radius: Real,
     /// Moves at its initial velocity whatever acts on it (see [`BodyConfig::kinematic`]).
     kinematic: bool,
+    /// Transfers velocities with APIC (see [`BodyConfig::apic`]).
+    apic: bool,
     /// Momentum received through contact in the current step.
     contact_impulse: [f64; 3],
 }
@@ -227,6 +229,7 @@ impl<D: Dim> Simulation<D> {
         let i = self.bodies.len();
         let path = format!("bodies[{i}]");
         config.validate(&path, D::DIM, &self.scene.domain.size)?;
+        self.scene.check_transfer(&config, &path)?;
         let (points, volume) = config.sample(&path, D::DIM, self.scene.cell_size)?;
         if points.is_empty() {
             return Err(Error::invalid(
@@ -247,6 +250,9 @@ impl<D: Dim> Simulation<D> {
             .velocity
             .as_deref()
             .map_or(D::Vector::ZERO, |v| D::Vector::from_fn(|a| v[a] as Real));
+        if config.apic {
+            self.particles.enable_affine();
+        }
         let start = self.particles.len();
         let mass = (volume * density) as Real;
         let radius = (0.5 * volume.powf(1.0 / D::DIM as f64)) as Real;
@@ -269,6 +275,7 @@ impl<D: Dim> Simulation<D> {
             min_mass: mass,
             radius,
             kinematic: config.kinematic,
+            apic: config.apic,
             contact_impulse: [0.0; 3],
         });
         self.scene.bodies.push(config);
@@ -286,14 +293,7 @@ impl<D: Dim> Simulation<D> {
             ));
         }
         let r = self.bodies[i].range.clone();
-        let p = &mut self.particles;
-        p.x.drain(r.clone());
-        p.v.drain(r.clone());
-        p.stress.drain(r.clone());
-        p.volume.drain(r.clone());
-        p.mass.drain(r.clone());
-        p.plastic_strain.drain(r.clone());
-        p.id.drain(r.clone());
+        self.particles.remove(r.clone());
         self.bodies.remove(i);
         self.scene.bodies.remove(i);
         for b in &mut self.bodies[i..] {
@@ -364,6 +364,10 @@ impl<D: Dim> Simulation<D> {
         for (body, cfg) in self.bodies.iter_mut().zip(&next.bodies) {
             body.model = cfg.material.model();
             body.flip = cfg.flip_ratio() as Real;
+            body.apic = cfg.apic;
+        }
+        if next.bodies.iter().any(|b| b.apic) {
+            self.particles.enable_affine();
         }
         self.scene = next;
         Ok(())
@@ -527,9 +531,10 @@ impl<D: Dim> Simulation<D> {
         let inv_h = self.world.inv_h;
         for body in &mut self.bodies {
             let r = body.range.clone();
+            let affine = body.apic.then(|| &p.affine[r.clone()]);
             let (x, v, m) = (&p.x[r.clone()], &p.v[r.clone()], &p.mass[r]);
             let lp = body.radius * inv_h;
-            with_kernel!(self.world.kernel, K, S => passes::scatter::<D, K, S>(&mut body.grid, x, v, m, inv_h, lp));
+            with_kernel!(self.world.kernel, K, S => passes::scatter::<D, K, S>(&mut body.grid, x, v, m, affine, inv_h, lp));
             passes::grid_velocities(&mut body.grid);
         }
     }
@@ -617,6 +622,11 @@ impl<D: Dim> Simulation<D> {
             let state = GatherState {
                 x: &mut p.x[r.clone()],
                 v: &mut p.v[r.clone()],
+                affine: if body.apic {
+                    Some(&mut p.affine[r.clone()])
+                } else {
+                    None
+                },
                 mass: &p.mass[r.clone()],
                 plastic_strain: &p.plastic_strain[r],
             };

@@ -27,13 +27,15 @@ pub fn grid_coords<D: Dim>(x: D::Vector, inv_h: Real) -> [Real; 3] {
     g
 }
 
-/// Step 1: rasterise mass and momentum, m_i = Σ_p m_p w_ip and (mv)_i = Σ_p m_p v_p w_ip;
-/// for bodies that may touch another body also the mass gradient ∇m_i = Σ_p m_p ∇w_ip.
+/// Step 1: rasterise mass and momentum, m_i = Σ_p m_p w_ip and (mv)_i = Σ_p m_p v_p w_ip
+/// (with APIC, m_p (v_p + C_p (x_i − x_p)) w_ip); for bodies that may touch another body also
+/// the mass gradient ∇m_i = Σ_p m_p ∇w_ip.
 pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
     grid: &mut Grid<D>,
     x: &[D::Vector],
     v: &[D::Vector],
     mass: &[Real],
+    affine: Option<&[D::Grad]>,
     inv_h: Real,
     lp: Real,
 ) {
@@ -46,6 +48,7 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
         ..
     } = &mut *grid;
     let with_gradient = !mass_grad.is_empty();
+    let h = 1.0 / inv_h;
     for q in 0..x.len() {
         let st = K::stencil(grid_coords::<D>(x[q], inv_h), D::DIM, inv_h, lp);
         let origin = layout.stencil_origin(particle_slot[q], st.base);
@@ -61,6 +64,7 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
             &st,
             mass[q],
             v[q] * mass[q],
+            affine.map(|c| c[q] * (mass[q] * h)),
         );
     }
     grid.reduce_nodes(|o, h| {
@@ -231,6 +235,8 @@ pub fn fill_new_velocities<D: Dim>(grid: &mut Grid<D>) {
 pub struct GatherState<'a, D: Dim> {
     pub x: &'a mut [D::Vector],
     pub v: &'a mut [D::Vector],
+    /// The APIC affine velocities, for APIC bodies.
+    pub affine: Option<&'a mut [D::Grad]>,
     pub mass: &'a [Real],
     pub plastic_strain: &'a [Real],
 }
@@ -317,7 +323,8 @@ impl<D: Dim> GatherReport<D> {
     }
 }
 
-/// Steps 6–8: the PIC/FLIP blend v_p = (1 − α) Σ_i v_i^{n+1} w_ip + α (v_p + Σ_i Δv_i w_ip),
+/// Steps 6–8: the PIC/FLIP blend v_p = (1 − α) Σ_i v_i^{n+1} w_ip + α (v_p + Σ_i Δv_i w_ip)
+/// (with APIC also C_p = B_p D_p⁻¹ from B_p = Σ_i w_ip v_i^{n+1} (x_i − x_p)ᵀ),
 /// the particle-side wall projection for particles of half-width `radius`, and advection
 /// x_p += Δt v_p.
 #[allow(clippy::too_many_arguments)]
@@ -339,11 +346,17 @@ pub fn gather_and_advect<D: Dim, K: Kernel<S>, const S: usize>(
         ..
     } = grid;
     let mut r = GatherReport::<D>::empty();
+    let h = 1.0 / inv_h;
+    let mut affine = ps.affine;
     for q in 0..ps.x.len() {
         let x = ps.x[q];
         let st = K::stencil(grid_coords::<D>(x, inv_h), D::DIM, inv_h, radius * inv_h);
         let origin = layout.stencil_origin(particle_slot[q], st.base);
-        let (v_pic, v_old) = D::gather_velocity(&nodes[origin..origin + span], p, &st);
+        let cell = &nodes[origin..origin + span];
+        let (v_pic, v_old) = D::gather_velocity(cell, p, &st);
+        if let Some(c) = affine.as_deref_mut() {
+            c[q] = D::affine_velocity(D::gather_affine(cell, p, &st), &st, h);
+        }
         let blended = v_pic * (1.0 - alpha) + (ps.v[q] + v_pic - v_old) * alpha;
         let v = walls.particle_velocity(x, blended, dt, radius);
         let m = ps.mass[q];
