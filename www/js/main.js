@@ -164,29 +164,31 @@ async function loadScene(params = []) {
 function applyParam(name, value) {
   const pg = app.pg;
   const prediction = JSON.parse(pg.predict(name, value, 1 / 60));
+  const before = JSON.parse(pg.predict(name, pg.parameter(name), 1 / 60));
   try {
     pg.setParameter(name, value);
   } catch (e) {
     return e.message;
   }
-  warnCost(name, value, prediction);
+  warnCost(name, value, prediction, before);
   if (name === 'drucker_prager.friction_angle') app.sliders.get('drucker_prager.dilatancy_angle')?.setMax(Math.max(0.5, value));
   updateHash();
   return '';
 }
 
 /// Says so when a value makes the simulation run in slow motion or near its stability limit.
-function warnCost(name, value, p) {
+function warnCost(name, value, p, before) {
   const s = spec(name);
   const msgs = [];
-  if (p.valid && p.realtime_ratio > 0 && p.realtime_ratio < 0.25) {
+  const slower = p.substeps_per_frame > 1.5 * before.substeps_per_frame;
+  if (p.valid && slower && p.realtime_ratio > 0 && p.realtime_ratio < 0.25) {
     msgs.push(`${s.label} ${format(value, s.unit)} needs ${Math.round(p.substeps_per_frame)} steps per frame ` +
       `(time step ${formatTime(p.stable_dt)}): expect slow motion, about ${(100 * p.realtime_ratio).toPrecision(2)} % of real time. ` +
       'Each frame stops at its time budget, so the page stays responsive.');
   }
   const cfl = app.pg.parameter('cfl');
   if (cfl > 0.6) msgs.push(`CFL number ${cfl}: steps this close to the stability limit can make fast impacts jitter or blow up; 0.3–0.5 is safe.`);
-  banner('slow', 'warn', msgs.join(' '));
+  if (msgs.length || p.substeps_per_frame < before.substeps_per_frame || name === 'cfl') banner('slow', 'warn', msgs.join(' '));
 }
 
 function syncControls() {
@@ -613,6 +615,8 @@ async function main() {
     renderer = new CanvasRenderer(canvasEl);
   }
   camera = new Camera([2, 1, 1]);
+  app.camera = camera;
+  app.renderer = renderer;
   energyPlot = new EnergyPlot($('energy'));
   stressPlot = new StressPlot($('pq'));
   try {

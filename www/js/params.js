@@ -51,22 +51,25 @@ export function materialParams(model) {
   return MODEL_FIELDS[model].map((f) => spec(`${model}.${f}`));
 }
 
-// Slider positions are integers in [0, 1000].
+// Slider positions are integers in [0, ticks(s)]: one tick per step on a linear scale, 200
+// ticks on a log scale (values rounded to three significant figures), so that every tick
+// (and every arrow key press) changes the value.
+export function ticks(s) {
+  if (s.scale === 'log') return 200;
+  return Math.max(1, Math.round((s.max - s.min) / (s.step || 0.01)));
+}
+
 export function toSlider(s, v) {
-  if (s.scale === 'log') return (1000 * Math.log(Math.max(v, s.min) / s.min)) / Math.log(s.max / s.min);
-  return (1000 * (v - s.min)) / (s.max - s.min);
+  const n = ticks(s);
+  if (s.scale === 'log') return (n * Math.log(Math.max(v, s.min) / s.min)) / Math.log(s.max / s.min);
+  return (n * (v - s.min)) / (s.max - s.min);
 }
 
 export function fromSlider(s, pos) {
-  const t = Math.min(1, Math.max(0, pos / 1000));
-  if (s.scale === 'log') {
-    const v = s.min * (s.max / s.min) ** t;
-    const p = 10 ** (Math.floor(Math.log10(v)) - 1);
-    return Math.round(v / p) * p; // two significant figures
-  }
-  const v = s.min + t * (s.max - s.min);
+  const t = Math.min(1, Math.max(0, pos / ticks(s)));
+  if (s.scale === 'log') return Number((s.min * (s.max / s.min) ** t).toPrecision(3));
   const step = s.step || 0.01;
-  return Number((Math.round(v / step) * step).toFixed(6));
+  return Number((s.min + Math.round((t * (s.max - s.min)) / step) * step).toFixed(6));
 }
 
 /// A value with SI prefixes for Pa, plain otherwise.

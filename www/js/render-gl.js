@@ -61,7 +61,7 @@ uniform float u_radius, u_pxPerUnit, u_height;
 void main() {
   vec4 clip = u_viewProj * vec4(a_pos.x, 0.0005 * u_height, a_pos.z, 1.0);
   gl_Position = clip;
-  float fade = clamp(1.0 - a_pos.y / (0.6 * u_height), 0.25, 1.0);
+  float fade = clamp(1.0 - a_pos.y / (0.9 * u_height), 0.45, 1.0);
   gl_PointSize = clamp(2.4 * u_radius * u_pxPerUnit * fade / max(1e-4, clip.w), 1.0, 256.0);
 }`;
 
@@ -71,7 +71,7 @@ out vec4 o_colour;
 void main() {
   vec2 c = gl_PointCoord * 2.0 - 1.0;
   if (dot(c, c) > 1.0) discard;
-  o_colour = vec4(0.10, 0.13, 0.20, 0.16);
+  o_colour = vec4(0.10, 0.13, 0.20, 0.22);
 }`;
 
 const LINE_VS = `#version 300 es

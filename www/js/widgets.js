@@ -1,6 +1,6 @@
 // Small DOM helpers: parameter sliders (with a typed-value box) and segmented buttons.
 
-import { format, fromSlider, toSlider } from './params.js';
+import { format, fromSlider, ticks, toSlider } from './params.js';
 
 export function el(tag, attrs = {}, ...children) {
   const e = document.createElement(tag);
@@ -17,7 +17,7 @@ export function el(tag, attrs = {}, ...children) {
 /// `apply(value)` sets it and returns an error message or '' on success.
 export function paramSlider(spec, apply) {
   const range = el('input', {
-    type: 'range', min: '0', max: '1000', step: '1',
+    type: 'range', min: '0', max: String(ticks(spec)), step: '1',
     'data-param': spec.name, 'aria-label': `${spec.label} (${spec.unit || 'no unit'})`,
   });
   const box = el('input', { type: 'text', inputmode: 'decimal', 'data-param-value': spec.name, 'aria-label': `${spec.label} value` });
@@ -39,6 +39,7 @@ export function paramSlider(spec, apply) {
     value = v;
     box.value = shown(v);
     unit.textContent = unitOf(v);
+    range.max = String(ticks(spec));
     range.value = String(Math.round(toSlider(spec, v)));
   };
   const attempt = (v) => {
