@@ -515,6 +515,7 @@ function frame(ts) {
   }
   camera.matrices(canvasEl.clientWidth, canvasEl.clientHeight);
   renderer.draw({ camera, positions, values, count: n, mode: app.view.colour, range: app.range, radius: app.radius, marker });
+  if (app.syncRender) renderer.finish(); // benchmarks: count the GPU's work in renderMs
   const t2 = performance.now();
   st.simMs = t1 - t0;
   st.renderMs = 0.8 * st.renderMs + 0.2 * (t2 - t1);

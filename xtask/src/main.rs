@@ -139,7 +139,10 @@ fn locked_version(package: &str) -> Result<String, String> {
     let mut lines = lock.lines();
     while let Some(l) = lines.next() {
         if l.trim() == format!("name = \"{package}\"") {
-            if let Some(v) = lines.next().and_then(|v| v.trim().strip_prefix("version = ")) {
+            if let Some(v) = lines
+                .next()
+                .and_then(|v| v.trim().strip_prefix("version = "))
+            {
                 return Ok(v.trim_matches('"').to_string());
             }
         }
@@ -193,8 +196,8 @@ fn write_scene_list() -> Result<usize, String> {
         for p in files {
             let file = p.file_name().unwrap().to_string_lossy().into_owned();
             let text = std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))?;
-            let v: serde_json::Value = serde_json::from_str(&text)
-                .map_err(|e| format!("scenes/{file}: not JSON: {e}"))?;
+            let v: serde_json::Value =
+                serde_json::from_str(&text).map_err(|e| format!("scenes/{file}: not JSON: {e}"))?;
             let stem = file.trim_end_matches(".json");
             let base = stem
                 .strip_suffix("_2d")
@@ -298,7 +301,10 @@ fn ensure_browser_tools() -> Result<String, String> {
         .and_then(|m| m.parse().ok())
         .unwrap_or(0);
     if major < 18 {
-        return Err(format!("Node.js 18 or newer is needed, found {}", node.trim()));
+        return Err(format!(
+            "Node.js 18 or newer is needed, found {}",
+            node.trim()
+        ));
     }
     let r = root();
     let installed = r.join("node_modules/.package-lock.json");
@@ -370,11 +376,7 @@ fn test() -> Result<(), String> {
     let url = background_server()?;
     let mut e2e = command(
         "node",
-        &[
-            "--test",
-            "--test-reporter=spec",
-            "www/tests/e2e.test.mjs",
-        ],
+        &["--test", "--test-reporter=spec", "www/tests/e2e.test.mjs"],
     );
     e2e.env("MPM_URL", &url)
         .env("CHROMIUM", &chromium)

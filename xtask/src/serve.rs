@@ -152,7 +152,10 @@ mod tests {
     #[test]
     fn paths_stay_inside_the_root() {
         let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-        assert_eq!(resolve(root, "/src/main.rs?v=1"), Some(root.join("src/main.rs")));
+        assert_eq!(
+            resolve(root, "/src/main.rs?v=1"),
+            Some(root.join("src/main.rs"))
+        );
         assert_eq!(resolve(root, "/src/../Cargo.toml"), None);
         assert_eq!(resolve(root, "/%2e%2e/x"), None);
         assert_eq!(resolve(root, "/a%00b"), None);
