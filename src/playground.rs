@@ -457,7 +457,7 @@ impl Playground {
         if let Param::Material { model, field } = param {
             if field == "flip" {
                 presets.flip[model] = Some(value);
-                crate::error::check_range(format!("{name}"), value, 0.0, 1.0, false, "")?;
+                crate::error::check_range(name, value, 0.0, 1.0, false, "")?;
             } else if let Some(v) = material_field(&mut presets.materials[model], field) {
                 *v = value;
                 // The preset's own check names the parameter as the page does.
@@ -766,6 +766,8 @@ fn body_of<D: Dim>(s: &Simulation<D>) -> Vec<u32> {
     out
 }
 
+// `as f32` is a no-op in the default build and a conversion with the `f64` feature.
+#[allow(clippy::unnecessary_cast)]
 fn fill_colours<D: Dim>(
     s: &Simulation<D>,
     scene: &SceneConfig,
