@@ -115,8 +115,16 @@ impl<D: Dim> Walls<D> {
         dt: Real,
         radius: Real,
     ) -> D::Vector {
+        let next = x + v * dt;
+        let (lo, hi) = (
+            D::Vector::splat(radius),
+            self.size - D::Vector::splat(radius),
+        );
+        if next.max(lo).min(hi) == next {
+            return v; // stays inside: the common case
+        }
         for a in 0..D::DIM {
-            let next = x[a] + dt * v[a];
+            let next = next[a];
             if next < radius {
                 v = self.rule.apply(v, a, 1.0);
             } else if next > self.size[a] - radius {

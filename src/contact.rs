@@ -64,11 +64,14 @@ pub fn resolve<D: Dim>(
     blocks: &[(u32, u32)],
     rule: ContactRule,
 ) -> f64 {
-    let bn = GridIndex::<D>::block_nodes();
+    let pn = ga.layout.padded_nodes();
+    // padded-local indices of the nodes a block owns (the same layout in both grids)
+    let mut owned = Vec::new();
+    ga.layout.for_each_owned(&ga.index, 0, |_, n| owned.push(n));
     let mut dissipated = 0.0;
     for &(sa, sb) in blocks {
-        for l in 0..bn {
-            let (ia, ib) = (sa as usize * bn + l, sb as usize * bn + l);
+        for &l in &owned {
+            let (ia, ib) = (sa as usize * pn + l, sb as usize * pn + l);
             let (ma, mb) = (ga.nodes[ia].mass, gb.nodes[ib].mass);
             if ma <= 0.0 || mb <= 0.0 {
                 continue;

@@ -1,10 +1,15 @@
 //! The sparse background grid of one body: square blocks of nodes, allocated only where the
 //! body's particles reach, indexed through a table over the body's bounding box of blocks.
-//!
 //! Cost and memory follow the occupied blocks (plus a 4-byte table entry per block of the
 //! bounding box), never the domain.
+//!
+//! Blocks are *padded*: each stores its own `B^d` nodes plus a halo of `S − 1` nodes on its
+//! upper side along each axis (S: the kernel's nodes per axis). A particle is handled by the
+//! block that holds the first node of its stencil, so its whole stencil lies in that block's
+//! storage at fixed strides, with no lookup per node. After the particles scatter, halo values
+//! are added to the blocks that own those nodes ([`Grid::reduce_halo`]); before the particles
+//! gather, the owners' values are copied into the halos ([`Grid::fill_halo`]).
 
-use crate::kernel::{KernelKind, floor_nonneg};
 use crate::math::{Dim, Real, VectorOps};
 
 /// Ghost nodes before the domain's lower corner along each axis: node `n` sits at
@@ -22,59 +27,6 @@ pub struct Node<V> {
     pub vel: V,
     /// Internal force while the stresses scatter, then the updated velocity v_i^{n+1}.
     pub new_vel: V,
-}
-
-/// The table offsets of a particle's stencil nodes along each axis (see [`Grid::node`]).
-#[derive(Clone, Copy, Debug)]
-pub struct StencilIndex<const S: usize> {
-    table: [[usize; S]; 3],
-    local: [[usize; S]; 3],
-}
-
-/// The sparse grid of one body: where its blocks are, and its node values.
-#[derive(Clone, Debug)]
-pub struct Grid<D: Dim> {
-    pub index: GridIndex<D>,
-    pub nodes: Vec<Node<D::Vector>>,
-    /// Σ_p m_p ∇w_ip, filled only for bodies that may touch another body.
-    pub mass_grad: Vec<D::Vector>,
-}
-
-impl<D: Dim> Default for Grid<D> {
-    fn default() -> Self {
-        Grid {
-            index: GridIndex::default(),
-            nodes: Vec::new(),
-            mass_grad: Vec::new(),
-        }
-    }
-}
-
-impl<D: Dim> Grid<D> {
-    /// Allocates the blocks touched by the stencils of particles whose base nodes are given
-    /// by `base_of(p)` for `p in 0..count` (see [`GridIndex::rebuild`]) and zeroes every node.
-    pub fn rebuild(&mut self, count: usize, support: usize, base_of: impl Fn(usize) -> [i32; 3]) {
-        self.index.rebuild(count, support, base_of);
-        self.nodes.clear();
-        self.nodes.resize(
-            self.index.block_count() * GridIndex::<D>::block_nodes(),
-            Node::default(),
-        );
-        self.mass_grad.clear();
-    }
-
-    /// Allocates (zeroed) mass gradients for every node.
-    pub fn enable_mass_gradient(&mut self) {
-        self.mass_grad.clear();
-        self.mass_grad.resize(self.nodes.len(), D::Vector::ZERO);
-    }
-
-    /// Bytes held by this grid.
-    pub fn memory_bytes(&self) -> usize {
-        self.index.memory_bytes()
-            + self.nodes.capacity() * std::mem::size_of::<Node<D::Vector>>()
-            + self.mass_grad.capacity() * std::mem::size_of::<D::Vector>()
-    }
 }
 
 /// Where the blocks of a sparse grid are: a table over the bounding box of blocks mapping each
@@ -104,23 +56,13 @@ impl<D: Dim> Default for GridIndex<D> {
 }
 
 impl<D: Dim> GridIndex<D> {
-    /// Nodes along each axis of a block.
+    /// Nodes owned by a block along each axis.
     pub const BLOCK: usize = 1 << D::LOG_BLOCK;
     const MASK: i32 = (1 << D::LOG_BLOCK) - 1;
-
-    /// Nodes in one block.
-    pub fn block_nodes() -> usize {
-        Self::BLOCK.pow(D::DIM as u32)
-    }
 
     /// Number of allocated blocks.
     pub fn block_count(&self) -> usize {
         self.blocks.len()
-    }
-
-    /// The table extent (blocks of the bounding box).
-    pub fn table_len(&self) -> usize {
-        self.table.len()
     }
 
     /// Bytes held by the index.
@@ -137,20 +79,27 @@ impl<D: Dim> GridIndex<D> {
         (self.origin, hi)
     }
 
-    /// Allocates the blocks touched by the stencils of particles whose base nodes are given
-    /// by `base_of(p)` for `p in 0..count`; `support` is the number of stencil nodes per axis.
-    /// Slots are assigned in table order, so blocks are laid out in space-filling order.
-    pub fn rebuild(&mut self, count: usize, support: usize, base_of: impl Fn(usize) -> [i32; 3]) {
+    /// Allocated block coordinates, in slot order.
+    pub fn blocks(&self) -> &[[i32; 3]] {
+        &self.blocks
+    }
+
+    /// Allocates the blocks touched by the stencils of particles whose first stencil nodes are
+    /// `bases`; `support` is the number of stencil nodes per axis. Slots are assigned in table
+    /// order, so blocks are laid out in space-filling order.
+    pub fn rebuild(&mut self, bases: &[[i32; 3]], support: usize) {
         self.blocks.clear();
-        if count == 0 {
-            self.table.clear();
-            self.dims = [0; 3];
+        self.table.clear();
+        self.dims = [0; 3];
+        if bases.is_empty() {
             return;
         }
         let reach = support as i32 - 1;
-        let (mut lo, mut hi) = ([i32::MAX; 3], [i32::MIN; 3]);
-        for p in 0..count {
-            let b = base_of(p);
+        let (mut lo, mut hi) = ([0; 3], [0; 3]);
+        for a in 0..D::DIM {
+            (lo[a], hi[a]) = (i32::MAX, i32::MIN);
+        }
+        for b in bases {
             for a in 0..D::DIM {
                 lo[a] = lo[a].min(b[a]);
                 hi[a] = hi[a].max(b[a] + reach);
@@ -164,25 +113,21 @@ impl<D: Dim> GridIndex<D> {
         }
         self.origin = lo;
         self.dims = dims;
-        let len = dims[0] * dims[1] * dims[2];
-        self.table.clear();
-        self.table.resize(len, EMPTY);
+        self.table.resize(dims[0] * dims[1] * dims[2], EMPTY);
 
         // Mark every block a stencil reaches (0 = marked, not yet numbered).
-        let mut last = (usize::MAX, usize::MAX);
-        for p in 0..count {
-            let b = base_of(p);
-            let (t0, t1) = (self.table_index(b), self.table_index(add(b, reach)));
-            if (t0, t1) == last {
-                continue;
-            }
-            last = (t0, t1);
+        let mut last = ([i32::MIN; 3], [i32::MIN; 3]);
+        for b in bases {
             let mut blo = [0i32; 3];
             let mut bhi = [0i32; 3];
             for a in 0..D::DIM {
                 blo[a] = (b[a] >> D::LOG_BLOCK) - self.origin[a];
                 bhi[a] = ((b[a] + reach) >> D::LOG_BLOCK) - self.origin[a];
             }
+            if (blo, bhi) == last {
+                continue;
+            }
+            last = (blo, bhi);
             for z in blo[2]..=bhi[2] {
                 for y in blo[1]..=bhi[1] {
                     for x in blo[0]..=bhi[0] {
@@ -193,32 +138,21 @@ impl<D: Dim> GridIndex<D> {
             }
         }
         // Number the marked blocks in table order.
-        for z in 0..dims[2] {
-            for y in 0..dims[1] {
-                for x in 0..dims[0] {
-                    let t = x + dims[0] * (y + dims[1] * z);
-                    if self.table[t] == 0 {
-                        self.table[t] = self.blocks.len() as u32;
-                        self.blocks.push([
-                            self.origin[0] + x as i32,
-                            self.origin[1] + y as i32,
-                            self.origin[2] + z as i32,
-                        ]);
-                    }
-                }
+        for (t, entry) in self.table.iter_mut().enumerate() {
+            if *entry == 0 {
+                *entry = self.blocks.len() as u32;
+                let (x, y, z) = (
+                    t % dims[0],
+                    (t / dims[0]) % dims[1],
+                    t / (dims[0] * dims[1]),
+                );
+                self.blocks.push([
+                    self.origin[0] + x as i32,
+                    self.origin[1] + y as i32,
+                    self.origin[2] + z as i32,
+                ]);
             }
         }
-    }
-
-    #[inline(always)]
-    fn table_index(&self, node: [i32; 3]) -> usize {
-        let mut t = 0usize;
-        let mut stride = 1usize;
-        for a in 0..D::DIM {
-            t += ((node[a] >> D::LOG_BLOCK) - self.origin[a]) as usize * stride;
-            stride *= self.dims[a];
-        }
-        t
     }
 
     /// The slot of the block containing grid node `node`, if allocated.
@@ -250,44 +184,6 @@ impl<D: Dim> GridIndex<D> {
         }
     }
 
-    /// The storage index of grid node `node`, if its block is allocated.
-    #[inline]
-    pub fn node_index(&self, node: [i32; 3]) -> Option<usize> {
-        let slot = self.slot_of(node)?;
-        let mut local = 0usize;
-        for a in 0..D::DIM {
-            local += ((node[a] & Self::MASK) as usize) << (D::LOG_BLOCK as usize * a);
-        }
-        Some(slot * Self::block_nodes() + local)
-    }
-
-    /// Precomputes the per-axis table and local offsets of a stencil with base node `base`.
-    #[inline(always)]
-    pub fn stencil_index<const S: usize>(&self, base: [i32; 3]) -> StencilIndex<S> {
-        let mut si = StencilIndex {
-            table: [[0; S]; 3],
-            local: [[0; S]; 3],
-        };
-        let mut stride = 1usize;
-        for a in 0..D::DIM {
-            for k in 0..S {
-                let n = base[a] + k as i32;
-                si.table[a][k] = ((n >> D::LOG_BLOCK) - self.origin[a]) as usize * stride;
-                si.local[a][k] = ((n & Self::MASK) as usize) << (D::LOG_BLOCK as usize * a);
-            }
-            stride *= self.dims[a];
-        }
-        si
-    }
-
-    /// Storage index of the stencil node at offsets `ijk` (from [`Dim::for_each_node`]).
-    #[inline(always)]
-    pub fn node<const S: usize>(&self, si: &StencilIndex<S>, ijk: [usize; 3]) -> usize {
-        let t = si.table[0][ijk[0]] + si.table[1][ijk[1]] + si.table[2][ijk[2]];
-        let local = si.local[0][ijk[0]] + si.local[1][ijk[1]] + si.local[2][ijk[2]];
-        self.table[t] as usize * Self::block_nodes() + local
-    }
-
     /// The grid coordinate of the first node of allocated block `slot`.
     #[inline]
     pub fn block_origin(&self, slot: usize) -> [i32; 3] {
@@ -298,39 +194,283 @@ impl<D: Dim> GridIndex<D> {
         }
         n
     }
+}
 
-    /// The grid coordinate of the node stored at `index`.
-    #[inline]
-    pub fn node_coord(&self, index: usize) -> [i32; 3] {
-        let bn = Self::block_nodes();
-        let mut n = self.block_origin(index / bn);
-        let local = index % bn;
-        for (a, c) in n.iter_mut().enumerate().take(D::DIM) {
-            *c += ((local >> (D::LOG_BLOCK as usize * a)) & Self::MASK as usize) as i32;
+/// The halo nodes of a padded block that belong to one neighbour: the neighbour's offset in
+/// blocks and the (halo, owner) padded-local index pairs.
+#[derive(Clone, Debug)]
+struct HaloLinks {
+    offset: [i32; 3],
+    pairs: Vec<(u32, u32)>,
+}
+
+/// How a grid's padded blocks are laid out for a kernel of a given support.
+#[derive(Clone, Debug)]
+pub struct BlockLayout<D: Dim> {
+    /// Halo width (S − 1).
+    halo: usize,
+    links: Vec<HaloLinks>,
+    _dim: std::marker::PhantomData<D>,
+}
+
+impl<D: Dim> BlockLayout<D> {
+    /// Nodes owned by a block along each axis.
+    pub const BLOCK: usize = GridIndex::<D>::BLOCK;
+
+    /// The layout for stencils of `support` nodes per axis.
+    pub fn new(support: usize) -> Self {
+        let mut l = BlockLayout {
+            halo: support - 1,
+            links: Vec::new(),
+            _dim: Default::default(),
+        };
+        l.links = l.halo_links();
+        l
+    }
+
+    /// Nodes per axis of a padded block.
+    #[inline(always)]
+    pub fn padded(&self) -> usize {
+        Self::BLOCK + self.halo
+    }
+
+    /// Nodes stored per block.
+    #[inline(always)]
+    pub fn padded_nodes(&self) -> usize {
+        self.padded().pow(D::DIM as u32)
+    }
+
+    /// Storage strides of the three axes.
+    #[inline(always)]
+    pub fn strides(&self) -> [usize; 3] {
+        let p = self.padded();
+        [1, p, p * p]
+    }
+
+    /// The padded-local index of local coordinates.
+    #[inline(always)]
+    fn local_index(&self, l: [usize; 3]) -> usize {
+        let st = self.strides();
+        (0..D::DIM).map(|a| l[a] * st[a]).sum()
+    }
+
+    /// Storage index of the first stencil node `base` of a particle handled by block `slot`;
+    /// stencil node (i, j, k) is at that plus `i + j·strides[1] + k·strides[2]`.
+    #[inline(always)]
+    pub fn stencil_origin(&self, slot: u32, base: [i32; 3]) -> usize {
+        let st = self.strides();
+        let mut local = 0;
+        for a in 0..D::DIM {
+            local += (base[a] & GridIndex::<D>::MASK) as usize * st[a];
         }
-        n
+        slot as usize * self.padded_nodes() + local
     }
 
-    /// Allocated block coordinates, in slot order.
-    pub fn blocks(&self) -> &[[i32; 3]] {
-        &self.blocks
+    /// Visits every node block `slot` owns: `f(grid coordinate, storage index)`.
+    pub fn for_each_owned(
+        &self,
+        index: &GridIndex<D>,
+        slot: usize,
+        mut f: impl FnMut([i32; 3], usize),
+    ) {
+        let origin = index.block_origin(slot);
+        let base = slot * self.padded_nodes();
+        let b = Self::BLOCK;
+        let nz = if D::DIM == 3 { b } else { 1 };
+        for z in 0..nz {
+            for y in 0..b {
+                for x in 0..b {
+                    let l = [x, y, z];
+                    let mut c = origin;
+                    for a in 0..D::DIM {
+                        c[a] += l[a] as i32;
+                    }
+                    f(c, base + self.local_index(l));
+                }
+            }
+        }
+    }
+
+    /// The (halo, owner) index pairs of a padded block, grouped by the owner's direction.
+    fn halo_links(&self) -> Vec<HaloLinks> {
+        let (b, p) = (Self::BLOCK, self.padded());
+        let mut out: Vec<HaloLinks> = Vec::new();
+        let nz = if D::DIM == 3 { p } else { 1 };
+        for z in 0..nz {
+            for y in 0..p {
+                for x in 0..p {
+                    let l = [x, y, z];
+                    let mut offset = [0i32; 3];
+                    let mut owner = l;
+                    for a in 0..D::DIM {
+                        if l[a] >= b {
+                            offset[a] = 1;
+                            owner[a] -= b;
+                        }
+                    }
+                    if offset == [0; 3] {
+                        continue;
+                    }
+                    let pair = (self.local_index(l) as u32, self.local_index(owner) as u32);
+                    match out.iter_mut().find(|h| h.offset == offset) {
+                        Some(h) => h.pairs.push(pair),
+                        None => out.push(HaloLinks {
+                            offset,
+                            pairs: vec![pair],
+                        }),
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// Calls `f(slot, neighbour slot, links)` for every allocated neighbour owning halo nodes.
+    fn for_each_link(&self, index: &GridIndex<D>, mut f: impl FnMut(usize, usize, &[(u32, u32)])) {
+        for slot in 0..index.block_count() {
+            let b = index.blocks[slot];
+            for links in &self.links {
+                let mut nb = b;
+                for a in 0..D::DIM {
+                    nb[a] += links.offset[a];
+                }
+                if let Some(owner) = index.slot_of_block(nb) {
+                    f(slot, owner, &links.pairs);
+                }
+            }
+        }
+    }
+
+    /// Adds the halo values of `data` (laid out like the nodes) into the nodes that own them.
+    /// Halo nodes whose owner is not allocated hold nothing (no stencil reached them).
+    pub fn reduce_halo<T: Copy>(
+        &self,
+        index: &GridIndex<D>,
+        data: &mut [T],
+        add: impl Fn(&mut T, &T),
+    ) {
+        let pn = self.padded_nodes();
+        self.for_each_link(index, |slot, owner, pairs| {
+            for &(h, o) in pairs {
+                let v = data[slot * pn + h as usize];
+                add(&mut data[owner * pn + o as usize], &v);
+            }
+        });
+    }
+
+    /// Copies the owners' values into the halos of `data` with `copy(halo, owner)`.
+    pub fn fill_halo<T: Copy>(
+        &self,
+        index: &GridIndex<D>,
+        data: &mut [T],
+        copy: impl Fn(&mut T, &T),
+    ) {
+        let pn = self.padded_nodes();
+        self.for_each_link(index, |slot, owner, pairs| {
+            for &(h, o) in pairs {
+                let v = data[owner * pn + o as usize];
+                copy(&mut data[slot * pn + h as usize], &v);
+            }
+        });
     }
 }
 
-#[inline(always)]
-fn add(b: [i32; 3], r: i32) -> [i32; 3] {
-    [b[0] + r, b[1] + r, b[2] + r]
+/// The sparse grid of one body: where its blocks are, and its node values.
+#[derive(Clone, Debug)]
+pub struct Grid<D: Dim> {
+    pub index: GridIndex<D>,
+    pub layout: BlockLayout<D>,
+    /// Node storage: `slot * padded_nodes() + padded local index`.
+    pub nodes: Vec<Node<D::Vector>>,
+    /// Σ_p m_p ∇w_ip, filled only for bodies that may touch another body.
+    pub mass_grad: Vec<D::Vector>,
+    /// For each particle of the body: the slot of the block holding its first stencil node.
+    pub particle_slot: Vec<u32>,
+    /// Scratch: each particle's first stencil node.
+    bases: Vec<[i32; 3]>,
 }
 
-/// The base node of a particle at position `x` and of half-width `lp` grid units for a kernel.
-#[inline(always)]
-pub fn base_node<D: Dim>(x: D::Vector, inv_h: Real, kernel: KernelKind, lp: Real) -> [i32; 3] {
-    let off = GHOST as Real - kernel.base_offset(lp);
-    let mut b = [0; 3];
-    for (a, bb) in b.iter_mut().enumerate().take(D::DIM) {
-        *bb = floor_nonneg(x[a] * inv_h + off);
+impl<D: Dim> Default for Grid<D> {
+    fn default() -> Self {
+        Grid {
+            index: GridIndex::default(),
+            layout: BlockLayout::new(2),
+            nodes: Vec::new(),
+            mass_grad: Vec::new(),
+            particle_slot: Vec::new(),
+            bases: Vec::new(),
+        }
     }
-    b
+}
+
+impl<D: Dim> Grid<D> {
+    /// Nodes owned by a block along each axis.
+    pub const BLOCK: usize = GridIndex::<D>::BLOCK;
+
+    /// Allocates the blocks touched by the stencils of particles whose first stencil nodes are
+    /// `base_of(p)` for `p in 0..count`, `support` nodes per axis, zeroes every node and
+    /// records each particle's block.
+    pub fn rebuild(&mut self, count: usize, support: usize, base_of: impl Fn(usize) -> [i32; 3]) {
+        if support - 1 != self.layout.halo {
+            self.layout = BlockLayout::new(support);
+        }
+        self.bases.clear();
+        self.bases.extend((0..count).map(base_of));
+        self.index.rebuild(&self.bases, support);
+        self.nodes.clear();
+        self.nodes.resize(
+            self.index.block_count() * self.layout.padded_nodes(),
+            Node::default(),
+        );
+        self.mass_grad.clear();
+        self.particle_slot.clear();
+        let index = &self.index;
+        self.particle_slot.extend(
+            self.bases
+                .iter()
+                .map(|&b| index.slot_of(b).expect("stencil block allocated") as u32),
+        );
+    }
+
+    /// Allocates (zeroed) mass gradients for every node.
+    pub fn enable_mass_gradient(&mut self) {
+        self.mass_grad.clear();
+        self.mass_grad.resize(self.nodes.len(), D::Vector::ZERO);
+    }
+
+    /// Bytes held by this grid.
+    pub fn memory_bytes(&self) -> usize {
+        self.index.memory_bytes()
+            + self.nodes.capacity() * std::mem::size_of::<Node<D::Vector>>()
+            + self.mass_grad.capacity() * std::mem::size_of::<D::Vector>()
+            + self.particle_slot.capacity() * 4
+    }
+
+    /// Adds halo node values into their owners with `add(owner, halo)`.
+    pub fn reduce_nodes(&mut self, add: impl Fn(&mut Node<D::Vector>, &Node<D::Vector>)) {
+        self.layout.reduce_halo(&self.index, &mut self.nodes, add);
+    }
+
+    /// Copies owner node values into the halos with `copy(halo, owner)`.
+    pub fn fill_nodes(&mut self, copy: impl Fn(&mut Node<D::Vector>, &Node<D::Vector>)) {
+        self.layout.fill_halo(&self.index, &mut self.nodes, copy);
+    }
+
+    /// Adds halo mass gradients into their owners.
+    pub fn reduce_mass_gradient(&mut self) {
+        self.layout
+            .reduce_halo(&self.index, &mut self.mass_grad, |o, h| *o += *h);
+    }
+
+    /// The storage index of grid node `node` in the block that owns it, if allocated.
+    pub fn node_index(&self, node: [i32; 3]) -> Option<usize> {
+        let slot = self.index.slot_of(node)?;
+        let mut l = [0usize; 3];
+        for a in 0..D::DIM {
+            l[a] = (node[a] & GridIndex::<D>::MASK) as usize;
+        }
+        Some(slot * self.layout.padded_nodes() + self.layout.local_index(l))
+    }
 }
 
 #[cfg(test)]
@@ -344,34 +484,90 @@ mod tests {
         let bases = [[10, 10, 10], [11, 10, 10], [200, 300, 10]];
         let mut g = Grid::<D3>::default();
         g.rebuild(bases.len(), 3, |p| bases[p]);
-        // cluster 1 spans nodes 10..=13 in x → blocks 2,3; y,z 10..=12 → block 2,3 in y,z
-        // (12 >> 2 = 3): 2*2*2 = 8 blocks; cluster 2: x 200..=202 (block 50), y 300..302 (75),
-        // z 10..12 (2..3) → 2 blocks.
+        // cluster 1 spans nodes 10..=13 in x → blocks 2,3; y,z 10..=12 → blocks 2,3:
+        // 8 blocks; cluster 2: x 200..=202 (block 50), y 300..302 (75), z 10..12 (2..3): 2.
         assert_eq!(g.index.block_count(), 10);
-        assert_eq!(g.nodes.len(), 10 * 64);
+        assert_eq!(g.nodes.len(), 10 * 6 * 6 * 6);
         for b in bases {
             for d in 0..3 {
-                let n = [b[0] + d, b[1] + d, b[2] + d];
-                assert!(g.index.node_index(n).is_some());
+                assert!(g.node_index([b[0] + d, b[1] + d, b[2] + d]).is_some());
             }
         }
-        assert!(g.index.node_index([100, 100, 10]).is_none());
+        assert!(g.node_index([100, 100, 10]).is_none());
+        assert_eq!(g.particle_slot.len(), 3);
+    }
+
+    /// Scattering through padded blocks and reducing the halos gives the same node sums as
+    /// adding into the owners directly, and filling the halos gives every stencil node the
+    /// owner's value.
+    fn halo_round_trip<D: Dim>(support: usize) {
+        let bases: Vec<[i32; 3]> = (0..200)
+            .map(|p| {
+                let mut b = [0; 3];
+                for a in 0..D::DIM {
+                    b[a] = 3 + ((p * (7 + 5 * a) + a * 13) % 23) as i32;
+                }
+                b
+            })
+            .collect();
+        let mut g = Grid::<D>::default();
+        g.rebuild(bases.len(), support, |p| bases[p]);
+        let st = g.layout.strides();
+        let stencil = |origin: usize| {
+            let nz = if D::DIM == 3 { support } else { 1 };
+            let mut v = Vec::new();
+            for k in 0..nz {
+                for j in 0..support {
+                    for i in 0..support {
+                        v.push(((i, j, k), origin + i * st[0] + j * st[1] + k * st[2]));
+                    }
+                }
+            }
+            v
+        };
+        let mut direct = std::collections::HashMap::new();
+        let mut data = vec![0.0f64; g.nodes.len()];
+        for (p, b) in bases.iter().enumerate() {
+            let origin = g.layout.stencil_origin(g.particle_slot[p], *b);
+            for ((i, j, k), n) in stencil(origin) {
+                let w = (p + 1) as f64;
+                data[n] += w;
+                let key = [
+                    b[0] + i as i32,
+                    b[1] + j as i32,
+                    if D::DIM == 3 { b[2] + k as i32 } else { 0 },
+                ];
+                *direct.entry(key).or_insert(0.0) += w;
+            }
+        }
+        g.layout.reduce_halo(&g.index, &mut data, |o, h| *o += *h);
+        for (node, sum) in &direct {
+            let n = g.node_index(*node).unwrap();
+            assert!(
+                (data[n] - sum).abs() < 1e-9,
+                "node {node:?}: {} vs {sum}",
+                data[n]
+            );
+        }
+        g.layout.fill_halo(&g.index, &mut data, |h, o| *h = *o);
+        for (p, b) in bases.iter().enumerate() {
+            let origin = g.layout.stencil_origin(g.particle_slot[p], *b);
+            for ((i, j, k), n) in stencil(origin) {
+                let key = [
+                    b[0] + i as i32,
+                    b[1] + j as i32,
+                    if D::DIM == 3 { b[2] + k as i32 } else { 0 },
+                ];
+                assert_eq!(data[n], direct[&key]);
+            }
+        }
     }
 
     #[test]
-    fn node_index_round_trips() {
-        let bases = [[3, 4, 0], [17, 9, 0]];
-        let mut g = GridIndex::<D2>::default();
-        g.rebuild(2, 2, |p| bases[p]);
-        for b in bases {
-            let si = g.stencil_index::<2>(b);
-            for j in 0..2 {
-                for i in 0..2 {
-                    let idx = g.node(&si, [i, j, 0]);
-                    assert_eq!(g.node_coord(idx), [b[0] + i as i32, b[1] + j as i32, 0]);
-                    assert_eq!(g.node_index(g.node_coord(idx)), Some(idx));
-                }
-            }
+    fn halos_reduce_into_and_fill_from_their_owners() {
+        for s in [2, 3] {
+            halo_round_trip::<D2>(s);
+            halo_round_trip::<D3>(s);
         }
     }
 }

@@ -39,15 +39,6 @@ impl KernelKind {
             KernelKind::QuadraticBspline | KernelKind::Gimp => 3,
         }
     }
-    /// Grid-unit offset from a particle's coordinate to the first node of its stencil,
-    /// i.e. `base = floor(xg - offset)`, for particles of half-width `lp` grid units.
-    pub fn base_offset(self, lp: Real) -> Real {
-        match self {
-            KernelKind::Linear => 0.0,
-            KernelKind::QuadraticBspline => 0.5,
-            KernelKind::Gimp => lp,
-        }
-    }
 }
 
 /// A shape function with `S` nodes per axis.
@@ -56,6 +47,20 @@ pub trait Kernel<const S: usize>: Copy + Send + Sync + 'static {
     /// Base node index, weights and weight derivatives (per grid unit) along one axis for a
     /// particle at grid coordinate `xg` of half-width `lp` grid units (used by GIMP only).
     fn axis(xg: Real, lp: Real) -> (i32, [Real; S], [Real; S]);
+
+    /// The first stencil node along one axis (what [`Kernel::axis`] returns first, computed
+    /// by the same expression).
+    fn first(xg: Real, lp: Real) -> i32;
+
+    /// The first stencil node of a particle at grid coordinates `xg`.
+    #[inline(always)]
+    fn base(xg: [Real; 3], dim: usize, lp: Real) -> [i32; 3] {
+        let mut b = [0; 3];
+        for a in 0..dim {
+            b[a] = Self::first(xg[a], lp);
+        }
+        b
+    }
 
     /// The full stencil of a particle at grid coordinates `xg` (the first `dim` entries used),
     /// with derivatives scaled by `inv_h` to physical units.
@@ -85,8 +90,12 @@ pub struct Linear;
 impl Kernel<2> for Linear {
     const KIND: KernelKind = KernelKind::Linear;
     #[inline(always)]
-    fn axis(xg: Real, _lp: Real) -> (i32, [Real; 2], [Real; 2]) {
-        let base = floor_nonneg(xg);
+    fn first(xg: Real, _lp: Real) -> i32 {
+        floor_nonneg(xg)
+    }
+    #[inline(always)]
+    fn axis(xg: Real, lp: Real) -> (i32, [Real; 2], [Real; 2]) {
+        let base = Self::first(xg, lp);
         let f = xg - base as Real;
         (base, [1.0 - f, f], [-1.0, 1.0])
     }
@@ -99,16 +108,20 @@ pub struct QuadraticBspline;
 impl Kernel<3> for QuadraticBspline {
     const KIND: KernelKind = KernelKind::QuadraticBspline;
     #[inline(always)]
-    fn axis(xg: Real, _lp: Real) -> (i32, [Real; 3], [Real; 3]) {
-        let base = (xg - 0.5).floor();
-        let f = xg - base; // in [0.5, 1.5)
+    fn first(xg: Real, _lp: Real) -> i32 {
+        floor_nonneg(xg - 0.5)
+    }
+    #[inline(always)]
+    fn axis(xg: Real, lp: Real) -> (i32, [Real; 3], [Real; 3]) {
+        let base = Self::first(xg, lp);
+        let f = xg - base as Real; // in [0.5, 1.5)
         let w = [
             0.5 * (1.5 - f) * (1.5 - f),
             0.75 - (f - 1.0) * (f - 1.0),
             0.5 * (f - 0.5) * (f - 0.5),
         ];
         let dw = [f - 1.5, -2.0 * (f - 1.0), f - 0.5];
-        (base as i32, w, dw)
+        (base, w, dw)
     }
 }
 
@@ -118,33 +131,36 @@ impl Kernel<3> for QuadraticBspline {
 pub struct Gimp;
 
 impl Gimp {
-    /// Weight and derivative for a node at signed distance `xi` (grid units).
+    /// Weight and derivative for a node at signed distance `xi` (grid units): the average of
+    /// the hat N(s) = max(0, 1 − |s|) over [xi − lp, xi + lp], written with the hat's
+    /// antiderivative H(s) = ½ + c − ½ c|c| (c = s clamped to [−1, 1]) so that it has no branch:
+    /// w = (H(xi + lp) − H(xi − lp)) / 2lp and dw = (N(xi + lp) − N(xi − lp)) / 2lp.
     #[inline(always)]
-    fn shape(xi: Real, lp: Real) -> (Real, Real) {
-        let a = xi.abs();
-        let sign = if xi < 0.0 { -1.0 } else { 1.0 };
-        if a < lp {
-            (1.0 - (xi * xi + lp * lp) / (2.0 * lp), -xi / lp)
-        } else if a <= 1.0 - lp {
-            (1.0 - a, -sign)
-        } else if a < 1.0 + lp {
-            let r = 1.0 + lp - a;
-            (r * r / (4.0 * lp), -sign * r / (2.0 * lp))
-        } else {
-            (0.0, 0.0)
-        }
+    fn shape(xi: Real, lp: Real, inv_2lp: Real) -> (Real, Real) {
+        let hi = (xi + lp).clamp(-1.0, 1.0);
+        let lo = (xi - lp).clamp(-1.0, 1.0);
+        let (ahi, alo) = (hi.abs(), lo.abs());
+        let w = (hi - lo - 0.5 * (hi * ahi - lo * alo)) * inv_2lp;
+        let dw = (alo - ahi) * inv_2lp;
+        (w, dw)
     }
 }
 
 impl Kernel<3> for Gimp {
     const KIND: KernelKind = KernelKind::Gimp;
     #[inline(always)]
+    fn first(xg: Real, lp: Real) -> i32 {
+        floor_nonneg(xg - lp)
+    }
+    #[inline(always)]
     fn axis(xg: Real, lp: Real) -> (i32, [Real; 3], [Real; 3]) {
-        let base = floor_nonneg(xg - lp);
+        let base = Self::first(xg, lp);
+        let f = xg - base as Real;
+        let inv_2lp = 0.5 / lp;
         let mut w = [0.0; 3];
         let mut dw = [0.0; 3];
         for k in 0..3 {
-            (w[k], dw[k]) = Self::shape(xg - (base + k as i32) as Real, lp);
+            (w[k], dw[k]) = Self::shape(f - k as Real, lp, inv_2lp);
         }
         (base, w, dw)
     }

@@ -179,14 +179,14 @@ impl Model {
 pub(crate) mod test_util {
     //! Drives a model through a prescribed, homogeneous velocity gradient.
     use super::*;
-    use crate::math::{Mat3, Sym3, Vec3};
+    use crate::math::{Mat3A as Mat3, Sym3, Vec3, Vec3A};
 
     /// The strain rate and spin of a 3D velocity gradient given by rows.
     pub fn rate_spin(l: [[Real; 3]; 3]) -> (Sym3, Vec3) {
         let m = Mat3::from_cols(
-            Vec3::new(l[0][0], l[1][0], l[2][0]),
-            Vec3::new(l[0][1], l[1][1], l[2][1]),
-            Vec3::new(l[0][2], l[1][2], l[2][2]),
+            Vec3A::new(l[0][0], l[1][0], l[2][0]),
+            Vec3A::new(l[0][1], l[1][1], l[2][1]),
+            Vec3A::new(l[0][2], l[1][2], l[2][2]),
         );
         <crate::math::D3 as crate::math::Dim>::rate_and_spin(m)
     }

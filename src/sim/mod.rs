@@ -11,7 +11,7 @@ use crate::boundary::{WallRule, Walls};
 use crate::config::{BodyConfig, MAX_PARTICLES, SceneConfig};
 use crate::contact::{self, ContactPair, ContactRule};
 use crate::error::{Error, Result};
-use crate::grid::{Grid, GridIndex, base_node};
+use crate::grid::{Grid, GridIndex};
 use crate::kernel::{Gimp, Kernel, KernelKind, Linear, QuadraticBspline};
 use crate::material::{Constitutive, Model};
 use crate::math::{D2, D3, Dim, Real, VectorOps};
@@ -415,23 +415,14 @@ impl<D: Dim> Simulation<D> {
         for body in &mut self.bodies {
             let x = &self.particles.x[body.range.clone()];
             let lp = body.radius * inv_h;
-            body.grid.rebuild(x.len(), kernel.support(), |p| {
-                base_node::<D>(x[p], inv_h, kernel, lp)
-            });
-            if sort {
-                let index = &body.grid.index;
-                let keys: Vec<u32> = x
-                    .iter()
-                    .map(|&xp| {
-                        index
-                            .slot_of(base_node::<D>(xp, inv_h, kernel, lp))
-                            .unwrap_or(0) as u32
-                    })
-                    .collect();
-                if keys.windows(2).any(|w| w[0] > w[1]) {
-                    let order = counting_sort(&keys, index.block_count());
-                    self.particles.permute(body.range.clone(), &order);
-                }
+            with_kernel!(kernel, K, S => body.grid.rebuild(x.len(), S, |p| {
+                K::base(passes::grid_coords::<D>(x[p], inv_h), D::DIM, lp)
+            }));
+            let slots = &mut body.grid.particle_slot;
+            if sort && slots.windows(2).any(|w| w[0] > w[1]) {
+                let order = counting_sort(slots, body.grid.index.block_count());
+                self.particles.permute(body.range.clone(), &order);
+                *slots = order.iter().map(|&o| slots[o as usize]).collect();
             }
         }
         let indices: Vec<&GridIndex<D>> = self.bodies.iter().map(|b| &b.grid.index).collect();
@@ -500,6 +491,7 @@ impl<D: Dim> Simulation<D> {
         for body in &mut self.bodies {
             self.diagnostics.dissipated_boundary +=
                 passes::grid_walls(&mut body.grid, &self.world.walls);
+            passes::fill_new_velocities(&mut body.grid);
         }
     }
 

@@ -6,7 +6,8 @@ use std::ops::Range;
 /// The state of every particle of a simulation.
 #[derive(Clone, Debug, Default)]
 pub struct Particles<D: Dim> {
-    /// Position x_p (m).
+    /// Position x_p (m). In 3D the vectors are SIMD `Vec3A`: four floats per particle in
+    /// memory, the fourth unused (a renderer reads them with a stride of 16 bytes).
     pub x: Vec<D::Vector>,
     /// Velocity v_p (m/s).
     pub v: Vec<D::Vector>,

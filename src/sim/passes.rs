@@ -3,17 +3,23 @@
 //! and, for the stress update, the constitutive model `M`.
 
 use crate::boundary::Walls;
-use crate::grid::{GHOST, Grid, GridIndex};
+use crate::grid::{GHOST, Grid};
 use crate::kernel::Kernel;
 use crate::material::Constitutive;
-use crate::math::{Dim, Real, SymTensor, VectorOps};
+use crate::math::{Dim, Real, SymTensor, VectorOps, stencil_span};
 
-/// The most nodes a stencil has (quadratic B-spline in 3D).
-const MAX_STENCIL: usize = 27;
+/// Nodes per row of a padded block for a kernel of `S` nodes per axis, and the number of
+/// consecutive nodes a stencil spans (compile-time constants after monomorphisation).
+#[inline(always)]
+fn layout<D: Dim, const S: usize>(grid: &Grid<D>) -> (usize, usize) {
+    let p = Grid::<D>::BLOCK + S - 1;
+    debug_assert_eq!(grid.layout.padded(), p, "grid laid out for another kernel");
+    (p, stencil_span(D::DIM, p, S))
+}
 
 /// Grid coordinates of a position.
 #[inline(always)]
-fn grid_coords<D: Dim>(x: D::Vector, inv_h: Real) -> [Real; 3] {
+pub fn grid_coords<D: Dim>(x: D::Vector, inv_h: Real) -> [Real; 3] {
     let mut g = [0.0; 3];
     for (a, c) in g.iter_mut().enumerate().take(D::DIM) {
         *c = x[a] * inv_h + GHOST as Real;
@@ -31,35 +37,53 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
     inv_h: Real,
     lp: Real,
 ) {
+    let (p, span) = layout::<D, S>(grid);
     let Grid {
-        index,
+        layout,
         nodes,
         mass_grad,
-    } = grid;
+        particle_slot,
+        ..
+    } = &mut *grid;
     let with_gradient = !mass_grad.is_empty();
-    for p in 0..x.len() {
-        let st = K::stencil(grid_coords::<D>(x[p], inv_h), D::DIM, inv_h, lp);
-        let si = index.stencil_index::<S>(st.base);
-        let (m, mv) = (mass[p], v[p] * mass[p]);
-        D::for_each_node(&st, |ijk, w, g| {
-            let n = index.node(&si, ijk);
-            let node = &mut nodes[n];
-            node.mass += w * m;
-            node.vel += mv * w;
-            if with_gradient {
-                mass_grad[n] += g * m;
-            }
-        });
+    for q in 0..x.len() {
+        let st = K::stencil(grid_coords::<D>(x[q], inv_h), D::DIM, inv_h, lp);
+        let origin = layout.stencil_origin(particle_slot[q], st.base);
+        let grad = if with_gradient {
+            Some(&mut mass_grad[origin..origin + span])
+        } else {
+            None
+        };
+        D::scatter_mass(
+            &mut nodes[origin..origin + span],
+            grad,
+            p,
+            &st,
+            mass[q],
+            v[q] * mass[q],
+        );
+    }
+    grid.reduce_nodes(|o, h| {
+        o.mass += h.mass;
+        o.vel += h.vel;
+    });
+    if with_gradient {
+        grid.reduce_mass_gradient();
     }
 }
 
-/// Grid velocities v_i = (mv)_i / m_i.
+/// Grid velocities v_i = (mv)_i / m_i, on every node, halos included (they are then
+/// overwritten from their owners).
 pub fn grid_velocities<D: Dim>(grid: &mut Grid<D>) {
     for node in &mut grid.nodes {
         if node.mass > 0.0 {
             node.vel = node.vel / node.mass;
         }
     }
+    grid.fill_nodes(|h, o| {
+        h.mass = o.mass;
+        h.vel = o.vel;
+    });
 }
 
 /// The mutable particle state the stress pass touches.
@@ -96,38 +120,34 @@ pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
     inv_h: Real,
     lp: Real,
 ) -> StressReport {
-    let Grid { index, nodes, .. } = grid;
+    let (p, span) = layout::<D, S>(grid);
+    let Grid {
+        layout,
+        nodes,
+        particle_slot,
+        ..
+    } = &mut *grid;
     let elastic = model.elastic();
     let mut report = StressReport::default();
-    let mut idx = [0usize; MAX_STENCIL];
-    let mut grads = [D::Vector::ZERO; MAX_STENCIL];
-    for p in 0..ps.x.len() {
-        let st = K::stencil(grid_coords::<D>(ps.x[p], inv_h), D::DIM, inv_h, lp);
-        let si = index.stencil_index::<S>(st.base);
-        let mut count = 0;
-        let mut grad_v = D::GRAD_ZERO;
-        D::for_each_node(&st, |ijk, _, g| {
-            let n = index.node(&si, ijk);
-            idx[count] = n;
-            grads[count] = g;
-            count += 1;
-            grad_v += D::outer(nodes[n].vel, g);
-        });
-        let (rate, spin) = D::rate_and_spin(grad_v);
-        let update = model.update(&mut ps.stress[p], rate, spin, dt);
+    for q in 0..ps.x.len() {
+        let st = K::stencil(grid_coords::<D>(ps.x[q], inv_h), D::DIM, inv_h, lp);
+        let origin = layout.stencil_origin(particle_slot[q], st.base);
+        let cell = &mut nodes[origin..origin + span];
+        let (rate, spin) = D::rate_and_spin(D::velocity_gradient(cell, p, &st));
+        let update = model.update(&mut ps.stress[q], rate, spin, dt);
         if M::PLASTIC {
-            ps.plastic_strain[p] += update.plastic_strain;
-            report.dissipated += (update.dissipation * ps.volume[p]) as f64;
+            ps.plastic_strain[q] += update.plastic_strain;
+            report.dissipated += (update.dissipation * ps.volume[q]) as f64;
         }
-        let volume = ps.volume[p] * (1.0 + dt * rate.trace());
-        ps.volume[p] = volume;
-        let sigma = ps.stress[p];
+        let volume = ps.volume[q] * (1.0 + dt * rate.trace());
+        ps.volume[q] = volume;
+        let sigma = ps.stress[q];
         // One finiteness test for all components: a sum of finite numbers this size is finite.
         let sum: Real = sigma.components().iter().sum();
         if !((sum + volume).is_finite() && volume > 0.0) {
             report.bad += 1;
             report.first_bad.get_or_insert((
-                p,
+                q,
                 if sigma.is_finite() {
                     "volume"
                 } else {
@@ -138,15 +158,14 @@ pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
         }
         report.elastic += (elastic.energy_density(sigma) * volume) as f64;
         report.max_volume = report.max_volume.max(volume);
-        let vs = sigma * -volume;
-        for c in 0..count {
-            nodes[idx[c]].new_vel += D::sym_mul(vs, grads[c]);
-        }
+        D::scatter_force(cell, p, &st, sigma * -volume);
     }
+    grid.reduce_nodes(|o, h| o.new_vel += h.new_vel);
     report
 }
 
-/// Step 4, grid side: v*_i = v_i + Δt (f_i/m_i + g).
+/// Step 4, grid side: v*_i = v_i + Δt (f_i/m_i + g) (on halos too: they are refilled before
+/// the particles gather).
 pub fn grid_forces<D: Dim>(grid: &mut Grid<D>, gravity: D::Vector, dt: Real) {
     for node in &mut grid.nodes {
         if node.mass > 0.0 {
@@ -168,22 +187,22 @@ pub fn constraint_dissipation<V: VectorOps>(m: Real, start: V, before: V, after:
 /// Step 5, walls: constrains the nodes on or beyond the domain's faces; returns the energy
 /// the constraint removed.
 pub fn grid_walls<D: Dim>(grid: &mut Grid<D>, walls: &Walls<D>) -> f64 {
-    let Grid { index, nodes, .. } = grid;
-    let bn = GridIndex::<D>::block_nodes();
-    let edge = GridIndex::<D>::BLOCK as i32;
+    let edge = Grid::<D>::BLOCK as i32;
     let mut dissipated = 0.0;
+    let Grid {
+        index,
+        layout,
+        nodes,
+        ..
+    } = grid;
     for slot in 0..index.block_count() {
-        let origin = index.block_origin(slot);
-        if !walls.block_touches(origin, edge) {
+        if !walls.block_touches(index.block_origin(slot), edge) {
             continue;
         }
-        for (l, node) in nodes[slot * bn..(slot + 1) * bn].iter_mut().enumerate() {
+        layout.for_each_owned(index, slot, |coord, n| {
+            let node = &mut nodes[n];
             if node.mass <= 0.0 {
-                continue;
-            }
-            let mut coord = origin;
-            for (a, c) in coord.iter_mut().enumerate().take(D::DIM) {
-                *c += ((l >> (D::LOG_BLOCK as usize * a)) & (edge as usize - 1)) as i32;
+                return;
             }
             let before = node.new_vel;
             let after = walls.node_velocity(coord, before);
@@ -191,9 +210,14 @@ pub fn grid_walls<D: Dim>(grid: &mut Grid<D>, walls: &Walls<D>) -> f64 {
                 dissipated += constraint_dissipation(node.mass, node.vel, before, after);
                 node.new_vel = after;
             }
-        }
+        });
     }
     dissipated
+}
+
+/// Copies the owners' updated velocities into the halos (before the particles gather).
+pub fn fill_new_velocities<D: Dim>(grid: &mut Grid<D>) {
+    grid.fill_nodes(|h, o| h.new_vel = o.new_vel);
 }
 
 /// The mutable particle state the gather pass touches.
@@ -281,34 +305,34 @@ pub fn gather_and_advect<D: Dim, K: Kernel<S>, const S: usize>(
     radius: Real,
     gravity: D::Vector,
 ) -> GatherReport<D> {
-    let Grid { index, nodes, .. } = grid;
+    let (p, span) = layout::<D, S>(grid);
+    let Grid {
+        layout,
+        nodes,
+        particle_slot,
+        ..
+    } = grid;
     let mut r = GatherReport::<D>::empty();
-    for p in 0..ps.x.len() {
-        let x = ps.x[p];
+    for q in 0..ps.x.len() {
+        let x = ps.x[q];
         let st = K::stencil(grid_coords::<D>(x, inv_h), D::DIM, inv_h, radius * inv_h);
-        let si = index.stencil_index::<S>(st.base);
-        let mut v_pic = D::Vector::ZERO;
-        let mut dv = D::Vector::ZERO;
-        D::for_each_node(&st, |ijk, w, _| {
-            let node = &nodes[index.node(&si, ijk)];
-            v_pic += node.new_vel * w;
-            dv += (node.new_vel - node.vel) * w;
-        });
-        let blended = v_pic * (1.0 - alpha) + (ps.v[p] + dv) * alpha;
+        let origin = layout.stencil_origin(particle_slot[q], st.base);
+        let (v_pic, v_old) = D::gather_velocity(&nodes[origin..origin + span], p, &st);
+        let blended = v_pic * (1.0 - alpha) + (ps.v[q] + v_pic - v_old) * alpha;
         let v = walls.particle_velocity(x, blended, dt, radius);
-        let m = ps.mass[p];
+        let m = ps.mass[q];
         if v != blended {
-            r.dissipated_walls += constraint_dissipation(m, ps.v[p], blended, v);
+            r.dissipated_walls += constraint_dissipation(m, ps.v[q], blended, v);
         }
         let x = walls.clamp(x + v * dt, radius);
         if !(v.is_finite() && x.is_finite()) {
             r.bad += 1;
-            r.first_bad.get_or_insert(p);
+            r.first_bad.get_or_insert(q);
             continue;
         }
-        ps.v[p] = v;
-        ps.x[p] = x;
-        r.record(m, x, v, gravity, ps.plastic_strain[p]);
+        ps.v[q] = v;
+        ps.x[q] = x;
+        r.record(m, x, v, gravity, ps.plastic_strain[q]);
     }
     r.max_speed = r.max_speed.sqrt();
     r
