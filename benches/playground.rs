@@ -19,9 +19,12 @@ fn main() {
     let steps: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(200);
     let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path}: {e}"));
     let mut pg = Playground::from_json(&text).unwrap_or_else(|e| panic!("{path}: {e}"));
-    // Warm up (caches, grid allocation), then time each step.
-    for _ in 0..10 {
+    // Warm up (caches, grid allocation) as long as the wasm benchmark does, then time each step.
+    let warm = Instant::now();
+    let mut i = 0;
+    while i < 30 || warm.elapsed().as_secs_f64() < 3.0 {
         pg.step().expect("step");
+        i += 1;
     }
     let mut times = Vec::with_capacity(steps);
     for _ in 0..steps {
