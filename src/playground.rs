@@ -664,7 +664,18 @@ impl Playground {
         }
     }
 
-    /// Address of the particle positions: `dim` f32 per particle, tightly packed.
+    /// Floats from one particle's position to the next: 2 in 2D; in 3D the solver keeps
+    /// SIMD-aligned vectors (x, y, z and one unused float), so 4.
+    pub fn positions_stride(&self) -> usize {
+        use std::mem::size_of;
+        match &self.sim {
+            AnySimulation::D2(_) => size_of::<<crate::D2 as Dim>::Vector>() / size_of::<Real>(),
+            AnySimulation::D3(_) => size_of::<<crate::D3 as Dim>::Vector>() / size_of::<Real>(),
+        }
+    }
+
+    /// Address of the particle positions: [`Self::positions_stride`] f32 per particle, the
+    /// first `dim` of which are x, y (, z).
     pub fn positions_ptr(&self) -> *const f32 {
         match &self.sim {
             AnySimulation::D2(s) => s.particles().x.as_ptr().cast(),
@@ -673,7 +684,7 @@ impl Playground {
     }
     /// Number of f32 in the positions buffer.
     pub fn positions_len(&self) -> usize {
-        self.particle_count() * self.dim()
+        self.particle_count() * self.positions_stride()
     }
     /// Address of the colour scalars (one f32 per particle, after [`Self::update_colours`]).
     pub fn colours_ptr(&self) -> *const f32 {
@@ -1003,7 +1014,8 @@ mod tests {
             assert_eq!(pg.body_count(), 3);
             let n = pg.particle_count();
             assert!(n > 300, "{n}");
-            assert_eq!(pg.positions_len(), n * dim);
+            assert_eq!(pg.positions_len(), n * pg.positions_stride());
+            assert!(pg.positions_stride() >= dim);
             for mode in ["body", "speed", "pressure", "plastic_strain", "yield"] {
                 pg.update_colours(ColourMode::parse(mode).unwrap());
                 assert_eq!(pg.colours_len(), n);

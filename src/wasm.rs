@@ -167,11 +167,17 @@ impl Playground {
         self.core.surface_height(x, z, radius)
     }
 
-    /// Byte address of the positions in wasm memory (`dim` f32 per particle). Valid until
+    /// Byte address of the positions in wasm memory (`positionsStride` f32 per particle, the
+    /// first `dim` of them x, y (, z)). Valid until
     /// the next call that steps, adds or removes bodies.
     #[wasm_bindgen(js_name = positionsPtr)]
     pub fn positions_ptr(&self) -> usize {
         self.core.positions_ptr() as usize
+    }
+    /// Floats from one particle's position to the next (2 in 2D, 4 in 3D: x, y, z, unused).
+    #[wasm_bindgen(js_name = positionsStride)]
+    pub fn positions_stride(&self) -> usize {
+        self.core.positions_stride()
     }
     /// Number of f32 in the positions.
     #[wasm_bindgen(js_name = positionsLen)]

@@ -245,7 +245,8 @@ fn bodies_are_added_and_cleared() {
                 .unwrap();
             assert!(pg.particle_count() > last, "{object}");
             last = pg.particle_count();
-            assert_eq!(pg.positions_len(), last * dim);
+            assert_eq!(pg.positions_len(), last * pg.positions_stride());
+            assert!(pg.positions_stride() >= dim);
         }
         assert_eq!(pg.body_count(), 3);
         let e = message(
@@ -284,6 +285,25 @@ fn bodies_are_added_and_cleared() {
         assert!(pg.set_colour_mode("rainbow").is_err());
         let sp: serde_json::Value = serde_json::from_str(&pg.stress_point(0).unwrap()).unwrap();
         assert!(sp["p"].as_f64().unwrap().is_finite());
+        // The views JS builds over wasm memory read the same positions as Rust does.
+        let memory: js_sys::WebAssembly::Memory = wasm_bindgen::memory().unchecked_into();
+        let view = js_sys::Float32Array::new_with_byte_offset_and_length(
+            &memory.buffer(),
+            pg.positions_ptr() as u32,
+            pg.positions_len() as u32,
+        );
+        let stride = pg.positions_stride();
+        for i in (0..pg.particle_count()).step_by(97) {
+            let sp: serde_json::Value = serde_json::from_str(&pg.stress_point(i).unwrap()).unwrap();
+            for a in 0..dim {
+                // Rust's f32 went through JSON as f64: compare in f32.
+                let want = sp["position"][a].as_f64().unwrap() as f32;
+                let got = view.get_index((i * stride + a) as u32);
+                assert_eq!(got, want, "particle {i} axis {a}");
+            }
+        }
+        pg.update_colours();
+        assert_eq!(pg.colours_len(), pg.particle_count());
         let id = pg.particle_id(0).unwrap();
         assert!(pg.index_of(id).is_some());
         pg.clear();

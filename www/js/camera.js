@@ -74,7 +74,7 @@ export class Camera {
     this.dim = size.length;
     const [w, h, d = 0] = size;
     this.target = [w / 2, h * 0.3, d / 2];
-    this.radius = Math.hypot(w, h, d) * 1.15;
+    this.zoom3d = 1;
     this.yaw = -0.55;
     this.pitch = 0.42;
     this.zoom2d = 1;
@@ -95,6 +95,11 @@ export class Camera {
       this.eye = [cx, cy, 10];
       this.orthographic = true;
     } else {
+      // The distance at which the domain's bounding sphere fits the narrower field of view.
+      const fovy = (40 * Math.PI) / 180;
+      const half = Math.min(Math.tan(fovy / 2), aspect * Math.tan(fovy / 2));
+      const sphere = 0.5 * Math.hypot(...this.size);
+      this.radius = ((0.92 * sphere) / Math.sin(Math.atan(half))) * this.zoom3d;
       const cp = Math.cos(this.pitch);
       const eye = [
         this.target[0] + this.radius * cp * Math.sin(this.yaw),
@@ -104,7 +109,7 @@ export class Camera {
       this.eye = eye;
       this.view = lookAt(eye, this.target, [0, 1, 0]);
       const far = this.radius * 4 + Math.hypot(...this.size) * 2;
-      this.proj = perspective((40 * Math.PI) / 180, aspect, this.radius * 0.02, far);
+      this.proj = perspective(fovy, aspect, this.radius * 0.02, far);
       this.orthographic = false;
     }
     this.viewProj = multiply(this.proj, this.view);
@@ -121,10 +126,7 @@ export class Camera {
 
   zoomBy(factor) {
     if (this.dim === 2) this.zoom2d = Math.min(8, Math.max(0.5, this.zoom2d / factor));
-    else {
-      const d = Math.hypot(...this.size);
-      this.radius = Math.min(d * 5, Math.max(d * 0.25, this.radius * factor));
-    }
+    else this.zoom3d = Math.min(4, Math.max(0.2, this.zoom3d * factor));
   }
 
   /// Screen position (CSS pixels) and depth of a world point, or null if behind the camera.

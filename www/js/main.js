@@ -264,6 +264,14 @@ function buildControls() {
     energyPlot.restart();
     banner('failed');
   });
+  $('toggle-plots').addEventListener('click', () => {
+    const hidden = document.body.classList.toggle('no-plots');
+    $('toggle-plots').setAttribute('aria-pressed', String(!hidden));
+  });
+  if (window.innerWidth < 1250) {
+    document.body.classList.add('no-plots');
+    $('toggle-plots').setAttribute('aria-pressed', 'false');
+  }
   $('timescale').addEventListener('change', () => { app.view.time = $('timescale').value; updateHash(); });
   $('colour').addEventListener('change', () => {
     app.view.colour = $('colour').value;
@@ -444,10 +452,11 @@ function inspect(px, py) {
   const n = pg.particleCount();
   const dim = app.domain.length;
   const pos = new Float32Array(app.memory.buffer, pg.positionsPtr(), pg.positionsLen());
+  const stride = pg.positionsStride();
   let best = -1, bestScore = Infinity;
   const reach = 14;
   for (let i = 0; i < n; i++) {
-    const s = camera.project(pos[i * dim], pos[i * dim + 1], dim === 3 ? pos[i * dim + 2] : 0);
+    const s = camera.project(pos[i * stride], pos[i * stride + 1], dim === 3 ? pos[i * stride + 2] : 0);
     if (!s) continue;
     const d = Math.hypot(s[0] - px, s[1] - py);
     if (d > reach) continue;
@@ -514,7 +523,7 @@ function frame(ts) {
     }
   }
   camera.matrices(canvasEl.clientWidth, canvasEl.clientHeight);
-  renderer.draw({ camera, positions, values, count: n, mode: app.view.colour, range: app.range, radius: app.radius, marker });
+  renderer.draw({ camera, positions, stride: pg.positionsStride(), values, count: n, mode: app.view.colour, range: app.range, radius: app.radius, marker });
   if (app.syncRender) renderer.finish(); // benchmarks: count the GPU's work in renderMs
   const t2 = performance.now();
   st.simMs = t1 - t0;

@@ -16,7 +16,7 @@ export class CanvasRenderer {
     this.dim = size.length;
   }
 
-  draw({ camera, positions, values, count, mode, range, radius, marker }) {
+  draw({ camera, positions, stride, values, count, mode, range, radius, marker }) {
     const dpr = Math.min(2, window.devicePixelRatio || 1);
     const c = this.canvas;
     const w = Math.round(c.clientWidth * dpr), h = Math.round(c.clientHeight * dpr);
@@ -53,7 +53,7 @@ export class CanvasRenderer {
     const proj = new Float32Array(count * 3);
     const order = new Uint32Array(count);
     for (let i = 0; i < count; i++) {
-      const p = camera.project(positions[i * d], positions[i * d + 1], d === 3 ? positions[i * d + 2] : 0);
+      const p = camera.project(positions[i * stride], positions[i * stride + 1], d === 3 ? positions[i * stride + 2] : 0);
       order[i] = i;
       if (!p) { proj[i * 3 + 2] = Infinity; continue; }
       proj.set(p, i * 3);
@@ -65,7 +65,7 @@ export class CanvasRenderer {
       if (!Number.isFinite(z)) continue;
       let r = radius * ppm;
       if (d === 3) {
-        const [x, y, zz] = [positions[i * 3], positions[i * 3 + 1], positions[i * 3 + 2]];
+        const [x, y, zz] = [positions[i * stride], positions[i * stride + 1], positions[i * stride + 2]];
         const dist = Math.hypot(x - camera.eye[0], y - camera.eye[1], zz - camera.eye[2]);
         r = (radius * ppm) / Math.max(1e-3, dist);
       }

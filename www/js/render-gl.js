@@ -129,7 +129,7 @@ function gridStep(extent) {
 
 export class GlRenderer {
   constructor(canvas) {
-    const gl = canvas.getContext('webgl2', { antialias: true, stencil: true, preserveDrawingBuffer: true });
+    const gl = canvas.getContext('webgl2', { antialias: false, stencil: true });
     if (!gl) throw new Error('WebGL2 is not available');
     this.gl = gl;
     this.canvas = canvas;
@@ -194,8 +194,9 @@ export class GlRenderer {
     return dpr;
   }
 
-  /// Draws one frame. `positions` holds `dim` floats and `values` one float per particle.
-  draw({ camera, positions, values, count, mode, range, radius, marker }) {
+  /// Draws one frame. `positions` holds `stride` floats per particle (x, y (, z) first) and
+  /// `values` one float per particle.
+  draw({ camera, positions, stride, values, count, mode, range, radius, marker }) {
     const gl = this.gl;
     const dpr = this.resize();
     const W = this.canvas.width, H = this.canvas.height;
@@ -223,7 +224,7 @@ export class GlRenderer {
       gl.bindBuffer(gl.ARRAY_BUFFER, this.posBuffer);
       gl.bufferData(gl.ARRAY_BUFFER, positions, gl.STREAM_DRAW);
       gl.enableVertexAttribArray(0);
-      gl.vertexAttribPointer(0, this.dim, gl.FLOAT, false, 0, 0);
+      gl.vertexAttribPointer(0, this.dim, gl.FLOAT, false, 4 * stride, 0);
       gl.bindBuffer(gl.ARRAY_BUFFER, this.valBuffer);
       gl.bufferData(gl.ARRAY_BUFFER, values, gl.STREAM_DRAW);
       gl.enableVertexAttribArray(1);
