@@ -268,7 +268,7 @@ function buildControls() {
     const hidden = document.body.classList.toggle('no-plots');
     $('toggle-plots').setAttribute('aria-pressed', String(!hidden));
   });
-  if (window.innerWidth < 1250) {
+  if (window.innerWidth < 1500) {
     document.body.classList.add('no-plots');
     $('toggle-plots').setAttribute('aria-pressed', 'false');
   }
@@ -575,17 +575,19 @@ function hud(d, n) {
     ['dt', formatTime(d.dt || app.pg.stableDt())],
     ['CFL', (d.cfl || 0).toFixed(2)],
     ['ms / step', st.msPerStep ? st.msPerStep.toPrecision(3) : '–'],
-    ['sim / real', app.playing ? st.ratio.toFixed(2) : 'paused'],
+    ['sim / real', app.playing ? `${st.ratio.toFixed(2)}${st.fellBehind ? ' slow' : ''}` : 'paused'],
     ['sim time', formatTime(app.pg.time())],
+    ['renderer', renderer.kind.replace(/ \(.*\)$/, '')],
   ];
   const slow = app.playing && st.fellBehind;
-  const hudEl = $('hud');
-  hudEl.replaceChildren(...rows.flatMap(([k, v]) => [
+  $('hud').replaceChildren(...rows.flatMap(([k, v]) => [
     el('span', { class: 'k' }, k),
-    el('span', { class: `v${k === 'sim / real' && slow ? ' slow' : ''}`, 'data-hud': k }, v),
+    el('span', {
+      class: `v${k === 'sim / real' && slow ? ' slow' : ''}`,
+      'data-hud': k,
+      title: k === 'sim / real' && slow ? 'Slow motion: each frame reached its time budget before it simulated a frame of time' : '',
+    }, v),
   ]));
-  if (slow) hudEl.append(el('span', { class: 'k slow' }, 'slow motion'), el('span', { class: 'v slow' }, `${renderer.kind}`));
-  else hudEl.append(el('span', { class: 'k' }, 'renderer'), el('span', { class: 'v' }, renderer.kind));
 }
 
 function legend() {

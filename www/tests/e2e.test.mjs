@@ -110,10 +110,12 @@ test('3D: frames run, a click drops a bunny, the friction slider changes the san
   await page.waitForFunction(() => mpm.probeId !== null, null, { timeout: 10_000 }).catch(() => {});
   assert.notEqual(await page.evaluate(() => mpm.probeId), picked, 'a particle was picked');
 
+  const px = await viewShot(page, join(OUT, 'view-3d.png'));
+  if ((await page.getAttribute('#toggle-plots', 'aria-pressed')) === 'false') await page.click('#toggle-plots');
+  await page.waitForTimeout(500);
   const shot = join(OUT, 'playground-3d.png');
   await page.screenshot({ path: shot });
   assert.ok(statSync(shot).size > 20_000, 'the screenshot has content');
-  const px = await viewShot(page, join(OUT, 'view-3d.png'));
   assert.ok(px.variance > 50 && px.colours > 20, `the view is not blank: ${JSON.stringify(px)}`);
   assert.deepEqual(errors, [], 'no console error');
   await page.close();
