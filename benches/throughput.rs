@@ -80,6 +80,25 @@ fn cases() -> Vec<Case> {
     out
 }
 
+/// The share of each pass in a run (from the solver's own pass timings).
+fn pass_shares(t: &mpm::PassTimings) -> String {
+    let parts = [
+        ("allocate", t.allocate),
+        ("scatter", t.scatter),
+        ("stress", t.stress),
+        ("grid", t.grid),
+        ("contact", t.contact),
+        ("walls", t.walls),
+        ("gather", t.gather),
+    ];
+    let total: f64 = parts.iter().map(|p| p.1).sum();
+    parts
+        .iter()
+        .map(|(n, v)| format!("{n} {:.0}%", 100.0 * v / total))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// Runs `steps` substeps `rounds` times after a warm-up; returns the median seconds per round.
 fn time(sim: &mut AnySimulation, steps: usize, rounds: usize) -> f64 {
     for _ in 0..steps {
@@ -111,6 +130,7 @@ fn main() {
         }
         let dim = case.scene.dim;
         let mut sim = AnySimulation::new(case.scene).expect("valid benchmark scene");
+        sim.set_timings(true);
         let n = sim.particle_count();
         let steps = if dim == 3 { 20 } else { 40 };
         let secs = time(&mut sim, steps, 5);
@@ -129,6 +149,11 @@ fn main() {
             case.name,
             rate / 1e6,
             bytes
+        );
+        println!(
+            "{:<32}    time per pass: {}",
+            "",
+            pass_shares(&sim.timings().unwrap_or_default())
         );
         println!(
             "bench scene={} dim={dim} particles={n} substeps={steps} seconds={secs:.4} particle_substeps_per_s={rate:.0}",

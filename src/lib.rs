@@ -40,4 +40,4 @@ pub use geometry::Shape;
 pub use kernel::KernelKind;
 pub use material::Material;
 pub use math::{D2, D3, Dim, Real};
-pub use sim::{AnySimulation, BodyStats, Diagnostics, Simulation, SimulationBuilder};
+pub use sim::{AnySimulation, BodyStats, Diagnostics, PassTimings, Simulation, SimulationBuilder};

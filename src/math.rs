@@ -143,8 +143,6 @@ pub trait SymTensor:
     fn rotate(self, spin: Self::Spin, dt: Real) -> Self;
     /// The components as a flat slice (2D: xx, yy, zz, xy; 3D: xx, yy, zz, xy, xz, yz).
     fn components(&self) -> &[Real];
-    /// The full tensor as a 3×3 array (rows), in f64, for reporting.
-    fn to_matrix3(self) -> [[f64; 3]; 3];
 
     #[inline(always)]
     fn deviator(self) -> Self {
@@ -265,15 +263,6 @@ impl SymTensor for Sym2 {
         // fields have the same type and alignment), so it has the layout of [Real; 4].
         unsafe { std::slice::from_raw_parts(self as *const Self as *const Real, 4) }
     }
-    fn to_matrix3(self) -> [[f64; 3]; 3] {
-        let (xx, yy, zz, xy) = (
-            self.xx as f64,
-            self.yy as f64,
-            self.zz as f64,
-            self.xy as f64,
-        );
-        [[xx, xy, 0.0], [xy, yy, 0.0], [0.0, 0.0, zz]]
-    }
 }
 
 impl SymTensor for Sym3 {
@@ -344,14 +333,6 @@ impl SymTensor for Sym3 {
         // fields have the same type and alignment), so it has the layout of [Real; 6].
         unsafe { std::slice::from_raw_parts(self as *const Self as *const Real, 6) }
     }
-    fn to_matrix3(self) -> [[f64; 3]; 3] {
-        let f = |x: Real| x as f64;
-        [
-            [f(self.xx), f(self.xy), f(self.xz)],
-            [f(self.xy), f(self.yy), f(self.yz)],
-            [f(self.xz), f(self.yz), f(self.zz)],
-        ]
-    }
 }
 
 /// The kernel weights of one particle along each axis: `w[a][k]` and `dw[a][k]` (the
@@ -374,14 +355,11 @@ pub trait Dim: Copy + Default + Debug + Send + Sync + 'static {
     /// The velocity gradient L_ij = ∂v_i/∂x_j.
     type Grad: Copy + Debug + AddAssign;
     type Sym: SymTensor;
-    const GRAD_ZERO: Self::Grad;
 
     /// v ⊗ g (the contribution v_i ∇w_ip of one node to the velocity gradient).
     fn outer(v: Self::Vector, g: Self::Vector) -> Self::Grad;
     /// The strain rate ½(L + Lᵀ) (with zz = 0 in plane strain) and the spin ½(L − Lᵀ).
     fn rate_and_spin(l: Self::Grad) -> (Self::Sym, <Self::Sym as SymTensor>::Spin);
-    /// σ g for the in-plane (2D) or full (3D) stress.
-    fn sym_mul(s: Self::Sym, g: Self::Vector) -> Self::Vector;
     /// Builds a vector from the first `DIM` entries of `xyz`.
     fn vector(xyz: [Real; 3]) -> Self::Vector;
 
@@ -441,7 +419,6 @@ impl Dim for D2 {
     type Vector = Vec2;
     type Grad = Mat2;
     type Sym = Sym2;
-    const GRAD_ZERO: Mat2 = Mat2::ZERO;
 
     #[inline(always)]
     fn outer(v: Vec2, g: Vec2) -> Mat2 {
@@ -458,10 +435,6 @@ impl Dim for D2 {
             xy: 0.5 * (lxy + lyx),
         };
         (rate, 0.5 * (lyx - lxy))
-    }
-    #[inline(always)]
-    fn sym_mul(s: Sym2, g: Vec2) -> Vec2 {
-        Vec2::new(s.xx * g.x + s.xy * g.y, s.xy * g.x + s.yy * g.y)
     }
     #[inline(always)]
     fn vector(xyz: [Real; 3]) -> Vec2 {
@@ -548,7 +521,6 @@ impl Dim for D3 {
     type Vector = Vec3A;
     type Grad = Mat3A;
     type Sym = Sym3;
-    const GRAD_ZERO: Mat3A = Mat3A::ZERO;
 
     #[inline(always)]
     fn outer(v: Vec3A, g: Vec3A) -> Mat3A {
@@ -572,14 +544,6 @@ impl Dim for D3 {
             0.5 * (c2.y - c1.z),
         );
         (rate, spin)
-    }
-    #[inline(always)]
-    fn sym_mul(s: Sym3, g: Vec3A) -> Vec3A {
-        Vec3A::new(
-            s.xx * g.x + s.xy * g.y + s.xz * g.z,
-            s.xy * g.x + s.yy * g.y + s.yz * g.z,
-            s.xz * g.x + s.yz * g.y + s.zz * g.z,
-        )
     }
     #[inline(always)]
     fn vector(xyz: [Real; 3]) -> Vec3A {

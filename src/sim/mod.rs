@@ -126,6 +126,49 @@ pub struct Simulation<D: Dim> {
     next_id: u32,
     /// Particles are reordered by grid block every this many steps (0: never), for locality.
     pub sort_interval: u64,
+    /// Wall-clock time per pass, accumulated while `Some` (native builds only).
+    pub timings: Option<PassTimings>,
+}
+
+/// Cumulative wall-clock seconds spent in each pass of the step (see
+/// [`Simulation::timings`]); always zero in WebAssembly, which has no clock here.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct PassTimings {
+    pub steps: u64,
+    /// Grid blocks where the particles are, particle sorting, contact pair search.
+    pub allocate: f64,
+    /// Step 1: mass and momentum to the grid.
+    pub scatter: f64,
+    /// Steps 2–3 and the particle side of 4: velocity gradient, stress, internal forces.
+    pub stress: f64,
+    /// Step 4 on the grid: forces and gravity.
+    pub grid: f64,
+    /// Step 5 between bodies (Eq. 20–21).
+    pub contact: f64,
+    /// Step 5 at the walls.
+    pub walls: f64,
+    /// Steps 6–8: PIC/FLIP gather, particle collisions, advection, diagnostics.
+    pub gather: f64,
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+fn clock(on: bool) -> Option<std::time::Instant> {
+    on.then(std::time::Instant::now)
+}
+#[cfg(target_arch = "wasm32")]
+fn clock(_on: bool) -> Option<()> {
+    None
+}
+#[cfg(not(target_arch = "wasm32"))]
+fn seconds(t: &[Option<std::time::Instant>], i: usize) -> f64 {
+    match (t[i], t[i + 1]) {
+        (Some(a), Some(b)) => (b - a).as_secs_f64(),
+        _ => 0.0,
+    }
+}
+#[cfg(target_arch = "wasm32")]
+fn seconds(_t: &[Option<()>], _i: usize) -> f64 {
+    0.0
 }
 
 impl<D: Dim> Simulation<D> {
@@ -155,6 +198,7 @@ impl<D: Dim> Simulation<D> {
             failed: None,
             next_id: 0,
             sort_interval: 16,
+            timings: None,
         };
         for b in bodies {
             sim.add_body(b)?;
@@ -396,11 +440,39 @@ impl<D: Dim> Simulation<D> {
             return Err(e.clone());
         }
         let dt = self.stable_dt().min(limit);
+        let on = self.timings.is_some();
+        let mut t = [clock(on); 8];
         self.allocate_grids();
+        t[1] = clock(on);
         self.scatter_to_grid(); // 1
-        let stress = self.update_stress(dt as Real); // 2, 3
-        self.update_grid(dt as Real); // 4, 5
+        t[2] = clock(on);
+        let stress = self.update_stress(dt as Real); // 2, 3, 4 (particle side)
+        t[3] = clock(on);
+        self.grid_forces(dt as Real); // 4
+        t[4] = clock(on);
+        self.resolve_contacts(); // 5, between bodies
+        t[5] = clock(on);
+        self.apply_walls(); // 5, walls
+        t[6] = clock(on);
         let gathered = self.gather_and_advect(dt as Real); // 6, 7, 8
+        t[7] = clock(on);
+        if let Some(tm) = &mut self.timings {
+            tm.steps += 1;
+            for (i, slot) in [
+                &mut tm.allocate,
+                &mut tm.scatter,
+                &mut tm.stress,
+                &mut tm.grid,
+                &mut tm.contact,
+                &mut tm.walls,
+                &mut tm.gather,
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                *slot += seconds(&t, i);
+            }
+        }
         self.time += dt;
         self.steps += 1;
         self.finish_step(dt, &stress, &gathered)?;
@@ -473,11 +545,15 @@ impl<D: Dim> Simulation<D> {
         reports
     }
 
-    /// Steps 4–5 on the grid: forces and gravity, contact between bodies, walls.
-    fn update_grid(&mut self, dt: Real) {
+    /// Step 4 on the grid: forces and gravity.
+    fn grid_forces(&mut self, dt: Real) {
         for body in &mut self.bodies {
             passes::grid_forces(&mut body.grid, self.world.gravity, dt);
         }
+    }
+
+    /// Step 5 between bodies: Eq. 20–21 at the nodes they share.
+    fn resolve_contacts(&mut self) {
         for pair in &self.contacts {
             let (left, right) = self.bodies.split_at_mut(pair.b);
             let d = contact::resolve(
@@ -488,6 +564,10 @@ impl<D: Dim> Simulation<D> {
             );
             self.diagnostics.dissipated_contact += d;
         }
+    }
+
+    /// Step 5 at the walls; then the halos take the final grid velocities.
+    fn apply_walls(&mut self) {
         for body in &mut self.bodies {
             self.diagnostics.dissipated_boundary +=
                 passes::grid_walls(&mut body.grid, &self.world.walls);
@@ -814,5 +894,12 @@ impl AnySimulation {
     }
     pub fn failure(&self) -> Option<&Error> {
         delegate!(self, s => s.failure())
+    }
+    /// Starts (or stops) accumulating per-pass wall-clock times.
+    pub fn set_timings(&mut self, on: bool) {
+        delegate!(self, s => s.timings = on.then(PassTimings::default))
+    }
+    pub fn timings(&self) -> Option<PassTimings> {
+        delegate!(self, s => s.timings)
     }
 }

@@ -347,6 +347,8 @@ fn test() -> Result<(), String> {
         ],
     )?;
     run("cargo", &["test", "--workspace"])?;
+    // the f64 build option: the unit tests (constitutive models, kernels, grid) in double precision
+    run("cargo", &["test", "--lib", "--features", "f64"])?;
     build()?;
     run_cmd(wasm_cargo(&[
         "clippy",
