@@ -4,8 +4,9 @@
 //   MPM_URL=http://127.0.0.1:8080/ MPM_SCENE=www/test-scenes/bench_3d.json node www/bench/fps.mjs
 // (`cargo xtask bench-web` serves the page and runs this.) Prints medians over MPM_SECONDS
 // (default 10) of: frames per second; simulation and rendering milliseconds per frame; steps
-// per frame; simulated time per real time. Three phases: as a user sees it; with the render
-// waited for (gl.finish) so that its cost shows; paused (rendering only).
+// per frame; simulated time per real time. Phases: as a user sees it (the page lowers its
+// rendering quality when frames are slow); at full quality; paused (rendering only) at full
+// and at the lowest quality; running at the lowest quality.
 import { launch } from '../tests/browser.mjs';
 
 const url = process.env.MPM_URL || 'http://127.0.0.1:8080/';
@@ -49,15 +50,18 @@ async function phase(name, setup) {
     steps_per_frame: median(t.map((x) => x.substeps)),
     sim_per_real: simTime / realTime,
     frames: t.length,
+    quality: await page.evaluate(() => mpm.quality || 'full'),
   };
   console.log(`fps phase=${name} median_fps=${r.fps.toFixed(1)} sim_ms_per_frame=${r.sim_ms.toFixed(1)} ` +
     `render_ms_per_frame=${r.render_ms.toFixed(1)} steps_per_frame=${r.steps_per_frame} ` +
-    `sim_time_per_real_time=${r.sim_per_real.toFixed(3)} frames=${r.frames}`);
+    `sim_time_per_real_time=${r.sim_per_real.toFixed(3)} frames=${r.frames} quality="${r.quality}"`);
   return r;
 }
 
 await phase('as-seen', () => { mpm.syncRender = false; mpm.playing = true; });
-await phase('render-waited', () => { mpm.syncRender = true; });
-await phase('paused-render-only', () => { mpm.syncRender = true; mpm.playing = false; });
+await phase('full-quality', () => { mpm.fixedQuality = true; mpm.setQuality(0); mpm.syncRender = true; });
+await phase('paused-full-quality', () => { mpm.playing = false; });
+await phase('paused-lowest-quality', () => { mpm.setQuality(3); });
+await phase('lowest-quality', () => { mpm.playing = true; });
 if (errors.length) console.log(`page errors: ${errors.join('; ')}`);
 await browser.close();

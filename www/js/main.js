@@ -30,13 +30,16 @@ const app = {
   cellSize: 0.025,
   radius: 0.006,
   probeId: null,
-  stats: { fps: 0, substeps: 0, msPerStep: 0, ratio: 0, simMs: 0, renderMs: 0, fellBehind: false, frames: 0 },
+  stats: { fps: 0, substeps: 0, msPerStep: 0, ratio: 0, simMs: 0, renderMs: 0, otherMs: 0, fellBehind: false, frames: 0 },
+  quality: '', // what the renderer gave up to keep the frame rate (see governQuality)
+  fixedQuality: false,
   timings: [],
   sliders: new Map(),
   lastFrame: 0,
   stepOnce: false,
 };
 window.mpm = app; // for tests, benchmarks and curious students
+app.setQuality = (level) => setQuality(level);
 
 // ---------- messages ----------
 
@@ -494,7 +497,9 @@ function frame(ts) {
         report.wall_ms = report.ms_per_step;
       } else {
         const simTime = (Math.min(wall, 100) / 1000) * Number(app.view.time);
-        const budget = Math.min(40, Math.max(4, 1000 / TARGET_FPS - st.renderMs - 3));
+        // The frame's time budget for stepping: what the rest of the frame (rendering,
+        // compositing) leaves of 1/30 s, and at least one step.
+        const budget = Math.min(40, Math.max(4, 1000 / TARGET_FPS - st.otherMs - 2));
         report = JSON.parse(pg.frame(simTime, budget));
       }
     } catch (e) {
@@ -528,6 +533,7 @@ function frame(ts) {
   const t2 = performance.now();
   st.simMs = t1 - t0;
   st.renderMs = 0.8 * st.renderMs + 0.2 * (t2 - t1);
+  governQuality(wall);
   if (report) {
     st.substeps = report.substeps;
     if (report.substeps > 0) st.msPerStep = report.ms_per_step;
@@ -549,6 +555,42 @@ function frame(ts) {
     hud(d, n);
     legend();
   }
+}
+
+// Rendering quality adapts to the machine: without a GPU (Chromium's SwiftShader, a
+// blocklisted driver) drawing tens of thousands of sprites is what limits the frame rate, so
+// the contact shadows go first, then the resolution, and both come back when frames are
+// quick again. The time a frame spends outside the simulation is what is measured.
+const QUALITY = [
+  { shadows: true, scale: 1, label: '' },
+  { shadows: false, scale: 1, label: 'no shadows' },
+  { shadows: false, scale: 0.75, label: '¾ resolution' },
+  { shadows: false, scale: 0.5, label: '½ resolution' },
+];
+const quality = { level: 0, samples: [], changed: 0 };
+
+function governQuality(wall) {
+  const st = app.stats;
+  const other = Math.max(0, wall - st.simMs);
+  quality.samples.push(other);
+  if (quality.samples.length > 20) quality.samples.shift();
+  const sorted = [...quality.samples].sort((a, b) => a - b);
+  st.otherMs = sorted[sorted.length >> 1];
+  const now = performance.now();
+  if (quality.samples.length < 20 || now - quality.changed < 1500 || app.fixedQuality) return;
+  let level = quality.level;
+  if (st.otherMs > 0.6 * (1000 / TARGET_FPS) && level < QUALITY.length - 1) level++;
+  else if (st.otherMs < 0.2 * (1000 / TARGET_FPS) && level > 0 && now - quality.changed > 6000) level--;
+  if (level !== quality.level) setQuality(level);
+}
+
+function setQuality(level) {
+  quality.level = level;
+  quality.changed = performance.now();
+  quality.samples.length = 0;
+  if ('shadows' in renderer) renderer.shadows = QUALITY[level].shadows;
+  if ('scale' in renderer) renderer.scale = QUALITY[level].scale;
+  app.quality = QUALITY[level].label;
 }
 
 function smoothRange(range) {
@@ -577,7 +619,7 @@ function hud(d, n) {
     ['ms / step', st.msPerStep ? st.msPerStep.toPrecision(3) : '–'],
     ['sim / real', app.playing ? `${st.ratio.toFixed(2)}${st.fellBehind ? ' slow' : ''}` : 'paused'],
     ['sim time', formatTime(app.pg.time())],
-    ['renderer', renderer.kind.replace(/ \(.*\)$/, '')],
+    ['renderer', `${renderer.kind.replace(/ \(.*\)$/, '')}${app.quality ? `, ${app.quality}` : ''}`],
   ];
   const slow = app.playing && st.fellBehind;
   $('hud').replaceChildren(...rows.flatMap(([k, v]) => [

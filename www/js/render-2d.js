@@ -9,6 +9,7 @@ export class CanvasRenderer {
     this.ctx = canvas.getContext('2d');
     if (!this.ctx) throw new Error('no 2D canvas');
     this.kind = 'Canvas 2D (no WebGL2)';
+    this.scale = 1;
   }
 
   setDomain(size) {
@@ -17,7 +18,7 @@ export class CanvasRenderer {
   }
 
   draw({ camera, positions, stride, values, count, mode, range, radius, marker }) {
-    const dpr = Math.min(2, window.devicePixelRatio || 1);
+    const dpr = Math.min(2, window.devicePixelRatio || 1) * this.scale;
     const c = this.canvas;
     const w = Math.round(c.clientWidth * dpr), h = Math.round(c.clientHeight * dpr);
     if (c.width !== w || c.height !== h) { c.width = w; c.height = h; }

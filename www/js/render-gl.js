@@ -135,7 +135,7 @@ export class GlRenderer {
     this.canvas = canvas;
     this.kind = 'WebGL2';
     this.particles = compile(gl, PARTICLE_VS, PARTICLE_FS);
-    this.shadows = compile(gl, SHADOW_VS, SHADOW_FS);
+    this.shadowProgram = compile(gl, SHADOW_VS, SHADOW_FS);
     this.lines = compile(gl, LINE_VS, LINE_FS);
     this.marker = compile(gl, MARKER_VS, MARKER_FS);
     this.posBuffer = gl.createBuffer();
@@ -145,6 +145,8 @@ export class GlRenderer {
     this.lineBuffer = gl.createBuffer();
     this.emptyVao = gl.createVertexArray();
     this.dim = 0;
+    this.shadows = true; // contact shadows in 3D
+    this.scale = 1; // drawing-buffer resolution relative to the CSS size × devicePixelRatio
   }
 
   /// The static geometry of a domain of `size` metres.
@@ -185,7 +187,7 @@ export class GlRenderer {
   }
 
   resize() {
-    const dpr = Math.min(2, window.devicePixelRatio || 1);
+    const dpr = Math.min(2, window.devicePixelRatio || 1) * this.scale;
     const w = Math.round(this.canvas.clientWidth * dpr), h = Math.round(this.canvas.clientHeight * dpr);
     if (this.canvas.width !== w || this.canvas.height !== h) {
       this.canvas.width = w;
@@ -230,8 +232,8 @@ export class GlRenderer {
       gl.enableVertexAttribArray(1);
       gl.vertexAttribPointer(1, 1, gl.FLOAT, false, 0, 0);
 
-      if (this.dim === 3) {
-        const S = this.shadows;
+      if (this.dim === 3 && this.shadows) {
+        const S = this.shadowProgram;
         gl.useProgram(S.program);
         gl.uniformMatrix4fv(S.uniforms.u_viewProj, false, camera.viewProj);
         gl.uniform1f(S.uniforms.u_radius, radius);
