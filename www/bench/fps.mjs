@@ -61,7 +61,7 @@ async function phase(name, setup) {
 await phase('as-seen', () => { mpm.syncRender = false; mpm.playing = true; });
 await phase('full-quality', () => { mpm.fixedQuality = true; mpm.setQuality(0); mpm.syncRender = true; });
 await phase('paused-full-quality', () => { mpm.playing = false; });
-await phase('paused-lowest-quality', () => { mpm.setQuality(3); });
+await phase('paused-lowest-quality', () => { mpm.setQuality(4); });
 await phase('lowest-quality', () => { mpm.playing = true; });
 if (errors.length) console.log(`page errors: ${errors.join('; ')}`);
 await browser.close();

@@ -562,10 +562,11 @@ function frame(ts) {
 // the contact shadows go first, then the resolution, and both come back when frames are
 // quick again. The time a frame spends outside the simulation is what is measured.
 const QUALITY = [
-  { shadows: true, scale: 1, label: '' },
-  { shadows: false, scale: 1, label: 'no shadows' },
-  { shadows: false, scale: 0.75, label: '¾ resolution' },
-  { shadows: false, scale: 0.5, label: '½ resolution' },
+  { shadows: true, sphereDepth: true, scale: 1, label: '' },
+  { shadows: false, sphereDepth: true, scale: 1, label: 'no shadows' },
+  { shadows: false, sphereDepth: false, scale: 1, label: 'flat depth' },
+  { shadows: false, sphereDepth: false, scale: 0.75, label: '¾ resolution' },
+  { shadows: false, sphereDepth: false, scale: 0.5, label: '½ resolution' },
 ];
 const quality = { level: 0, samples: [], changed: 0 };
 
@@ -590,6 +591,7 @@ function setQuality(level) {
   quality.samples.length = 0;
   if ('shadows' in renderer) renderer.shadows = QUALITY[level].shadows;
   if ('scale' in renderer) renderer.scale = QUALITY[level].scale;
+  if ('sphereDepth' in renderer) renderer.sphereDepth = QUALITY[level].sphereDepth;
   app.quality = QUALITY[level].label;
 }
 

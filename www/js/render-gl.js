@@ -134,7 +134,10 @@ export class GlRenderer {
     this.gl = gl;
     this.canvas = canvas;
     this.kind = 'WebGL2';
-    this.particles = compile(gl, PARTICLE_VS, PARTICLE_FS);
+    this.particlesExact = compile(gl, PARTICLE_VS, PARTICLE_FS);
+    // Without the per-fragment sphere depth the depth test can run before shading: cheaper
+    // where there is no GPU; spheres then cut each other along flat discs.
+    this.particlesFlat = compile(gl, PARTICLE_VS, PARTICLE_FS.replace(/\n  vec4 clip = [^\n]*\n  gl_FragDepth = [^\n]*/, ''));
     this.shadowProgram = compile(gl, SHADOW_VS, SHADOW_FS);
     this.lines = compile(gl, LINE_VS, LINE_FS);
     this.marker = compile(gl, MARKER_VS, MARKER_FS);
@@ -146,6 +149,7 @@ export class GlRenderer {
     this.emptyVao = gl.createVertexArray();
     this.dim = 0;
     this.shadows = true; // contact shadows in 3D
+    this.sphereDepth = true; // write each sphere's own depth (exact intersections)
     this.scale = 1; // drawing-buffer resolution relative to the CSS size × devicePixelRatio
   }
 
@@ -251,7 +255,7 @@ export class GlRenderer {
         gl.disable(gl.BLEND);
       }
 
-      const P = this.particles;
+      const P = this.sphereDepth ? this.particlesExact : this.particlesFlat;
       gl.useProgram(P.program);
       gl.uniformMatrix4fv(P.uniforms.u_view, false, camera.view);
       gl.uniformMatrix4fv(P.uniforms.u_proj, false, camera.proj);
