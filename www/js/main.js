@@ -110,6 +110,7 @@ async function sceneText() {
 
 /// Loads the scene of `app.view`, then applies `params` ([name, value] in order).
 async function loadScene(params = []) {
+  const token = (app.loadToken = (app.loadToken || 0) + 1);
   let text;
   try {
     text = await sceneText();
@@ -118,6 +119,7 @@ async function loadScene(params = []) {
     app.view.scene = SANDBOX;
     text = sandboxScene(Number(app.view.dim));
   }
+  if (token !== app.loadToken) return; // a later choice overtook this one
   let pg;
   try {
     pg = new Playground(text);
@@ -247,7 +249,7 @@ function buildControls() {
     app.view.scene = entry ? entry.base : $('scene').value;
     if (entry && !entry.paths[app.view.dim]) app.view.dim = Object.keys(entry.paths)[0];
     app.view.size = undefined;
-    loadScene(keptParams());
+    loadScene(); // a new scene starts with its own parameters
   });
   for (const d of ['2', '3'])
     $(`dim${d}`).addEventListener('click', () => {
@@ -308,7 +310,7 @@ function buildControls() {
   });
 }
 
-/// Parameter overrides that carry over to another scene: the world and material settings.
+/// The parameters changed so far, kept when switching between the 2D and 3D versions.
 function keptParams() {
   return app.pg ? JSON.parse(app.pg.overrides()) : [];
 }
