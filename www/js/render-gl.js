@@ -10,7 +10,7 @@ const PARTICLE_VS = `#version 300 es
 layout(location = 0) in vec3 a_pos;
 layout(location = 1) in float a_val;
 uniform mat4 u_view, u_proj;
-uniform float u_radius, u_pxPerUnit;
+uniform float u_radius, u_pxPerUnit, u_maxPoint;
 uniform bool u_ortho;
 uniform int u_mode;
 uniform vec2 u_range;
@@ -24,7 +24,7 @@ void main() {
   v_centre = vp.xyz;
   gl_Position = u_proj * vp;
   float w = u_ortho ? 1.0 : max(1e-4, -vp.z);
-  gl_PointSize = clamp(2.0 * u_radius * u_pxPerUnit / w, 1.5, 256.0);
+  gl_PointSize = clamp(2.0 * u_radius * u_pxPerUnit / w, 1.5, u_maxPoint);
   if (u_mode == 0) v_colour = u_body[int(a_val + 0.5) % ${BODY_COLOURS.length}];
   else if (u_mode == 1) v_colour = u_yield[clamp(int(a_val * 2.0 + 0.5), 0, 2)];
   else v_colour = viridis((a_val - u_range.x) / max(1e-30, u_range.y - u_range.x));
@@ -57,12 +57,12 @@ void main() {
 const SHADOW_VS = `#version 300 es
 layout(location = 0) in vec3 a_pos;
 uniform mat4 u_viewProj;
-uniform float u_radius, u_pxPerUnit, u_height;
+uniform float u_radius, u_pxPerUnit, u_height, u_maxPoint;
 void main() {
   vec4 clip = u_viewProj * vec4(a_pos.x, 0.0005 * u_height, a_pos.z, 1.0);
   gl_Position = clip;
   float fade = clamp(1.0 - a_pos.y / (0.9 * u_height), 0.45, 1.0);
-  gl_PointSize = clamp(2.4 * u_radius * u_pxPerUnit * fade / max(1e-4, clip.w), 1.0, 256.0);
+  gl_PointSize = clamp(2.4 * u_radius * u_pxPerUnit * fade / max(1e-4, clip.w), 1.0, u_maxPoint);
 }`;
 
 const SHADOW_FS = `#version 300 es
@@ -148,6 +148,8 @@ export class GlRenderer {
     this.lineBuffer = gl.createBuffer();
     this.emptyVao = gl.createVertexArray();
     this.dim = 0;
+    // The largest point sprite the implementation draws (64 on some, 1024 on others).
+    this.maxPoint = gl.getParameter(gl.ALIASED_POINT_SIZE_RANGE)[1];
     this.shadows = true; // contact shadows in 3D
     this.sphereDepth = true; // write each sphere's own depth (exact intersections)
     this.scale = 1; // drawing-buffer resolution relative to the CSS size × devicePixelRatio
@@ -243,6 +245,7 @@ export class GlRenderer {
         gl.uniform1f(S.uniforms.u_radius, radius);
         gl.uniform1f(S.uniforms.u_pxPerUnit, pxPerUnit);
         gl.uniform1f(S.uniforms.u_height, this.size[1]);
+        gl.uniform1f(S.uniforms.u_maxPoint, this.maxPoint);
         gl.enable(gl.BLEND);
         gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA);
         gl.enable(gl.STENCIL_TEST);
@@ -262,6 +265,7 @@ export class GlRenderer {
       gl.uniform1f(P.uniforms.u_radius, radius);
       gl.uniform1f(P.uniforms.u_pxPerUnit, pxPerUnit);
       gl.uniform1i(P.uniforms.u_ortho, camera.orthographic ? 1 : 0);
+      gl.uniform1f(P.uniforms.u_maxPoint, this.maxPoint);
       gl.uniform1i(P.uniforms.u_mode, MODE[mode] ?? 2);
       gl.uniform2f(P.uniforms.u_range, range[0], range[1]);
       gl.uniform3fv(P.uniforms.u_body, BODY_COLOURS.flat());
