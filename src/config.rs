@@ -3,7 +3,7 @@
 //! degrees.
 
 use crate::error::{Error, Result, check_non_negative, check_positive, check_range};
-use crate::geometry::{Shape, check_vector};
+use crate::geometry::{AssetLoader, Shape, check_vector};
 use crate::kernel::KernelKind;
 use crate::material::Material;
 use serde::{Deserialize, Serialize};
@@ -86,7 +86,25 @@ pub struct BodyConfig {
     /// PIC/FLIP ratio α ∈ [0, 1]; default 0.05 for sand, 0 for solids (the paper's).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub flip: Option<f64>,
+    /// Moves each lattice particle by up to this fraction of the particle spacing along each
+    /// axis, in [0, 0.5); 0 (the default) keeps the regular lattice.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub jitter: f64,
+    /// Seed of the jitter: the same seed gives the same particles on every run.
+    #[serde(default, skip_serializing_if = "is_zero_u64")]
+    pub seed: u64,
 }
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+fn is_zero_u64(x: &u64) -> bool {
+    *x == 0
+}
+
+/// At most this many lattice points are tested when a shape is sampled (a clear error instead
+/// of an endless loop over a huge bounding box).
+pub const MAX_LATTICE_POINTS: f64 = 2.0e8;
 
 fn default_cfl() -> f64 {
     0.4
@@ -108,7 +126,16 @@ impl BodyConfig {
             velocity: None,
             particles_per_cell: default_ppc(),
             flip: None,
+            jitter: 0.0,
+            seed: 0,
         }
+    }
+    /// Jitters the lattice by up to `jitter` (in [0, 0.5)) of the particle spacing, from
+    /// `seed`.
+    pub fn with_jitter(mut self, jitter: f64, seed: u64) -> Self {
+        self.jitter = jitter;
+        self.seed = seed;
+        self
     }
     pub fn with_velocity(mut self, v: &[f64]) -> Self {
         self.velocity = Some(v.to_vec());
@@ -145,6 +172,14 @@ impl BodyConfig {
         if let Some(a) = self.flip {
             check_range(format!("{path}.flip"), a, 0.0, 1.0, false, "")?;
         }
+        check_range(
+            format!("{path}.jitter"),
+            self.jitter,
+            0.0,
+            0.5,
+            true,
+            "of the particle spacing",
+        )?;
         let b = self.shape.bounds(dim);
         for a in 0..dim {
             let tol = 1e-9 * domain[a];
@@ -157,6 +192,32 @@ impl BodyConfig {
             }
         }
         Ok(())
+    }
+
+    /// Samples the body's shape into particle positions (3 components, unused ones zero) and
+    /// the volume of each, on a lattice of `particles_per_cell` per axis and cell of
+    /// `cell_size`, jittered by `jitter` and `seed`. The body must be valid; `path` names it in
+    /// errors (a lattice too large to test).
+    pub fn sample(&self, path: &str, dim: usize, cell_size: f64) -> Result<(Vec<[f64; 3]>, f64)> {
+        let candidates = self
+            .shape
+            .lattice_candidates(dim, cell_size, self.particles_per_cell);
+        if candidates > MAX_LATTICE_POINTS {
+            return Err(Error::invalid(
+                format!("{path}.shape"),
+                format!("a shape spanning {candidates:.3e} lattice points"),
+                format!(
+                    "must span at most {MAX_LATTICE_POINTS:e} lattice points at this cell_size and particles_per_cell"
+                ),
+            ));
+        }
+        Ok(self.shape.sample_jittered(
+            dim,
+            cell_size,
+            self.particles_per_cell,
+            self.jitter,
+            self.seed,
+        ))
     }
 }
 
@@ -188,13 +249,62 @@ impl SceneConfig {
         let scene: SceneConfig = serde_path_to_error::deserialize(de).map_err(|e| {
             let path = e.path().to_string();
             let inner = e.into_inner();
-            if path == "." || path.is_empty() {
+            if path == "." || path == "?" || path.is_empty() {
                 Error::Parse(format!("scene: {inner}"))
             } else {
                 Error::Parse(format!("{path}: {inner}"))
             }
         })?;
         Ok(scene)
+    }
+
+    /// Reads a scene file: parses it, loads the meshes and vertex lists it references
+    /// (paths relative to the scene file's directory) and validates it. Errors name the file
+    /// or the field.
+    pub fn load(path: &std::path::Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+        let mut scene = Self::from_json(&text)?;
+        let dir = path
+            .parent()
+            .unwrap_or(std::path::Path::new(""))
+            .to_path_buf();
+        scene.resolve_assets(|p| {
+            let full = dir.join(p);
+            std::fs::read_to_string(&full).map_err(|e| Error::Io {
+                path: full.display().to_string(),
+                message: e.to_string(),
+            })
+        })?;
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// Every external file the scene references (meshes, vertex lists), as written in it
+    /// (relative to the scene file), in order of appearance, each once.
+    pub fn asset_paths(&self) -> Vec<String> {
+        let mut all = Vec::new();
+        for b in &self.bodies {
+            b.shape.asset_paths(&mut all);
+        }
+        let mut seen = std::collections::HashSet::new();
+        all.retain(|p| seen.insert(p.clone()));
+        all
+    }
+
+    /// Loads every external file the scene references: `read` returns a file's text given
+    /// its path as written in the scene (see [`SceneConfig::asset_paths`]); each file is read
+    /// once and parsed into the shapes, so that building the simulation needs no file access.
+    /// Errors name the field (e.g. `bodies[0].shape.mesh.path`) and the file.
+    pub fn resolve_assets(&mut self, mut read: impl FnMut(&str) -> Result<String>) -> Result<()> {
+        let mut loader = AssetLoader::new(&mut read);
+        for (i, b) in self.bodies.iter_mut().enumerate() {
+            b.shape
+                .resolve_assets(&format!("bodies[{i}].shape"), &mut loader)?;
+        }
+        Ok(())
     }
 
     /// Gravity in effect (default −9.81 m/s² along y).
@@ -237,9 +347,10 @@ impl SceneConfig {
         for (a, &s) in self.domain.size.iter().enumerate() {
             let n = s / self.cell_size;
             if (n - n.round()).abs() > 1e-6 * n.max(1.0) {
+                let tidy = |x: f64| (x * 1e9).round() / 1e9;
                 let (lo, hi) = (
-                    n.floor().max(1.0) * self.cell_size,
-                    n.ceil() * self.cell_size,
+                    tidy(n.floor().max(1.0) * self.cell_size),
+                    tidy(n.ceil() * self.cell_size),
                 );
                 return Err(Error::invalid(
                     format!("domain.size[{a}]"),

@@ -26,6 +26,8 @@ pub mod contact;
 pub mod error;
 pub mod geometry;
 pub mod grid;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod io;
 pub mod kernel;
 pub mod material;
 pub mod math;

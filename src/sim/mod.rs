@@ -219,10 +219,7 @@ impl<D: Dim> Simulation<D> {
         let i = self.bodies.len();
         let path = format!("bodies[{i}]");
         config.validate(&path, D::DIM, &self.scene.domain.size)?;
-        let (points, volume) =
-            config
-                .shape
-                .sample(D::DIM, self.scene.cell_size, config.particles_per_cell);
+        let (points, volume) = config.sample(&path, D::DIM, self.scene.cell_size)?;
         if points.is_empty() {
             return Err(Error::invalid(
                 format!("{path}.shape"),
@@ -341,6 +338,8 @@ impl<D: Dim> Simulation<D> {
             if a.shape != b.shape
                 || a.particles_per_cell != b.particles_per_cell
                 || a.velocity != b.velocity
+                || a.jitter != b.jitter
+                || a.seed != b.seed
             {
                 return Err(Error::invalid(
                     format!("bodies[{i}]"),

@@ -1,0 +1,418 @@
+//! The command line: `mpm run`, `mpm check`, `mpm play`.
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use mpm::io::{Camera, ColorBy, RenderOptions, Snapshot, Summary, ply, render};
+use mpm::{AnySimulation, Dim, Error, SceneConfig, Simulation};
+use std::fs;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::{Duration, Instant};
+
+/// Material point method playground: elastic and plastic solids and sand (Jiang et al.).
+///
+/// Scene files are JSON (see the README); units are SI, angles in degrees. Meshes and vertex
+/// lists that a scene references are read relative to the scene file.
+#[derive(Parser, Debug)]
+#[command(name = "mpm", version, propagate_version = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Run a scene for some simulated time, writing PLY + PNG frames and a JSON summary.
+    Run(RunArgs),
+    /// Validate a scene; print its particle counts, a memory estimate and the stable time step.
+    Check(CheckArgs),
+    /// Watch and steer a scene in the terminal (pause, step, reset, nudge the materials).
+    Play(PlayArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct SceneArgs {
+    /// The scene file (JSON).
+    pub scene: PathBuf,
+    /// Override the scene's cell size (m), e.g. for a quick coarse run; the domain must stay a
+    /// whole number of cells.
+    #[arg(long, value_name = "METRES", allow_negative_numbers = true)]
+    pub cell_size: Option<f64>,
+}
+
+#[derive(Args, Debug)]
+struct RunArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+    /// Simulated time to run (s).
+    #[arg(
+        long,
+        short = 't',
+        value_name = "SECONDS",
+        allow_negative_numbers = true
+    )]
+    time: f64,
+    /// Number of frames to write, evenly spaced in time, the last at the end [default: 1 when
+    /// --out is given, else 0].
+    #[arg(long, short = 'n', value_name = "N")]
+    frames: Option<u32>,
+    /// Directory for the frames (frame_NNNN.ply, frame_NNNN.png), created if missing
+    /// [default: out].
+    #[arg(long, short = 'o', value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Write the JSON summary to this file ("-" for standard output).
+    #[arg(long, value_name = "FILE")]
+    summary: Option<PathBuf>,
+    /// What the PNG colours show.
+    #[arg(long, value_enum, default_value_t = ColorArg::Body)]
+    color: ColorArg,
+    /// Camera of the PNG snapshots of 3D scenes (2D scenes are drawn orthographically).
+    #[arg(long, value_enum, default_value_t = CameraArg::Perspective)]
+    camera: CameraArg,
+    /// PNG size, WIDTHxHEIGHT in pixels.
+    #[arg(long, value_name = "WxH", default_value = "960x720", value_parser = parse_size)]
+    size: (u32, u32),
+    /// Do not write PNG snapshots.
+    #[arg(long)]
+    no_png: bool,
+    /// Do not write PLY frames.
+    #[arg(long)]
+    no_ply: bool,
+    /// No progress bar.
+    #[arg(long, short = 'q')]
+    quiet: bool,
+}
+
+#[derive(Args, Debug)]
+struct CheckArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+}
+
+#[derive(Args, Debug)]
+pub struct PlayArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Simulated seconds per real second (the view slows down when the machine cannot keep up).
+    #[arg(long, default_value_t = 0.25, value_name = "RATIO")]
+    pub speed: f64,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum ColorArg {
+    Body,
+    PlasticStrain,
+    Speed,
+    Pressure,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum CameraArg {
+    Perspective,
+    Orthographic,
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("{s:?}: expected WIDTHxHEIGHT, e.g. 960x720"))?;
+    let parse = |v: &str| -> Result<u32, String> {
+        match v.trim().parse::<u32>() {
+            Ok(n) if (16..=8192).contains(&n) => Ok(n),
+            _ => Err(format!(
+                "{v:?}: each side must be a whole number in [16, 8192]"
+            )),
+        }
+    };
+    Ok((parse(w)?, parse(h)?))
+}
+
+/// A failure to report: the message goes to stderr, the code is the exit status.
+pub struct Failure(pub String);
+
+impl From<Error> for Failure {
+    fn from(e: Error) -> Self {
+        Failure(e.to_string())
+    }
+}
+
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Run(a) => run(a),
+        Command::Check(a) => check(a),
+        Command::Play(a) => crate::play::play(a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure(msg)) => {
+            eprintln!("mpm: error: {msg}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Loads and validates a scene, applying the command-line overrides; errors name the file.
+pub fn load_scene(args: &SceneArgs) -> Result<SceneConfig, Failure> {
+    let name = args.scene.display();
+    let mut scene = SceneConfig::load(&args.scene).map_err(|e| match e {
+        Error::Io { .. } => Failure(format!("cannot read the scene file: {e}")),
+        e => Failure(format!("{name}: {e}")),
+    })?;
+    if let Some(h) = args.cell_size {
+        scene.cell_size = h;
+        scene
+            .validate()
+            .map_err(|e| Failure(format!("--cell-size: {e}")))?;
+    }
+    Ok(scene)
+}
+
+/// Builds the simulation (samples the shapes); errors name the file.
+pub fn build(scene: SceneConfig, path: &Path) -> Result<AnySimulation, Failure> {
+    AnySimulation::new(scene).map_err(|e| Failure(format!("{}: {e}", path.display())))
+}
+
+fn run(a: RunArgs) -> Result<(), Failure> {
+    mpm::error::check_positive("--time", a.time, "s")?;
+    if a.time > 1e6 {
+        return Err(Failure(format!(
+            "--time = {}: must be at most 1e6 s",
+            a.time
+        )));
+    }
+    let frames = a.frames.unwrap_or(if a.out.is_some() { 1 } else { 0 });
+    if frames > 100_000 {
+        return Err(Failure(format!(
+            "--frames = {frames}: must be at most 100000"
+        )));
+    }
+    let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out"));
+    let write_frames = frames > 0 && !(a.no_png && a.no_ply);
+    if write_frames {
+        fs::create_dir_all(&out)
+            .map_err(|e| Failure(format!("cannot create {}: {e}", out.display())))?;
+    }
+    let scene = load_scene(&a.scene)?;
+    let mut sim = build(scene, &a.scene.scene)?;
+    let render_options = RenderOptions {
+        width: a.size.0,
+        height: a.size.1,
+        camera: match a.camera {
+            CameraArg::Perspective => Camera::Perspective,
+            CameraArg::Orthographic => Camera::Orthographic,
+        },
+        color_by: match a.color {
+            ColorArg::Body => ColorBy::Body,
+            ColorArg::PlasticStrain => ColorBy::PlasticStrain,
+            ColorArg::Speed => ColorBy::Speed,
+            ColorArg::Pressure => ColorBy::Pressure,
+        },
+        ..Default::default()
+    };
+
+    let bar = if a.quiet {
+        ProgressBar::hidden()
+    } else {
+        let bar = ProgressBar::with_draw_target(
+            Some((a.time * 1e6).round() as u64),
+            ProgressDrawTarget::stderr(),
+        );
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{spinner:.green} [{elapsed_precise}] {wide_bar:.cyan/blue} {msg} ETA {eta}",
+            )
+            .expect("a valid template")
+            .progress_chars("=> "),
+        );
+        bar
+    };
+    let started = Instant::now();
+    let mut last_draw = Instant::now() - Duration::from_secs(1);
+    let segments = frames.max(1);
+    let mut result: Result<(), Failure> = Ok(());
+    'frames: for k in 1..=segments {
+        let target = a.time * k as f64 / segments as f64;
+        while sim.time() < target - 1e-12 * target.max(1.0) {
+            if let Err(e) = sim.step_at_most(target - sim.time()) {
+                result = Err(Failure(format!(
+                    "{}: the simulation stopped at t = {:.6} s: {e}",
+                    a.scene.scene.display(),
+                    sim.time()
+                )));
+                break 'frames;
+            }
+            if last_draw.elapsed() > Duration::from_millis(50) {
+                last_draw = Instant::now();
+                progress(&bar, &sim, a.time, started);
+            }
+        }
+        if write_frames
+            && k <= frames
+            && let Err(e) = write_frame(&sim, &out, k, &a, &render_options)
+        {
+            result = Err(e);
+            break;
+        }
+    }
+    progress(&bar, &sim, a.time, started);
+    bar.finish();
+    let wall = started.elapsed().as_secs_f64();
+    if let Some(path) = &a.summary {
+        let summary = Summary::of(&sim, wall);
+        let text = serde_json::to_string_pretty(&summary).expect("the summary serialises") + "\n";
+        if path.as_os_str() == "-" {
+            print!("{text}");
+        } else {
+            fs::write(path, text)
+                .map_err(|e| Failure(format!("cannot write {}: {e}", path.display())))?;
+        }
+    }
+    if !a.quiet {
+        let d = sim.diagnostics();
+        eprintln!(
+            "{} particles, {} steps to t = {:.4} s in {:.2} s ({:.0} steps/s, {:.2} M particle-steps/s)",
+            sim.particle_count(),
+            sim.steps(),
+            sim.time(),
+            wall,
+            sim.steps() as f64 / wall.max(1e-9),
+            sim.steps() as f64 * sim.particle_count() as f64 / wall.max(1e-9) / 1e6
+        );
+        eprintln!(
+            "energy: kinetic {:.4e}, gravitational {:.4e}, elastic {:.4e}, dissipated {:.4e} J{}",
+            d.kinetic,
+            d.gravitational,
+            d.elastic,
+            d.dissipated(),
+            if sim.dim() == 2 { "/m" } else { "" }
+        );
+    }
+    result
+}
+
+fn progress(bar: &ProgressBar, sim: &AnySimulation, total: f64, started: Instant) {
+    let wall = started.elapsed().as_secs_f64().max(1e-9);
+    bar.set_position((sim.time() * 1e6).round() as u64);
+    bar.set_message(format!(
+        "t = {:.3}/{:.3} s, {} steps, {:.0} steps/s",
+        sim.time(),
+        total,
+        sim.steps(),
+        sim.steps() as f64 / wall
+    ));
+}
+
+fn write_frame(
+    sim: &AnySimulation,
+    out: &Path,
+    k: u32,
+    a: &RunArgs,
+    options: &RenderOptions,
+) -> Result<(), Failure> {
+    let snap = Snapshot::of(sim);
+    let io_err =
+        |p: &Path, e: std::io::Error| Failure(format!("cannot write {}: {e}", p.display()));
+    if !a.no_ply {
+        let path = out.join(format!("frame_{k:04}.ply"));
+        let file = fs::File::create(&path).map_err(|e| io_err(&path, e))?;
+        let mut w = BufWriter::new(file);
+        ply::write(&mut w, &snap)
+            .and_then(|_| w.flush())
+            .map_err(|e| io_err(&path, e))?;
+    }
+    if !a.no_png {
+        let path = out.join(format!("frame_{k:04}.png"));
+        let file = fs::File::create(&path).map_err(|e| io_err(&path, e))?;
+        render(&snap, options)
+            .write_png(BufWriter::new(file))
+            .map_err(|e| io_err(&path, e))?;
+    }
+    Ok(())
+}
+
+fn check(a: CheckArgs) -> Result<(), Failure> {
+    let scene = load_scene(&a.scene)?;
+    let path = &a.scene.scene;
+    let sampling = Instant::now();
+    let sim = build(scene, path)?;
+    let sampling = sampling.elapsed().as_secs_f64();
+    println!("{}: valid", path.display());
+    match &sim {
+        AnySimulation::D2(s) => report(s, sampling),
+        AnySimulation::D3(s) => report(s, sampling),
+    }
+}
+
+fn report<D: Dim>(sim: &Simulation<D>, sampling: f64) -> Result<(), Failure> {
+    let scene = sim.scene();
+    let cells: Vec<String> = scene
+        .domain
+        .size
+        .iter()
+        .map(|s| format!("{}", (s / scene.cell_size).round()))
+        .collect();
+    let sizes: Vec<String> = scene.domain.size.iter().map(|s| format!("{s}")).collect();
+    println!(
+        "scene {:?}: {}D{}, domain {} m, cell {} m ({} cells), kernel {:?}",
+        scene.name,
+        D::DIM,
+        if D::DIM == 2 { " (plane strain)" } else { "" },
+        sizes.join(" × "),
+        scene.cell_size,
+        cells.join(" × "),
+        scene.kernel
+    );
+    let per_depth = if D::DIM == 2 { "/m" } else { "" };
+    for (i, (b, cfg)) in sim.bodies().iter().zip(&scene.bodies).enumerate() {
+        println!(
+            "  body {i} {:?}: {}, {} particles, mass {:.4} kg{per_depth}, wave speed {:.2} m/s, flip {}",
+            cfg.name,
+            cfg.material.kind(),
+            b.range().len(),
+            b.stats().mass,
+            b.wave_speed(),
+            cfg.flip_ratio()
+        );
+    }
+    let n = sim.particles().len();
+    println!("particles: {n} (sampled in {:.3} s)", sampling);
+    // one step on a copy allocates the grids: the memory that the run will need at first
+    let mut probe = sim.clone();
+    let step_wall = Instant::now();
+    let stepped = probe.step().map(|_| ());
+    let step_wall = step_wall.elapsed().as_secs_f64();
+    let particle_bytes = n * mpm::sim::Particles::<D>::bytes_per_particle();
+    println!(
+        "memory: about {} ({} of particles, {} of grid after the first step)",
+        bytes(probe.memory_bytes()),
+        bytes(particle_bytes),
+        bytes(probe.memory_bytes().saturating_sub(particle_bytes))
+    );
+    let dt = sim.stable_dt();
+    println!(
+        "stable dt: {dt:.4e} s (CFL {}, max_dt {} s): about {:.0} steps per simulated second",
+        scene.cfl,
+        scene.max_dt,
+        1.0 / dt
+    );
+    println!(
+        "first step: {:.1} ms ({:.2} M particle-steps/s)",
+        step_wall * 1e3,
+        n as f64 / step_wall.max(1e-9) / 1e6
+    );
+    stepped.map_err(|e| Failure(format!("the first step failed: {e}")))
+}
+
+/// A byte count in kB, MB or GB.
+fn bytes(n: usize) -> String {
+    let n = n as f64;
+    if n < 1e6 {
+        format!("{:.1} kB", n / 1e3)
+    } else if n < 1e9 {
+        format!("{:.1} MB", n / 1e6)
+    } else {
+        format!("{:.2} GB", n / 1e9)
+    }
+}

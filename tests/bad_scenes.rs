@@ -1,0 +1,376 @@
+//! A table of bad scene files: each gives one clear error that names the field path, the
+//! value and the allowed range (or the file), and never a panic.
+#![cfg(not(target_arch = "wasm32"))]
+
+use mpm::{AnySimulation, SceneConfig};
+use std::fs;
+use std::path::Path;
+
+/// A valid 2D scene with one elastic box, as JSON text; `edit` patches it.
+fn scene2(edit: impl FnOnce(&mut serde_json::Value)) -> String {
+    let mut v = serde_json::json!({
+        "name": "bad", "dim": 2, "domain": {"size": [1.0, 1.0]}, "cell_size": 0.05,
+        "bodies": [{
+            "name": "block",
+            "shape": {"box": {"min": [0.2, 0.0], "max": [0.6, 0.4]}},
+            "material": {"elastic": {"youngs_modulus": 1e5, "poisson_ratio": 0.3, "density": 1000}}
+        }]
+    });
+    edit(&mut v);
+    v.to_string()
+}
+
+/// A valid 3D scene with the bunny mesh; `edit` patches it.
+fn scene3(edit: impl FnOnce(&mut serde_json::Value)) -> String {
+    let mut v = serde_json::json!({
+        "dim": 3, "domain": {"size": [1.0, 1.0, 1.0]}, "cell_size": 0.1,
+        "bodies": [{
+            "name": "bunny",
+            "shape": {"mesh": {"path": "bunny.obj", "scale": 0.5, "translate": [0.5, 0.1, 0.5]}},
+            "material": {"drucker_prager": {"youngs_modulus": 3.5e5, "poisson_ratio": 0.3,
+                "density": 2200, "friction_angle": 35, "dilatancy_angle": 0, "cohesion": 0}}
+        }]
+    });
+    edit(&mut v);
+    v.to_string()
+}
+
+/// Loads the scene text from a file in `dir` and builds the simulation; the error message.
+fn error_of(dir: &Path, text: &str) -> String {
+    let path = dir.join("scene.json");
+    fs::write(&path, text).unwrap();
+    match SceneConfig::load(&path) {
+        Err(e) => e.to_string(),
+        Ok(scene) => match AnySimulation::new(scene) {
+            Err(e) => e.to_string(),
+            Ok(_) => String::from("(no error)"),
+        },
+    }
+}
+
+#[test]
+fn every_bad_scene_gives_the_expected_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    fs::copy(scenes.join("bunny.obj"), dir.path().join("bunny.obj")).unwrap();
+    fs::copy(scenes.join("bunny2d.txt"), dir.path().join("bunny2d.txt")).unwrap();
+    fs::write(
+        dir.path().join("broken.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n",
+    )
+    .unwrap();
+    fs::write(dir.path().join("lines.obj"), "v 0 0 0\nv 1 0 0\nl 1 2\n").unwrap();
+    fs::write(dir.path().join("broken.txt"), "0 0\n1 0\n1 one\n").unwrap();
+
+    let cases: Vec<(&str, String, &str)> = vec![
+        (
+            "unknown top-level field",
+            scene2(|v| v["gravty"] = serde_json::json!([0, -9.81])),
+            "gravty: unknown field `gravty`, expected one of",
+        ),
+        (
+            "unknown material field",
+            scene2(|v| v["bodies"][0]["material"]["elastic"]["colour"] = "red".into()),
+            "bodies[0].material.elastic.colour: unknown field `colour`",
+        ),
+        (
+            "unknown shape",
+            scene2(|v| v["bodies"][0]["shape"] = serde_json::json!({"cube": {"size": 1}})),
+            "bodies[0].shape: unknown variant `cube`, expected one of `box`, `ball`, `cylinder`, `mesh`, `polygon`",
+        ),
+        (
+            "wrong type",
+            scene2(|v| v["cell_size"] = "small".into()),
+            "cell_size: invalid type: string \"small\", expected f64",
+        ),
+        (
+            "wrong type in a vector",
+            scene2(|v| v["bodies"][0]["velocity"] = serde_json::json!([0, "fast"])),
+            "bodies[0].velocity[1]: invalid type: string \"fast\"",
+        ),
+        (
+            "malformed JSON",
+            "{\"dim\": 2, \"domain\": {\"size\": [1, 1]},".to_string(),
+            "scene: EOF while parsing a value at line 1 column 38",
+        ),
+        (
+            "Poisson ratio 0.5",
+            scene2(|v| v["bodies"][0]["material"]["elastic"]["poisson_ratio"] = 0.5.into()),
+            "bodies[0].material.elastic.poisson_ratio = 0.5: must be in [0, 0.5)",
+        ),
+        (
+            "negative Poisson ratio",
+            scene2(|v| v["bodies"][0]["material"]["elastic"]["poisson_ratio"] = (-0.1).into()),
+            "bodies[0].material.elastic.poisson_ratio = -0.1: must be in [0, 0.5)",
+        ),
+        (
+            "zero Young's modulus",
+            scene2(|v| v["bodies"][0]["material"]["elastic"]["youngs_modulus"] = 0.into()),
+            "bodies[0].material.elastic.youngs_modulus = 0: must be a finite number > 0 (Pa)",
+        ),
+        (
+            "friction angle 90°",
+            scene3(|v| v["bodies"][0]["material"]["drucker_prager"]["friction_angle"] = 90.into()),
+            "bodies[0].material.drucker_prager.friction_angle = 90: must be in [0, 90) (degrees)",
+        ),
+        (
+            "negative friction angle",
+            scene3(|v| {
+                v["bodies"][0]["material"]["drucker_prager"]["friction_angle"] = (-5).into()
+            }),
+            "bodies[0].material.drucker_prager.friction_angle = -5: must be in [0, 90) (degrees)",
+        ),
+        (
+            "negative yield stress",
+            scene2(|v| {
+                v["bodies"][0]["material"] = serde_json::json!({"von_mises": {
+                    "youngs_modulus": 1e5, "poisson_ratio": 0.3, "density": 1000, "yield_stress": -1}})
+            }),
+            "bodies[0].material.von_mises.yield_stress = -1: must be a finite number > 0 (Pa)",
+        ),
+        (
+            "cell size not positive",
+            scene2(|v| v["cell_size"] = (-0.05).into()),
+            "cell_size = -0.05: must be > 0",
+        ),
+        (
+            "domain not a whole number of cells",
+            scene2(|v| v["cell_size"] = 0.3.into()),
+            "domain.size[0] = 1: must be a whole number of cells of cell_size 0.3 (the walls lie on grid nodes), e.g. 0.9 or 1.2",
+        ),
+        (
+            "dimension 4",
+            scene2(|v| v["dim"] = 4.into()),
+            "dim = 4: must be 2 or 3",
+        ),
+        (
+            "gravity of the wrong dimension",
+            scene3(|v| v["gravity"] = serde_json::json!([0, -9.81])),
+            "gravity = [0.0, -9.81]: must have 3 components (the scene's dim)",
+        ),
+        (
+            "CFL above 1",
+            scene2(|v| v["cfl"] = 1.5.into()),
+            "cfl = 1.5: must be in [0.001, 1]",
+        ),
+        (
+            "negative wall friction",
+            scene2(|v| v["boundary"] = serde_json::json!({"friction": -0.2})),
+            "boundary.friction = -0.2: must be a finite number >= 0",
+        ),
+        (
+            "a body outside the domain",
+            scene2(|v| v["bodies"][0]["shape"]["box"]["max"] = serde_json::json!([1.2, 0.4])),
+            "bodies[0].shape = extent [0.2, 1.2] along axis 0: must lie inside the domain [0, 1]",
+        ),
+        (
+            "a mesh placed outside the domain",
+            scene3(|v| {
+                v["bodies"][0]["shape"]["mesh"]["translate"] = serde_json::json!([0.5, 0.8, 0.5])
+            }),
+            "bodies[0].shape = extent [0.8, 1.3",
+        ),
+        (
+            "an empty shape (between lattice points)",
+            scene2(|v| {
+                v["bodies"][0]["shape"] =
+                    serde_json::json!({"ball": {"center": [0.5, 0.5], "radius": 0.001}})
+            }),
+            "bodies[0].shape = a shape with no particle: must hold at least one particle",
+        ),
+        (
+            "an empty difference",
+            scene2(|v| {
+                v["bodies"][0]["shape"] = serde_json::json!({"difference": [
+                    {"box": {"min": [0.2, 0.2], "max": [0.4, 0.4]}},
+                    {"box": {"min": [0.1, 0.1], "max": [0.5, 0.5]}}]})
+            }),
+            "bodies[0].shape = a shape with no particle",
+        ),
+        (
+            "an empty union",
+            scene2(|v| v["bodies"][0]["shape"] = serde_json::json!({"union": []})),
+            "bodies[0].shape.union = []: must list at least one shape",
+        ),
+        (
+            "a bad radius deep in a union",
+            scene2(|v| {
+                v["bodies"][0]["shape"] = serde_json::json!({"union": [
+                    {"box": {"min": [0.2, 0.2], "max": [0.4, 0.4]}},
+                    {"ball": {"center": [0.5, 0.5], "radius": 0}}]})
+            }),
+            "bodies[0].shape.union[1].ball.radius = 0: must be a finite number > 0 (m)",
+        ),
+        (
+            "a missing mesh",
+            scene3(|v| v["bodies"][0]["shape"]["mesh"]["path"] = "meshes/nothere.obj".into()),
+            "bodies[0].shape.mesh.path = \"meshes/nothere.obj\": cannot read an OBJ file (",
+        ),
+        (
+            "a malformed mesh",
+            scene3(|v| v["bodies"][0]["shape"]["mesh"]["path"] = "broken.obj".into()),
+            "bodies[0].shape.mesh.path = \"broken.obj\": malformed OBJ",
+        ),
+        (
+            "a mesh without triangles",
+            scene3(|v| v["bodies"][0]["shape"]["mesh"]["path"] = "lines.obj".into()),
+            "bodies[0].shape.mesh.path = \"lines.obj\": no triangle in the file",
+        ),
+        (
+            "the scene file itself as a mesh",
+            scene3(|v| v["bodies"][0]["shape"]["mesh"]["path"] = "scene.json".into()),
+            "bodies[0].shape.mesh.path = \"scene.json\":",
+        ),
+        (
+            "a mesh in a 2D scene",
+            scene2(|v| {
+                v["bodies"][0]["shape"] =
+                    serde_json::json!({"mesh": {"path": "bunny.obj", "scale": 0.2}})
+            }),
+            "bodies[0].shape.mesh = \"bunny.obj\": a mesh needs a 3D scene",
+        ),
+        (
+            "a negative mesh scale",
+            scene3(|v| v["bodies"][0]["shape"]["mesh"]["scale"] = (-0.5).into()),
+            "bodies[0].shape.mesh.scale = -0.5: must be a finite number > 0",
+        ),
+        (
+            "a scale that is neither a number nor a list",
+            scene3(|v| v["bodies"][0]["shape"]["mesh"]["scale"] = "big".into()),
+            "bodies[0].shape.mesh.scale: a number, or a list with one number per axis",
+        ),
+        (
+            "a rotation with two angles in 3D",
+            scene3(|v| v["bodies"][0]["shape"]["mesh"]["rotate_deg"] = serde_json::json!([0, 90])),
+            "bodies[0].shape.mesh.rotate_deg = [0.0, 90.0]: must have 3 components",
+        ),
+        (
+            "a malformed vertex list",
+            scene2(|v| {
+                v["bodies"][0]["shape"] =
+                    serde_json::json!({"polygon": {"path": "broken.txt", "scale": 0.1}})
+            }),
+            "bodies[0].shape.polygon.path = \"broken.txt\": malformed vertex list: line 3 is \"1 one\"",
+        ),
+        (
+            "a missing vertex list",
+            scene2(|v| {
+                v["bodies"][0]["shape"] = serde_json::json!({"polygon": {"path": "gone.txt"}})
+            }),
+            "bodies[0].shape.polygon.path = \"gone.txt\": cannot read a vertex list file",
+        ),
+        (
+            "a polygon with both a file and points",
+            scene2(|v| {
+                v["bodies"][0]["shape"] = serde_json::json!({"polygon": {
+                    "path": "bunny2d.txt", "points": [[0.1, 0.1], [0.2, 0.1], [0.2, 0.2]]}})
+            }),
+            "bodies[0].shape.polygon = both `path` and `points`: must give exactly one",
+        ),
+        (
+            "a polygon with two points",
+            scene2(|v| {
+                v["bodies"][0]["shape"] =
+                    serde_json::json!({"polygon": {"points": [[0.1, 0.1], [0.2, 0.1]]}})
+            }),
+            "bodies[0].shape.polygon.points = 2 points: a polygon needs at least 3 vertices",
+        ),
+        (
+            "a polygon in a 3D scene",
+            scene3(|v| {
+                v["bodies"][0]["shape"] = serde_json::json!({"polygon": {
+                    "points": [[0.1, 0.1], [0.2, 0.1], [0.2, 0.2]]}})
+            }),
+            "bodies[0].shape.polygon = inline points: a polygon needs a 2D scene",
+        ),
+        (
+            "a cylinder along z in 2D",
+            scene2(|v| {
+                v["bodies"][0]["shape"] = serde_json::json!({"cylinder": {
+                    "center": [0.5, 0.5], "radius": 0.1, "height": 0.2, "axis": "z"}})
+            }),
+            "bodies[0].shape.cylinder.axis = \"z\": must be \"x\" or \"y\" in a 2D scene",
+        ),
+        (
+            "a cylinder along w",
+            scene3(|v| {
+                v["bodies"][0]["shape"] = serde_json::json!({"cylinder": {
+                    "center": [0.5, 0.5, 0.5], "radius": 0.1, "height": 0.2, "axis": "w"}})
+            }),
+            "bodies[0].shape.cylinder.axis: unknown variant `w`, expected one of `x`, `y`, `z`",
+        ),
+        (
+            "jitter of half the spacing",
+            scene2(|v| v["bodies"][0]["jitter"] = 0.5.into()),
+            "bodies[0].jitter = 0.5: must be in [0, 0.5) (of the particle spacing)",
+        ),
+        (
+            "a negative seed",
+            scene2(|v| v["bodies"][0]["seed"] = (-1).into()),
+            "bodies[0].seed: invalid value: integer `-1`, expected u64",
+        ),
+        (
+            "FLIP ratio above 1",
+            scene2(|v| v["bodies"][0]["flip"] = 1.2.into()),
+            "bodies[0].flip = 1.2: must be in [0, 1]",
+        ),
+        (
+            "no particles per cell",
+            scene2(|v| v["bodies"][0]["particles_per_cell"] = 0.into()),
+            "bodies[0].particles_per_cell = 0: must be an integer in [1, 8]",
+        ),
+        (
+            "a lattice too large to sample",
+            scene2(|v| {
+                v["domain"]["size"] = serde_json::json!([1000.0, 1000.0]);
+                v["cell_size"] = 0.01.into();
+                v["bodies"][0]["particles_per_cell"] = 8.into();
+                v["bodies"][0]["shape"]["box"]["max"] = serde_json::json!([900.0, 900.0]);
+            }),
+            "bodies[0].shape = a shape spanning",
+        ),
+        (
+            "the second body is bad",
+            scene2(|v| {
+                let mut second = v["bodies"][0].clone();
+                second["velocity"] = serde_json::json!([0.0, f64::MAX]);
+                second["material"]["elastic"]["density"] = 0.into();
+                v["bodies"].as_array_mut().unwrap().push(second);
+            }),
+            "bodies[1].material.elastic.density = 0: must be a finite number > 0",
+        ),
+    ];
+    let mut failures = Vec::new();
+    for (what, text, expected) in &cases {
+        let got = error_of(dir.path(), text);
+        if std::env::var("SHOW").is_ok() {
+            eprintln!("{got}");
+        }
+        if !got.starts_with(expected) {
+            failures.push(format!(
+                "{what}:\n  expected {expected:?}\n  got      {got:?}"
+            ));
+        }
+        assert!(!got.contains('\n'), "{what}: one line, got {got:?}");
+    }
+    assert!(failures.is_empty(), "\n{}", failures.join("\n"));
+}
+
+#[test]
+fn a_missing_scene_file_names_the_file() {
+    let e = SceneConfig::load(Path::new("/nonexistent/scene.json"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("/nonexistent/scene.json: "), "{e}");
+}
+
+#[test]
+fn unresolved_assets_are_an_error_not_a_panic() {
+    let text = scene3(|_| {});
+    let scene = SceneConfig::from_json(&text).unwrap();
+    let e = AnySimulation::new(scene).err().unwrap().to_string();
+    assert!(
+        e.starts_with("bodies[0].shape.mesh.path = \"bunny.obj\": is not loaded"),
+        "{e}"
+    );
+}

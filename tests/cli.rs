@@ -1,0 +1,344 @@
+//! The `mpm` binary on tiny scenes: `run` writes PLY frames that a PLY reader parses, PNG
+//! snapshots that the png crate decodes, and a summary with the documented fields; `check`
+//! reports counts, memory and the time step; every subcommand has `--help`; bad input gives an
+//! error on stderr and a non-zero exit.
+#![cfg(not(target_arch = "wasm32"))]
+
+use ply_rs_bw::parser::Parser;
+use ply_rs_bw::ply::{DefaultElement, Property};
+use std::fs;
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn mpm(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_mpm"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("the mpm binary runs")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+const TINY_2D: &str = r#"{
+  "name": "tiny block", "dim": 2, "domain": {"size": [1.0, 1.0]}, "cell_size": 0.05,
+  "boundary": {"friction": 0.5},
+  "bodies": [{"name": "sand",
+    "shape": {"box": {"min": [0.3, 0.6], "max": [0.6, 0.8]}},
+    "material": {"drucker_prager": {"youngs_modulus": 3.5e5, "poisson_ratio": 0.3, "density": 2200,
+                                    "friction_angle": 35, "dilatancy_angle": 0, "cohesion": 0}}}]
+}"#;
+
+const TINY_3D: &str = r#"{
+  "name": "tiny bunny", "dim": 3, "domain": {"size": [0.5, 0.5, 0.5]}, "cell_size": 0.05,
+  "bodies": [{"name": "bunny",
+    "shape": {"mesh": {"path": "meshes/bunny.obj", "scale": 0.3, "translate": [0.25, 0.1, 0.25]}},
+    "material": {"elastic": {"youngs_modulus": 1e5, "poisson_ratio": 0.3, "density": 1000}},
+    "particles_per_cell": 2}]
+}"#;
+
+fn decode_png(path: &Path) -> (u32, u32, Vec<u8>) {
+    let dec = png::Decoder::new(std::io::BufReader::new(fs::File::open(path).unwrap()));
+    let mut reader = dec.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!(info.color_type, png::ColorType::Rgb);
+    assert_eq!(info.bit_depth, png::BitDepth::Eight);
+    buf.truncate(info.buffer_size());
+    (info.width, info.height, buf)
+}
+
+fn float(p: &Property) -> f64 {
+    match p {
+        Property::Float(x) => *x as f64,
+        Property::Int(i) => *i as f64,
+        other => panic!("unexpected property {other:?}"),
+    }
+}
+
+/// Parses a PLY file with ply-rs; returns its vertices and the header length in bytes.
+fn read_ply(path: &Path) -> (Vec<DefaultElement>, usize) {
+    let bytes = fs::read(path).unwrap();
+    let header_end = bytes
+        .windows(11)
+        .position(|w| w == b"end_header\n")
+        .expect("a PLY header")
+        + 11;
+    let ply = Parser::<DefaultElement>::new()
+        .read_ply(&mut std::io::Cursor::new(&bytes))
+        .unwrap();
+    let names: Vec<&str> = ply.header.elements["vertex"]
+        .properties
+        .keys()
+        .map(|k| k.as_str())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "x",
+            "y",
+            "z",
+            "vx",
+            "vy",
+            "vz",
+            "body",
+            "plastic_strain",
+            "pressure"
+        ]
+    );
+    let vertices = ply.payload["vertex"].clone();
+    assert_eq!(
+        bytes.len(),
+        header_end + vertices.len() * 36,
+        "binary records of 36 bytes"
+    );
+    (vertices, header_end)
+}
+
+#[test]
+fn run_writes_frames_and_a_summary_2d() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::write(dir.path().join("tiny.json"), TINY_2D).unwrap();
+    let t = 0.1;
+    let out = mpm(
+        &[
+            "run",
+            "tiny.json",
+            "--time",
+            "0.1",
+            "--frames",
+            "2",
+            "--out",
+            "frames",
+            "--summary",
+            "summary.json",
+            "--size",
+            "64x48",
+            "--color",
+            "plastic-strain",
+            "-q",
+        ],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+
+    let summary: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(dir.path().join("summary.json")).unwrap())
+            .unwrap();
+    for key in [
+        "time",
+        "steps",
+        "wall_seconds",
+        "particles",
+        "nonfinite_particles",
+        "escaped_particles",
+    ] {
+        assert!(summary[key].is_number(), "summary.{key}: {summary}");
+    }
+    for key in ["kinetic", "gravitational", "elastic"] {
+        assert!(summary["energy"][key].is_number(), "summary.energy.{key}");
+    }
+    assert!((summary["time"].as_f64().unwrap() - t).abs() < 1e-9);
+    assert!(summary["steps"].as_u64().unwrap() > 10);
+    assert_eq!(summary["nonfinite_particles"], 0);
+    assert_eq!(summary["escaped_particles"], 0);
+    let n = summary["particles"].as_u64().unwrap() as usize;
+    assert_eq!(
+        n,
+        12 * 8,
+        "a 0.3 × 0.2 m box at 2 × 2 particles per 0.05 m cell"
+    );
+    let body = &summary["bodies"][0];
+    assert_eq!(body["name"], "sand");
+    assert_eq!(body["particles"].as_u64().unwrap() as usize, n);
+    for key in ["center_of_mass", "bbox_min", "bbox_max", "momentum"] {
+        assert_eq!(body[key].as_array().unwrap().len(), 2, "bodies[0].{key}");
+    }
+    assert!(body["kinetic_energy"].as_f64().unwrap() > 0.0);
+    assert!(body["max_plastic_strain"].is_number());
+    // the block fell freely (it starts 0.6 m up): g t²/2 within a time step's worth
+    let y = body["center_of_mass"][1].as_f64().unwrap();
+    let fell = 0.7 - y;
+    assert!(
+        (fell - 0.5 * 9.81 * t * t).abs() < 9.81 * t * 2e-3 + 1e-4,
+        "fell {fell} m in {t} s"
+    );
+
+    for k in 1..=2 {
+        let (w, h, rgb) = decode_png(&dir.path().join(format!("frames/frame_{k:04}.png")));
+        assert_eq!((w, h), (64, 48));
+        assert_eq!(rgb.len(), 64 * 48 * 3);
+        let background = &rgb[0..3];
+        let drawn = rgb
+            .chunks(3)
+            .filter(|p| (p[0] as i32 - background[0] as i32).abs() > 40)
+            .count();
+        assert!(drawn > 20, "frame {k}: {drawn} particle pixels");
+
+        let (vertices, _) = read_ply(&dir.path().join(format!("frames/frame_{k:04}.ply")));
+        assert_eq!(vertices.len(), n);
+        for v in &vertices {
+            let (x, y, z) = (float(&v["x"]), float(&v["y"]), float(&v["z"]));
+            assert!(
+                (0.0..=1.0).contains(&x) && (0.0..=1.0).contains(&y),
+                "({x}, {y})"
+            );
+            assert_eq!((z, float(&v["vz"])), (0.0, 0.0), "2D frames have z = 0");
+            assert_eq!(float(&v["body"]), 0.0);
+        }
+        // the last frame is the state the summary describes
+        if k == 2 {
+            let mean_y = vertices.iter().map(|v| float(&v["y"])).sum::<f64>() / n as f64;
+            assert!((mean_y - y).abs() < 1e-5, "{mean_y} vs {y}");
+            let vy = vertices.iter().map(|v| float(&v["vy"])).sum::<f64>() / n as f64;
+            assert!((vy + 9.81 * t).abs() < 0.05, "falling at {vy} m/s");
+        }
+    }
+}
+
+#[test]
+fn run_resolves_meshes_relative_to_the_scene_file_3d() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenes = dir.path().join("scenes");
+    fs::create_dir_all(scenes.join("meshes")).unwrap();
+    fs::copy(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bunny.obj"),
+        scenes.join("meshes/bunny.obj"),
+    )
+    .unwrap();
+    fs::write(scenes.join("tiny.json"), TINY_3D).unwrap();
+    // run from the directory above the scene's
+    let out = mpm(
+        &[
+            "run",
+            "scenes/tiny.json",
+            "-t",
+            "0.01",
+            "-o",
+            "out",
+            "--summary",
+            "-",
+            "--size",
+            "80x60",
+            "--camera",
+            "orthographic",
+        ],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let summary: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(summary["dim"], 3);
+    let n = summary["particles"].as_u64().unwrap() as usize;
+    // 0.2045 m³ of bunny at scale 0.3, 0.025 m particle spacing
+    let expected = 0.2045 * 0.027 / 0.025f64.powi(3);
+    assert!(
+        (n as f64 - expected).abs() < 0.15 * expected,
+        "{n} particles, about {expected:.0} expected"
+    );
+    assert_eq!(
+        summary["bodies"][0]["center_of_mass"]
+            .as_array()
+            .unwrap()
+            .len(),
+        3
+    );
+    let (w, h, _) = decode_png(&dir.path().join("out/frame_0001.png"));
+    assert_eq!((w, h), (80, 60));
+    let (vertices, _) = read_ply(&dir.path().join("out/frame_0001.ply"));
+    assert_eq!(vertices.len(), n);
+    assert!(vertices.iter().any(|v| float(&v["z"]) != 0.0));
+    assert!(text(&out.stderr).contains("particles"), "a closing report");
+}
+
+#[test]
+fn check_reports_counts_memory_and_time_step() {
+    let dir = tempfile::tempdir().unwrap();
+    // a max_dt above the CFL step, so that the CFL bound sets dt
+    let scene = TINY_2D.replace(
+        "\"cell_size\": 0.05,",
+        "\"cell_size\": 0.05, \"max_dt\": 0.01,",
+    );
+    fs::write(dir.path().join("tiny.json"), scene).unwrap();
+    let out = mpm(&["check", "tiny.json"], dir.path());
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let s = text(&out.stdout);
+    assert!(s.contains("tiny.json: valid"), "{s}");
+    assert!(s.contains("particles: 96"), "{s}");
+    assert!(s.contains("memory: about"), "{s}");
+    // dt = CFL h / c with c = √((K + 4G/3)/ρ)
+    let (e, nu, rho): (f64, f64, f64) = (3.5e5, 0.3, 2200.0);
+    let c = ((e / (3.0 * (1.0 - 2.0 * nu)) + 4.0 / 3.0 * e / (2.0 * (1.0 + nu))) / rho).sqrt();
+    let dt = 0.4 * 0.05 / c;
+    assert!(
+        s.contains(&format!("stable dt: {dt:.4e} s")),
+        "{s} (expected dt {dt:.4e})"
+    );
+}
+
+#[test]
+fn every_subcommand_has_help() {
+    let dir = tempfile::tempdir().unwrap();
+    for (args, needle) in [
+        (vec!["--help"], "run"),
+        (vec!["run", "--help"], "--time"),
+        (vec!["check", "--help"], "SCENE"),
+        (vec!["play", "--help"], "--speed"),
+        (vec!["help", "run"], "--frames"),
+    ] {
+        let out = mpm(&args, dir.path());
+        assert!(out.status.success(), "{args:?}");
+        assert!(
+            text(&out.stdout).contains(needle),
+            "{args:?}: {}",
+            text(&out.stdout)
+        );
+    }
+}
+
+#[test]
+fn errors_go_to_stderr_with_a_non_zero_exit() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::write(dir.path().join("tiny.json"), TINY_2D).unwrap();
+    fs::write(
+        dir.path().join("bad.json"),
+        TINY_2D.replace("\"poisson_ratio\": 0.3", "\"poisson_ratio\": 0.7"),
+    )
+    .unwrap();
+    for (args, needle) in [
+        (
+            vec!["run", "bad.json", "--time", "1"],
+            "mpm: error: bad.json: bodies[0].material.drucker_prager.poisson_ratio = 0.7: must be in [0, 0.5)",
+        ),
+        (vec!["check", "bad.json"], "poisson_ratio = 0.7"),
+        (
+            vec!["run", "missing.json", "--time", "1"],
+            "mpm: error: cannot read the scene file: missing.json:",
+        ),
+        (
+            vec!["run", "tiny.json", "--time", "-1"],
+            "--time = -1: must be a finite number > 0",
+        ),
+        (vec!["run", "tiny.json"], "--time"),
+        (
+            vec!["run", "tiny.json", "-t", "1", "--size", "10x10000"],
+            "[16, 8192]",
+        ),
+        (
+            vec!["check", "tiny.json", "--cell-size", "0.3"],
+            "--cell-size: domain.size[0] = 1: must be a whole number of cells",
+        ),
+        (
+            vec!["play", "tiny.json"],
+            "play needs an interactive terminal",
+        ),
+        (vec!["frobnicate"], "unrecognized subcommand"),
+    ] {
+        let out = mpm(&args, dir.path());
+        assert!(!out.status.success(), "{args:?} succeeded");
+        assert!(out.stdout.is_empty(), "{args:?}: nothing on stdout");
+        let err = text(&out.stderr);
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+}
