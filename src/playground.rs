@@ -14,11 +14,13 @@
 
 use crate::config::{BodyConfig, SceneConfig};
 use crate::error::{Error, Result};
-use crate::geometry::Shape;
+use crate::geometry::{Loaded, Polygon2, Scale, Shape, TriMesh};
 use crate::material::Material;
 use crate::math::{Dim, Real, SymTensor};
 use crate::sim::{AnySimulation, Diagnostics, Simulation};
 use serde::Serialize;
+use std::collections::HashMap;
+use std::sync::Arc;
 
 /// The world parameters the page can change, with the slider ranges it offers.
 pub const WORLD_PARAMETERS: [&str; 3] = ["gravity", "wall_friction", "cfl"];
@@ -304,9 +306,44 @@ pub fn ball_bunny(dim: usize, base: [f64; 3], height: f64) -> Shape {
     )
 }
 
+/// The shipped bunny (`scenes/bunny.obj`, `scenes/bunny2d.txt`): height 1, base on y = 0,
+/// centred on x (and z), as parsed meshes, so that dropping one needs no file access.
+#[derive(Clone, Debug, Default)]
+pub struct BunnyAssets {
+    pub mesh: Option<Arc<TriMesh>>,
+    pub polygon: Option<Arc<Polygon2>>,
+}
+
+impl BunnyAssets {
+    /// Parses the OBJ mesh and the 2D vertex list (either may be absent).
+    pub fn parse(obj: Option<&str>, polygon: Option<&str>) -> Result<Self> {
+        let bad = |path: &str, message: String| Error::Io {
+            path: path.to_string(),
+            message,
+        };
+        Ok(BunnyAssets {
+            mesh: obj
+                .map(|t| TriMesh::from_obj("bunny.obj", t).map(Arc::new))
+                .transpose()
+                .map_err(|m| bad("bunny.obj", m))?,
+            polygon: polygon
+                .map(|t| Polygon2::from_vertex_list("bunny2d.txt", t).map(Arc::new))
+                .transpose()
+                .map_err(|m| bad("bunny2d.txt", m))?,
+        })
+    }
+}
+
 /// The shape of a dropped object of kind `object` (`bunny`, `ball`, `box`) and size `size`
-/// (its height, m) with its centre at `center`.
-pub fn object_shape(object: &str, dim: usize, center: [f64; 3], size: f64) -> Result<Shape> {
+/// (its height, m) with its centre at `center`. The bunny is the shipped mesh (3D) or
+/// silhouette (2D) when `bunny` holds it, else [`ball_bunny`].
+pub fn object_shape(
+    object: &str,
+    dim: usize,
+    center: [f64; 3],
+    size: f64,
+    bunny: &BunnyAssets,
+) -> Result<Shape> {
     let h = size / 2.0;
     Ok(match object {
         "ball" => Shape::ball(&center[..dim], h),
@@ -314,7 +351,27 @@ pub fn object_shape(object: &str, dim: usize, center: [f64; 3], size: f64) -> Re
             &[center[0] - h, center[1] - h, center[2] - h][..dim],
             &[center[0] + h, center[1] + h, center[2] + h][..dim],
         ),
-        "bunny" => ball_bunny(dim, [center[0], center[1] - h, center[2]], size),
+        "bunny" => {
+            let base = [center[0], center[1] - h, center[2]];
+            match (dim, &bunny.mesh, &bunny.polygon) {
+                (3, Some(mesh), _) => Shape::Mesh {
+                    path: "bunny.obj".into(),
+                    scale: Scale::Uniform(size),
+                    rotate_deg: None,
+                    translate: Some(base.to_vec()),
+                    loaded: Loaded(Some(mesh.clone())),
+                },
+                (2, _, Some(polygon)) => Shape::Polygon {
+                    path: Some("bunny2d.txt".into()),
+                    points: None,
+                    scale: Scale::Uniform(size),
+                    rotate_deg: None,
+                    translate: Some(base[..2].to_vec()),
+                    loaded: Loaded(Some(polygon.clone())),
+                },
+                _ => ball_bunny(dim, base, size),
+            }
+        }
         _ => {
             return Err(Error::invalid(
                 "object",
@@ -323,6 +380,11 @@ pub fn object_shape(object: &str, dim: usize, center: [f64; 3], size: f64) -> Re
             ));
         }
     })
+}
+
+/// The files a scene references (meshes, vertex lists; paths relative to the scene file).
+pub fn asset_paths(scene_json: &str) -> Result<Vec<String>> {
+    Ok(SceneConfig::from_json(scene_json)?.asset_paths())
 }
 
 /// An interactive simulation with its presets, parameter overrides and colour buffer.
@@ -340,12 +402,32 @@ pub struct Playground {
     previous_plastic: Vec<Real>,
     /// Smoothed wall-clock cost of one step (ms), for predictions.
     ms_per_step: f64,
+    bunny: BunnyAssets,
 }
 
 impl Playground {
-    /// A playground over a scene given as JSON (the scene-file format).
+    /// A playground over a scene given as JSON (the scene-file format) that references no
+    /// file.
     pub fn from_json(text: &str) -> Result<Self> {
-        Self::new(SceneConfig::from_json(text)?)
+        Self::from_json_with_assets(text, &HashMap::new())
+    }
+
+    /// A playground over a scene given as JSON, with the text of each file it references
+    /// (see [`asset_paths`]) keyed by its path as written in the scene.
+    pub fn from_json_with_assets(text: &str, assets: &HashMap<String, String>) -> Result<Self> {
+        let mut scene = SceneConfig::from_json(text)?;
+        scene.resolve_assets(|path| {
+            assets.get(path).cloned().ok_or_else(|| Error::Io {
+                path: path.to_string(),
+                message: "not provided (fetch it beside the scene file)".into(),
+            })
+        })?;
+        Self::new(scene)
+    }
+
+    /// Uses the shipped bunny's mesh and silhouette for dropped bunnies.
+    pub fn set_bunny(&mut self, bunny: BunnyAssets) {
+        self.bunny = bunny;
     }
 
     /// A playground over a scene.
@@ -360,6 +442,7 @@ impl Playground {
             colour_range: [0.0, 1.0],
             previous_plastic: Vec::new(),
             ms_per_step: 0.0,
+            bunny: BunnyAssets::default(),
         };
         pg.update_colours(ColourMode::Body);
         Ok(pg)
@@ -605,7 +688,7 @@ impl Playground {
         }
         let mut c = [0.0; 3];
         c[..dim].copy_from_slice(center);
-        let shape = object_shape(object, dim, c, size)?;
+        let shape = object_shape(object, dim, c, size, &self.bunny)?;
         // Keep the object one cell inside the walls.
         let b = shape.bounds(dim);
         for a in 0..dim {
@@ -613,7 +696,7 @@ impl Playground {
             let hi = domain[a] - h - b.max[a];
             c[a] += lo.max(0.0) + hi.min(0.0);
         }
-        let shape = object_shape(object, dim, c, size)?;
+        let shape = object_shape(object, dim, c, size, &self.bunny)?;
         let mut body = BodyConfig::new(object, shape, self.presets.materials[m].clone())
             .with_velocity(velocity);
         body.flip = self.presets.flip[m];
@@ -639,6 +722,7 @@ impl Playground {
             let _ = next.set_parameter(name, *value);
         }
         next.ms_per_step = self.ms_per_step;
+        next.bunny = std::mem::take(&mut self.bunny);
         *self = next;
         Ok(())
     }
@@ -1034,6 +1118,66 @@ mod tests {
             assert!(e.starts_with("size = 5: must be in"), "{e}");
             pg.clear();
             assert_eq!(pg.particle_count(), 0);
+        }
+    }
+
+    fn read(path: &str) -> String {
+        std::fs::read_to_string(format!("{}/{path}", env!("CARGO_MANIFEST_DIR"))).unwrap()
+    }
+
+    #[test]
+    fn shipped_scenes_load_with_their_assets_and_the_real_bunny_drops() {
+        let mut names: Vec<String> =
+            std::fs::read_dir(format!("{}/scenes", env!("CARGO_MANIFEST_DIR")))
+                .unwrap()
+                .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+                .filter(|n| n.ends_with(".json"))
+                .collect();
+        names.sort();
+        assert!(names.len() >= 10, "{names:?}");
+        let bunny = BunnyAssets::parse(
+            Some(&read("scenes/bunny.obj")),
+            Some(&read("scenes/bunny2d.txt")),
+        )
+        .unwrap();
+        for name in names {
+            let text = read(&format!("scenes/{name}"));
+            let assets: HashMap<String, String> = asset_paths(&text)
+                .unwrap()
+                .into_iter()
+                .map(|p| {
+                    let t = read(&format!("scenes/{p}"));
+                    (p, t)
+                })
+                .collect();
+            if !assets.is_empty() {
+                let e = Playground::from_json(&text).unwrap_err().to_string();
+                assert!(e.contains("not provided"), "{name}: {e}");
+            }
+            let mut pg = Playground::from_json_with_assets(&text, &assets).unwrap();
+            pg.set_bunny(bunny.clone());
+            let (n, dim) = (pg.particle_count(), pg.dim());
+            let size = 0.2;
+            let c = [0.3, 0.7, 0.3];
+            pg.add_object("bunny", "elastic", &c[..dim], &[0.0; 3][..dim], size)
+                .unwrap();
+            // The real bunny: its volume is 0.2045 h³ in 3D, the silhouette's area in 2D.
+            let added = (pg.particle_count() - n) as f64;
+            let per_particle = (pg.scene().cell_size / 2.0).powi(dim as i32);
+            let measure = added * per_particle / size.powi(dim as i32);
+            let want = if dim == 3 {
+                0.2045
+            } else {
+                bunny.polygon.as_ref().unwrap().area()
+            };
+            assert!(
+                (measure / want - 1.0).abs() < 0.15,
+                "{name}: bunny measure {measure}, want {want}"
+            );
+            pg.frame(0.003, 1e9, clock()).unwrap();
+            assert!(pg.failure().is_none());
+            pg.reset().unwrap();
+            assert_eq!(pg.particle_count(), n, "{name}: reset restores the scene");
         }
     }
 

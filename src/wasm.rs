@@ -4,7 +4,8 @@
 //! and colours are read in place through pointers into wasm memory (JS builds
 //! `new Float32Array(memory.buffer, ptr, len)` views after each call that may grow memory).
 
-use crate::playground::{ColourMode, Playground as Core};
+use crate::playground::{BunnyAssets, ColourMode, Playground as Core};
+use std::collections::HashMap;
 use wasm_bindgen::prelude::*;
 
 // The page reads positions as f32: the wasm build must keep the default precision.
@@ -37,6 +38,13 @@ pub fn sandbox_scene(dim: usize) -> String {
     json(&Core::sandbox_scene(dim))
 }
 
+/// The files a scene references (meshes, vertex lists), as written in it: relative to the
+/// scene file. Fetch each and pass their texts to the `Playground` constructor.
+#[wasm_bindgen(js_name = assetPaths)]
+pub fn asset_paths(scene_json: &str) -> Result<Vec<String>, JsError> {
+    crate::playground::asset_paths(scene_json).map_err(js_err)
+}
+
 /// A simulation with its presets, live parameters and render buffers.
 #[wasm_bindgen]
 pub struct Playground {
@@ -46,13 +54,33 @@ pub struct Playground {
 
 #[wasm_bindgen]
 impl Playground {
-    /// Builds a playground from scene JSON (the scene-file format of the CLI).
+    /// Builds a playground from scene JSON (the scene-file format of the CLI) and, when the
+    /// scene references files (see `assetPaths`), a JSON object of their texts keyed by the
+    /// paths as written in the scene.
     #[wasm_bindgen(constructor)]
-    pub fn new(scene_json: &str) -> Result<Playground, JsError> {
+    pub fn new(scene_json: &str, assets_json: Option<String>) -> Result<Playground, JsError> {
+        let assets: HashMap<String, String> = match assets_json {
+            Some(text) => serde_json::from_str(&text)
+                .map_err(|e| js_err(format!("assets: {e} (want {{\"path\": \"text\"}})")))?,
+            None => HashMap::new(),
+        };
         Ok(Playground {
-            core: Core::from_json(scene_json).map_err(js_err)?,
+            core: Core::from_json_with_assets(scene_json, &assets).map_err(js_err)?,
             colour: ColourMode::Body,
         })
+    }
+
+    /// Dropped bunnies use the shipped mesh (`scenes/bunny.obj`, 3D) and silhouette
+    /// (`scenes/bunny2d.txt`, 2D) given as text; without them, a bunny made of balls.
+    #[wasm_bindgen(js_name = setBunny)]
+    pub fn set_bunny(
+        &mut self,
+        obj: Option<String>,
+        polygon: Option<String>,
+    ) -> Result<(), JsError> {
+        let bunny = BunnyAssets::parse(obj.as_deref(), polygon.as_deref()).map_err(js_err)?;
+        self.core.set_bunny(bunny);
+        Ok(())
     }
 
     pub fn dim(&self) -> usize {

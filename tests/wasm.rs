@@ -61,9 +61,26 @@ fn diag(pg: &Playground) -> Diag {
 fn every_scene_steps_with_finite_bounded_energy() {
     let mut files = scene_files("scenes");
     files.extend(scene_files("www/test-scenes"));
-    assert!(files.len() >= 3, "found {files:?}");
+    assert!(files.len() >= 13, "found {files:?}");
+    assert!(
+        files
+            .iter()
+            .any(|(p, _)| p == "scenes/bunny_on_sand_ball_3d.json")
+    );
     for (path, text) in files {
-        let mut pg = Playground::new(&text).unwrap_or_else(|e| panic!("{path}: {}", message(e)));
+        // Files the scene references (the bunny mesh, …), relative to the scene file.
+        let dir = &path[..path.rfind('/').unwrap()];
+        let assets: serde_json::Map<String, serde_json::Value> = mpm::wasm::asset_paths(&text)
+            .unwrap_or_else(|e| panic!("{path}: {}", message(e)))
+            .into_iter()
+            .map(|a| {
+                let t = read_file_sync(&format!("{ROOT}/{dir}/{a}"), "utf8").expect("asset");
+                (a, serde_json::Value::String(t))
+            })
+            .collect();
+        let assets = (!assets.is_empty()).then(|| serde_json::Value::Object(assets).to_string());
+        let mut pg =
+            Playground::new(&text, assets).unwrap_or_else(|e| panic!("{path}: {}", message(e)));
         assert!(pg.particle_count() > 0, "{path}");
         let d0 = diag(&pg);
         let e0 = d0.kinetic + d0.gravitational + d0.elastic;
@@ -102,6 +119,19 @@ fn every_scene_steps_with_finite_bounded_energy() {
             "{path}: {report}"
         );
     }
+}
+
+#[wasm_bindgen_test]
+fn a_missing_asset_is_named() {
+    let text = read_file_sync(&format!("{ROOT}/scenes/elastic_bunny_3d.json"), "utf8").unwrap();
+    assert_eq!(
+        mpm::wasm::asset_paths(&text).unwrap(),
+        vec!["bunny.obj".to_string()]
+    );
+    let e = message(Playground::new(&text, None).err().unwrap());
+    assert!(e.contains("bunny.obj"), "{e}");
+    let e = message(Playground::new(&text, Some("[1, 2]".into())).err().unwrap());
+    assert!(e.starts_with("assets: "), "{e}");
 }
 
 /// A valid and an invalid value of every live parameter, and the error's start.
@@ -198,7 +228,7 @@ fn every_live_parameter_is_validated_with_the_state_unchanged() {
     for dim in [2, 3] {
         let text =
             read_file_sync(&format!("{ROOT}/www/test-scenes/drop_{dim}d.json"), "utf8").unwrap();
-        let mut pg = Playground::new(&text).unwrap();
+        let mut pg = Playground::new(&text, None).unwrap();
         pg.frame(0.01, 1e9).unwrap();
         for &(name, good, bad, error) in PARAMETERS {
             pg.set_parameter(name, good)
@@ -230,8 +260,13 @@ fn every_live_parameter_is_validated_with_the_state_unchanged() {
 #[wasm_bindgen_test]
 fn bodies_are_added_and_cleared() {
     for dim in [2usize, 3] {
-        let mut pg = Playground::new(&mpm::wasm::sandbox_scene(dim)).unwrap();
+        let mut pg = Playground::new(&mpm::wasm::sandbox_scene(dim), None).unwrap();
         assert_eq!(pg.particle_count(), 0);
+        let obj = read_file_sync(&format!("{ROOT}/scenes/bunny.obj"), "utf8").unwrap();
+        let polygon = read_file_sync(&format!("{ROOT}/scenes/bunny2d.txt"), "utf8").unwrap();
+        let e = message(pg.set_bunny(Some("v 0 0".into()), None).unwrap_err());
+        assert!(e.starts_with("bunny.obj: "), "{e}");
+        pg.set_bunny(Some(obj), Some(polygon)).unwrap();
         pg.frame(1.0 / 60.0, 1e9).unwrap();
         let mut last = 0;
         for (object, model) in [

@@ -14,7 +14,13 @@ const steps = Number(stepsArg);
 const wasm = await import(new URL('www/pkg/mpm.js', `file://${root}`));
 wasm.initSync({ module: readFileSync(`${root}www/pkg/mpm_bg.wasm`) });
 
-const pg = new wasm.Playground(readFileSync(`${root}${path}`, 'utf8'));
+const text = readFileSync(`${root}${path}`, 'utf8');
+const dir = path.slice(0, path.lastIndexOf('/') + 1);
+const files = wasm.assetPaths(text);
+const assets = files.length
+  ? JSON.stringify(Object.fromEntries(files.map((f) => [f, readFileSync(`${root}${dir}${f}`, 'utf8')])))
+  : undefined;
+const pg = new wasm.Playground(text, assets);
 // Warm up: V8 first runs wasm in its baseline compiler (Liftoff) and tiers hot functions up
 // to TurboFan; a step-sized function needs a few dozen calls before it is tiered up.
 const warm = performance.now();

@@ -2,7 +2,7 @@
 // (simulate within a wall-clock budget, render from views into wasm memory, update the HUD
 // and the teaching plots). Every parameter goes through the solver's own validation.
 
-import init, { Playground, sandboxScene } from '../pkg/mpm.js';
+import init, { Playground, assetPaths, sandboxScene } from '../pkg/mpm.js';
 import { Camera } from './camera.js';
 import { GlRenderer } from './render-gl.js';
 import { CanvasRenderer } from './render-2d.js';
@@ -98,35 +98,57 @@ function sceneEntry() {
   return app.scenes.find((s) => s.base === app.view.scene);
 }
 
-async function sceneText() {
+/// The scene's JSON and the texts of the files it references (or null when none).
+async function sceneSource() {
   const key = app.view.scene;
-  if (key === SANDBOX) return sandboxScene(Number(app.view.dim));
+  if (key === SANDBOX) return { text: sandboxScene(Number(app.view.dim)), assets: null };
   const path = key.endsWith('.json') ? key : sceneEntry()?.paths[app.view.dim];
   if (!path) throw new Error(`no ${app.view.dim}D version of scene “${key}”`);
-  const r = await fetch(path, { cache: 'no-cache' });
-  if (!r.ok) throw new Error(`${path}: ${r.status} ${r.statusText}`);
+  const text = await fetchText(path);
+  const base = new URL(path, location.href);
+  const files = assetPaths(text);
+  if (!files.length) return { text, assets: null };
+  const texts = await Promise.all(files.map((f) => fetchText(new URL(f, base).href)));
+  return { text, assets: JSON.stringify(Object.fromEntries(files.map((f, i) => [f, texts[i]]))) };
+}
+
+async function fetchText(url) {
+  const r = await fetch(url, { cache: 'no-cache' });
+  if (!r.ok) throw new Error(`${url}: ${r.status} ${r.statusText}`);
   return r.text();
+}
+
+/// The shipped bunny for the drop tool (mesh in 3D, silhouette in 2D); without these files
+/// the solver builds a bunny out of balls.
+async function loadBunny() {
+  const get = (f) => fetchText(`scenes/${f}`).catch(() => undefined);
+  [app.bunnyObj, app.bunnyPolygon] = await Promise.all([get('bunny.obj'), get('bunny2d.txt')]);
 }
 
 /// Loads the scene of `app.view`, then applies `params` ([name, value] in order).
 async function loadScene(params = []) {
   const token = (app.loadToken = (app.loadToken || 0) + 1);
-  let text;
+  let source;
   try {
-    text = await sceneText();
+    source = await sceneSource();
   } catch (e) {
     toast(`Cannot load the scene: ${e.message}. Showing the sandbox.`);
     app.view.scene = SANDBOX;
-    text = sandboxScene(Number(app.view.dim));
+    source = { text: sandboxScene(Number(app.view.dim)), assets: null };
   }
   if (token !== app.loadToken) return; // a later choice overtook this one
   let pg;
   try {
-    pg = new Playground(text);
+    pg = new Playground(source.text, source.assets ?? undefined);
   } catch (e) {
     toast(`The scene is invalid: ${e.message}`);
     app.view.scene = SANDBOX;
     pg = new Playground(sandboxScene(Number(app.view.dim)));
+  }
+  try {
+    pg.setBunny(app.bunnyObj, app.bunnyPolygon);
+  } catch (e) {
+    console.warn(`the shipped bunny did not load (${e.message}); dropping a bunny made of balls`);
   }
   app.pg?.free();
   app.pg = pg;
@@ -684,7 +706,7 @@ async function main() {
     banner('failed', 'bad', `The solver did not load (${e.message}). Build it first: cargo xtask build (or cargo xtask serve).`);
     return;
   }
-  await loadSceneList();
+  await Promise.all([loadSceneList(), loadBunny()]);
   const { view, params } = readHash();
   if (!location.hash) {
     // First visit: a scene with sand, if the scene list has one.

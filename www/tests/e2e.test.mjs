@@ -57,23 +57,27 @@ async function viewShot(page, path) {
   return pixelStats(decodePng(buf));
 }
 
-test('3D: frames run, a click drops a bunny, the friction slider changes the sand and the link', async () => {
-  const { page, errors } = await open('#scene=sandbox&dim=3');
+test('3D: the default scene runs, a click drops a bunny, the friction slider changes the sand and the link', async () => {
+  const { page, errors } = await open('');
   const s0 = await stats(page);
   assert.equal(s0.renderer, 'WebGL2');
-  // Drop a sand ball first so that there is sand for the slider to act on.
-  await page.click('#objects button[data-id="ball"]');
-  await page.click('#materials button[data-id="drucker_prager"]');
-  let [x, y] = await screenOf(page, 0.6, 0, 0.5);
-  await page.mouse.click(x, y);
-  // Then an elastic bunny.
+  // The picker lists every scene in scenes/ (2D and 3D files paired) and the sandbox.
+  const options = await page.$$eval('#scene option', (o) => o.map((x) => x.value));
+  for (const base of ['bunny_on_sand_ball', 'column_collapse', 'elastic_bunny', 'notched_sand_block', 'plastic_bunny', 'sandbox'])
+    assert.ok(options.includes(base), `${base} in ${options}`);
+  assert.equal(await page.inputValue('#scene'), 'bunny_on_sand_ball', 'a sand scene by default');
+  assert.ok(s0.particles > 10_000 && s0.bodies === 2, JSON.stringify(s0));
+  // Drop an elastic bunny (the shipped mesh) by clicking on the floor.
   await page.click('#objects button[data-id="bunny"]');
   await page.click('#materials button[data-id="elastic"]');
-  [x, y] = await screenOf(page, 1.4, 0, 0.5);
+  const size = await page.evaluate(() => JSON.parse(mpm.pg.sceneJson()).domain.size);
+  let [x, y] = await screenOf(page, 0.8 * size[0], 0, 0.5 * size[2]);
   await page.mouse.click(x, y);
   const s1 = await stats(page);
-  assert.equal(s1.bodies, 2, 'two bodies dropped');
-  assert.ok(s1.particles > s0.particles + 1000, `particle count grew: ${s0.particles} → ${s1.particles}`);
+  assert.equal(s1.bodies, 3, 'a body dropped');
+  assert.ok(s1.particles > s0.particles + 500, `particle count grew: ${s0.particles} → ${s1.particles}`);
+  const shape = await page.evaluate(() => JSON.parse(mpm.pg.sceneJson()).bodies[2].shape);
+  assert.ok('mesh' in shape, `the dropped bunny is the mesh: ${JSON.stringify(shape).slice(0, 80)}`);
   await page.waitForFunction((t) => mpm.pg.time() > t + 0.02, s1.time, { timeout: 60_000 });
 
   // Move the friction-angle slider of the sand.
@@ -104,11 +108,12 @@ test('3D: frames run, a click drops a bunny, the friction slider changes the san
 
   // Inspect a particle: the p–q plot follows it.
   await page.click('#tool-inspect');
-  [x, y] = await screenOf(page, 0.6, 0.05, 0.5);
+  [x, y] = await screenOf(page, 0.5 * size[0], 0.02, 0.5 * size[2]);
   const picked = await page.evaluate(() => mpm.probeId);
   await page.mouse.click(x, y);
   await page.waitForFunction(() => mpm.probeId !== null, null, { timeout: 10_000 }).catch(() => {});
   assert.notEqual(await page.evaluate(() => mpm.probeId), picked, 'a particle was picked');
+  await page.waitForFunction(() => /drucker prager/.test(document.getElementById('pq-note').textContent), null, { timeout: 20_000 });
 
   const px = await viewShot(page, join(OUT, 'view-3d.png'));
   if ((await page.getAttribute('#toggle-plots', 'aria-pressed')) === 'false') await page.click('#toggle-plots');
