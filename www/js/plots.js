@@ -51,7 +51,7 @@ function axes(ctx, box, xr, yr, xlabel, ylabel, fmtX, fmtY) {
   ctx.font = '12px system-ui, sans-serif';
   ctx.fillText(xlabel, (x0 + x1) / 2, y1 + 17);
   ctx.save();
-  ctx.translate(11, (y0 + y1) / 2);
+  ctx.translate(10, (y0 + y1) / 2);
   ctx.rotate(-Math.PI / 2);
   ctx.textBaseline = 'middle';
   ctx.fillText(ylabel, 0, 0);
@@ -100,7 +100,7 @@ export class EnergyPlot {
 
   draw(unit) {
     const { ctx, w, h } = setup(this.canvas);
-    const box = { x0: 52, y0: 8, x1: w - 8, y1: h - 34 };
+    const box = { x0: 60, y0: 8, x1: w - 10, y1: h - 34 };
     const S = this.samples;
     if (S.length < 2) {
       ctx.fillStyle = '#5b6577';
@@ -161,19 +161,24 @@ export class StressPlot {
       ctx.fillText('to follow its stress path', w / 2, h / 2 + 10);
       return;
     }
-    const k = 1e-3; // Pa → kPa
+    // kPa, or Pa when the stresses are small (a particle near a free surface).
+    let big = Math.abs(sp.intercept) >= 1e3;
+    for (const [p, q] of this.path) big ||= Math.max(Math.abs(p), q) >= 1e3;
+    const k = big ? 1e-3 : 1;
+    const unit = big ? 'kPa' : 'Pa';
     let pMax = 0, qMax = 0, pMin = 0;
     for (const [p, q] of this.path) { pMax = Math.max(pMax, p * k); pMin = Math.min(pMin, p * k); qMax = Math.max(qMax, q * k); }
     if (sp.surface === 'von_mises') qMax = Math.max(qMax, sp.intercept * k);
     if (sp.surface === 'drucker_prager') {
       pMin = Math.min(pMin, Math.max(sp.apex_p * k, -0.25 * (pMax || 1)));
-      qMax = Math.max(qMax, (sp.slope * pMax + sp.intercept) * k);
+      qMax = Math.max(qMax, sp.slope * pMax + sp.intercept * k);
     }
-    pMax = Math.max(pMax * 1.15, 1e-3);
-    qMax = Math.max(qMax * 1.15, 1e-3);
+    pMax = Math.max(pMax * 1.15, big ? 0.1 : 10);
+    qMax = Math.max(qMax * 1.15, big ? 0.1 : 10);
     pMin = pMin < 0 ? pMin * 1.15 : 0;
-    const box = { x0: 52, y0: 8, x1: w - 8, y1: h - 34 };
-    axes(ctx, box, [pMin, pMax], [0, qMax], 'pressure p (kPa)', 'q (kPa)', (v) => `${+v.toPrecision(3)}`, (v) => `${+v.toPrecision(3)}`);
+    const box = { x0: 60, y0: 8, x1: w - 10, y1: h - 34 };
+    const tick = (v) => `${+v.toPrecision(3)}`;
+    axes(ctx, box, [pMin, pMax], [0, qMax], `pressure p (${unit})`, `q = √(3 J₂) (${unit})`, tick, tick);
     const X = (p) => box.x0 + ((p - pMin) / (pMax - pMin)) * (box.x1 - box.x0);
     const Y = (q) => box.y1 - (q / qMax) * (box.y1 - box.y0);
     // The yield surface, with the inadmissible side shaded.
