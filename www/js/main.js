@@ -179,6 +179,7 @@ async function loadScene(params = []) {
   energyPlot.restart();
   banner('failed');
   banner('slow');
+  banner('cfl');
   pg.setColourMode(app.view.colour);
   buildDropControls();
   syncControls();
@@ -206,16 +207,16 @@ function applyParam(name, value) {
 /// Says so when a value makes the simulation run in slow motion or near its stability limit.
 function warnCost(name, value, p, before) {
   const s = spec(name);
-  const msgs = [];
   const slower = p.substeps_per_frame > 1.5 * before.substeps_per_frame;
   if (p.valid && slower && p.realtime_ratio > 0 && p.realtime_ratio < 0.25) {
-    msgs.push(`${s.label} ${format(value, s.unit)} needs ${Math.round(p.substeps_per_frame)} steps per frame ` +
+    banner('slow', 'warn', `${s.label} ${format(value, s.unit)} needs ${Math.round(p.substeps_per_frame)} steps per frame ` +
       `(time step ${formatTime(p.stable_dt)}): expect slow motion, about ${(100 * p.realtime_ratio).toPrecision(2)} % of real time. ` +
       'Each frame stops at its time budget, so the page stays responsive.');
-  }
+  } else if (!(p.realtime_ratio > 0 && p.realtime_ratio < 0.25)) banner('slow'); // fast enough again
   const cfl = app.pg.parameter('cfl');
-  if (cfl > 0.6) msgs.push(`CFL number ${cfl}: steps this close to the stability limit can make fast impacts jitter or blow up; 0.3–0.5 is safe.`);
-  if (msgs.length || p.substeps_per_frame < before.substeps_per_frame || name === 'cfl') banner('slow', 'warn', msgs.join(' '));
+  banner('cfl', 'warn', cfl > 0.6
+    ? `CFL number ${cfl}: steps this close to the stability limit can make fast impacts jitter or blow up; 0.3–0.5 is safe.`
+    : '');
 }
 
 function syncControls() {
