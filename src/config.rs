@@ -93,6 +93,16 @@ pub struct BodyConfig {
     /// Seed of the jitter: the same seed gives the same particles on every run.
     #[serde(default, skip_serializing_if = "is_zero_u64")]
     pub seed: u64,
+    /// A kinematic body keeps its initial velocity whatever acts on it (a piston, a moving
+    /// plate, a fixed obstacle when the velocity is zero): it carries no stress, ignores gravity
+    /// and the walls (it only stays inside the domain), and the bodies it touches feel it as
+    /// infinitely heavy. The force they exert on it is its `contact_force`.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub kinematic: bool,
+}
+
+fn is_false(x: &bool) -> bool {
+    !*x
 }
 
 fn is_zero(x: &f64) -> bool {
@@ -128,7 +138,13 @@ impl BodyConfig {
             flip: None,
             jitter: 0.0,
             seed: 0,
+            kinematic: false,
         }
+    }
+    /// Makes the body kinematic: it moves at its initial velocity whatever acts on it.
+    pub fn kinematic(mut self) -> Self {
+        self.kinematic = true;
+        self
     }
     /// Jitters the lattice by up to `jitter` (in [0, 0.5)) of the particle spacing, from
     /// `seed`.

@@ -89,6 +89,10 @@ pub struct Body<D: Dim> {
     min_mass: Real,
     /// Half the particle spacing: how far a particle's material reaches (for the walls).
     radius: Real,
+    /// Moves at its initial velocity whatever acts on it (see [`BodyConfig::kinematic`]).
+    kinematic: bool,
+    /// Momentum received through contact in the current step.
+    contact_impulse: [f64; 3],
 }
 
 impl<D: Dim> Body<D> {
@@ -104,8 +108,12 @@ impl<D: Dim> Body<D> {
     pub fn grid(&self) -> &Grid<D> {
         &self.grid
     }
-    /// The dilatational wave speed √((K + 4G/3)/ρ) at the body's lowest density (m/s).
+    /// The dilatational wave speed √((K + 4G/3)/ρ) at the body's lowest density (m/s); zero for
+    /// a kinematic body, which carries no stress.
     pub fn wave_speed(&self) -> f64 {
+        if self.kinematic {
+            return 0.0;
+        }
         let (g, k) = self.model.moduli();
         ((k + 4.0 * g / 3.0) as f64 * self.max_volume as f64 / self.min_mass as f64).sqrt()
     }
@@ -260,6 +268,8 @@ impl<D: Dim> Simulation<D> {
             max_volume: volume as Real,
             min_mass: mass,
             radius,
+            kinematic: config.kinematic,
+            contact_impulse: [0.0; 3],
         });
         self.scene.bodies.push(config);
         self.refresh_diagnostics();
@@ -340,6 +350,7 @@ impl<D: Dim> Simulation<D> {
                 || a.velocity != b.velocity
                 || a.jitter != b.jitter
                 || a.seed != b.seed
+                || a.kinematic != b.kinematic
             {
                 return Err(Error::invalid(
                     format!("bodies[{i}]"),
@@ -438,6 +449,9 @@ impl<D: Dim> Simulation<D> {
         if let Some(e) = &self.failed {
             return Err(e.clone());
         }
+        if limit.is_nan() || limit <= 0.0 {
+            return Err(Error::invalid("step limit", limit, "must be > 0 (s)"));
+        }
         let dt = self.stable_dt().min(limit);
         let on = self.timings.is_some();
         let mut t = [clock(on); 8];
@@ -527,6 +541,10 @@ impl<D: Dim> Simulation<D> {
         let p = &mut self.particles;
         let mut reports = Vec::with_capacity(self.bodies.len());
         for body in &mut self.bodies {
+            if body.kinematic {
+                reports.push(StressReport::default());
+                continue;
+            }
             let r = body.range.clone();
             let state = StressState {
                 x: &p.x[r.clone()],
@@ -547,29 +565,44 @@ impl<D: Dim> Simulation<D> {
     /// Step 4 on the grid: forces and gravity.
     fn grid_forces(&mut self, dt: Real) {
         for body in &mut self.bodies {
-            passes::grid_forces(&mut body.grid, self.world.gravity, dt);
+            if body.kinematic {
+                passes::hold_velocities(&mut body.grid);
+            } else {
+                passes::grid_forces(&mut body.grid, self.world.gravity, dt);
+            }
         }
     }
 
     /// Step 5 between bodies: Eq. 20–21 at the nodes they share.
     fn resolve_contacts(&mut self) {
+        for body in &mut self.bodies {
+            body.contact_impulse = [0.0; 3];
+        }
         for pair in &self.contacts {
             let (left, right) = self.bodies.split_at_mut(pair.b);
-            let d = contact::resolve(
-                &mut left[pair.a].grid,
-                &mut right[0].grid,
+            let (a, b) = (&mut left[pair.a], &mut right[0]);
+            let r = contact::resolve(
+                &mut a.grid,
+                &mut b.grid,
                 &pair.blocks,
                 self.world.contact,
+                (a.kinematic, b.kinematic),
             );
-            self.diagnostics.dissipated_contact += d;
+            self.diagnostics.dissipated_contact += r.dissipated;
+            for k in 0..3 {
+                a.contact_impulse[k] += r.impulse_on_a[k];
+                b.contact_impulse[k] -= r.impulse_on_a[k];
+            }
         }
     }
 
     /// Step 5 at the walls; then the halos take the final grid velocities.
     fn apply_walls(&mut self) {
         for body in &mut self.bodies {
-            self.diagnostics.dissipated_boundary +=
-                passes::grid_walls(&mut body.grid, &self.world.walls);
+            if !body.kinematic {
+                self.diagnostics.dissipated_boundary +=
+                    passes::grid_walls(&mut body.grid, &self.world.walls);
+            }
             passes::fill_new_velocities(&mut body.grid);
         }
     }
@@ -587,11 +620,13 @@ impl<D: Dim> Simulation<D> {
                 mass: &p.mass[r.clone()],
                 plastic_strain: &p.plastic_strain[r],
             };
-            reports.push(
+            reports.push(if body.kinematic {
+                passes::advect_kinematic(state, dt, &w.walls, body.radius, w.gravity)
+            } else {
                 with_kernel!(w.kernel, K, S => passes::gather_and_advect::<D, K, S>(
                     &body.grid, state, body.flip, dt, w.inv_h, &w.walls, body.radius, w.gravity,
-                )),
-            );
+                ))
+            });
         }
         reports
     }
@@ -620,6 +655,9 @@ impl<D: Dim> Simulation<D> {
             body.stats.dissipated_plastic += s.dissipated;
             body.stats.elastic = s.elastic;
             set_body_stats::<D>(&mut body.stats, g, body.range.len());
+            body.stats.contact_force = body
+                .contact_impulse
+                .map(|j| if dt > 0.0 { j / dt } else { 0.0 });
             kinetic += g.kinetic;
             grav += g.gravitational;
             elastic += s.elastic;

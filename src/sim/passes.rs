@@ -174,6 +174,13 @@ pub fn grid_forces<D: Dim>(grid: &mut Grid<D>, gravity: D::Vector, dt: Real) {
     }
 }
 
+/// Step 4 for a kinematic body: its grid velocities stay those its particles brought.
+pub fn hold_velocities<D: Dim>(grid: &mut Grid<D>) {
+    for node in &mut grid.nodes {
+        node.new_vel = node.vel;
+    }
+}
+
 /// The energy a constraint removes from a mass `m` whose velocity it changes from `before` to
 /// `after` within a step that started at velocity `start`: minus the work of the impulse
 /// J = m (after − before) over the mean velocity (start + after)/2. It is ½ m v² for a mass
@@ -245,6 +252,25 @@ pub struct GatherReport<D: Dim> {
     pub dissipated_walls: f64,
     pub bad: usize,
     pub first_bad: Option<usize>,
+}
+
+/// Steps 7–8 for a kinematic body: its particles keep their velocities and move, staying
+/// inside the domain.
+pub fn advect_kinematic<D: Dim>(
+    ps: GatherState<'_, D>,
+    dt: Real,
+    walls: &Walls<D>,
+    radius: Real,
+    gravity: D::Vector,
+) -> GatherReport<D> {
+    let mut r = GatherReport::<D>::empty();
+    for q in 0..ps.x.len() {
+        let x = walls.clamp(ps.x[q] + ps.v[q] * dt, radius);
+        ps.x[q] = x;
+        r.record(ps.mass[q], x, ps.v[q], gravity, ps.plastic_strain[q]);
+    }
+    r.max_speed = r.max_speed.sqrt();
+    r
 }
 
 impl<D: Dim> GatherReport<D> {
