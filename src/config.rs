@@ -93,6 +93,22 @@ pub struct BodyConfig {
     /// Seed of the jitter: the same seed gives the same particles on every run.
     #[serde(default, skip_serializing_if = "is_zero_u64")]
     pub seed: u64,
+    /// A kinematic body keeps its initial velocity whatever acts on it (a piston, a moving
+    /// plate, a fixed obstacle when the velocity is zero): it carries no stress, ignores gravity
+    /// and the walls (it only stays inside the domain), and the bodies it touches feel it as
+    /// infinitely heavy. The force they exert on it is its `contact_force`.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub kinematic: bool,
+    /// Transfer velocities with APIC (Jiang et al. 2015; the paper's Sec. 6 names it as future
+    /// work): each particle carries an affine velocity field, which keeps the angular momentum
+    /// and the detail that PIC smears, without FLIP's noise. `flip` still blends in FLIP.
+    /// Needs the `gimp` or `quadratic_bspline` kernel.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub apic: bool,
+}
+
+fn is_false(x: &bool) -> bool {
+    !*x
 }
 
 fn is_zero(x: &f64) -> bool {
@@ -128,7 +144,19 @@ impl BodyConfig {
             flip: None,
             jitter: 0.0,
             seed: 0,
+            kinematic: false,
+            apic: false,
         }
+    }
+    /// Transfers this body's velocities with APIC.
+    pub fn with_apic(mut self) -> Self {
+        self.apic = true;
+        self
+    }
+    /// Makes the body kinematic: it moves at its initial velocity whatever acts on it.
+    pub fn kinematic(mut self) -> Self {
+        self.kinematic = true;
+        self
     }
     /// Jitters the lattice by up to `jitter` (in [0, 0.5)) of the particle spacing, from
     /// `seed`.
@@ -392,6 +420,20 @@ impl SceneConfig {
         self.validate_world()?;
         for (i, b) in self.bodies.iter().enumerate() {
             b.validate(&format!("bodies[{i}]"), self.dim, &self.domain.size)?;
+            self.check_transfer(b, &format!("bodies[{i}]"))?;
+        }
+        Ok(())
+    }
+
+    /// APIC needs a kernel whose weights spread over every particle: not the linear one (its
+    /// inertia D_p vanishes when a particle sits on a node).
+    pub fn check_transfer(&self, body: &BodyConfig, path: &str) -> Result<()> {
+        if body.apic && self.kernel == KernelKind::Linear {
+            return Err(Error::invalid(
+                format!("{path}.apic"),
+                true,
+                "needs the \"gimp\" or \"quadratic_bspline\" kernel (the scene's kernel is \"linear\")",
+            ));
         }
         Ok(())
     }

@@ -56,19 +56,34 @@ pub fn find_pairs<D: Dim>(grids: &[&GridIndex<D>], out: &mut Vec<ContactPair>) {
     }
 }
 
-/// Applies the contact rule at the shared nodes of one pair; returns the energy it removed
-/// (see [`constraint_dissipation`]).
+/// What resolving one pair did.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Resolved {
+    /// Energy removed (see [`constraint_dissipation`]).
+    pub dissipated: f64,
+    /// Momentum given to body A (body B received the opposite).
+    pub impulse_on_a: [f64; 3],
+}
+
+/// Applies the contact rule at the shared nodes of one pair. A kinematic body (`kinematic_a`,
+/// `kinematic_b`) counts as infinitely heavy: its velocity is not changed, the other body's is
+/// changed as if by a wall moving with it.
 pub fn resolve<D: Dim>(
     ga: &mut Grid<D>,
     gb: &mut Grid<D>,
     blocks: &[(u32, u32)],
     rule: ContactRule,
-) -> f64 {
+    (kinematic_a, kinematic_b): (bool, bool),
+) -> Resolved {
+    let mut out = Resolved::default();
+    if kinematic_a && kinematic_b {
+        return out;
+    }
     let pn = ga.layout.padded_nodes();
     // padded-local indices of the nodes a block owns (the same layout in both grids)
     let mut owned = Vec::new();
     ga.layout.for_each_owned(&ga.index, 0, |_, n| owned.push(n));
-    let mut dissipated = 0.0;
+    let mut impulse = D::Vector::ZERO;
     for &(sa, sb) in blocks {
         for &l in &owned {
             let (ia, ib) = (sa as usize * pn + l, sb as usize * pn + l);
@@ -87,7 +102,13 @@ pub fn resolve<D: Dim>(
             if approach <= 0.0 {
                 continue; // separating: Eq. 20 not met
             }
-            let reduced = ma * mb / (ma + mb);
+            let reduced = if kinematic_a {
+                mb
+            } else if kinematic_b {
+                ma
+            } else {
+                ma * mb / (ma + mb)
+            };
             // Momentum change of A (B gets the opposite).
             let dp = match rule {
                 ContactRule::Stick => (vb - va) * reduced, // Eq. 21
@@ -102,12 +123,21 @@ pub fn resolve<D: Dim>(
                     dp
                 }
             };
-            let (na, nb) = (va + dp / ma, vb - dp / mb);
-            dissipated += constraint_dissipation(ma, ga.nodes[ia].vel, va, na)
-                + constraint_dissipation(mb, gb.nodes[ib].vel, vb, nb);
-            ga.nodes[ia].new_vel = na;
-            gb.nodes[ib].new_vel = nb;
+            impulse += dp;
+            if !kinematic_a {
+                let na = va + dp / ma;
+                out.dissipated += constraint_dissipation(ma, ga.nodes[ia].vel, va, na);
+                ga.nodes[ia].new_vel = na;
+            }
+            if !kinematic_b {
+                let nb = vb - dp / mb;
+                out.dissipated += constraint_dissipation(mb, gb.nodes[ib].vel, vb, nb);
+                gb.nodes[ib].new_vel = nb;
+            }
         }
     }
-    dissipated
+    for a in 0..D::DIM {
+        out.impulse_on_a[a] = impulse[a] as f64;
+    }
+    out
 }

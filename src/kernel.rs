@@ -70,13 +70,16 @@ pub trait Kernel<const S: usize>: Copy + Send + Sync + 'static {
             base: [0; 3],
             w: [[0.0; S]; 3],
             dw: [[0.0; S]; 3],
+            d: [[0.0; S]; 3],
         };
         for a in 0..dim {
             let (b, w, dw) = Self::axis(xg[a], lp);
             st.base[a] = b;
             st.w[a] = w;
+            let f = xg[a] - b as Real;
             for k in 0..S {
                 st.dw[a][k] = dw[k] * inv_h;
+                st.d[a][k] = k as Real - f;
             }
         }
         st

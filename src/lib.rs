@@ -31,7 +31,10 @@ pub mod io;
 pub mod kernel;
 pub mod material;
 pub mod math;
+pub mod playground;
 pub mod sim;
+#[cfg(target_arch = "wasm32")]
+pub mod wasm;
 
 pub use config::{BodyConfig, BoundaryConfig, ContactConfig, DomainConfig, SceneConfig};
 pub use error::{Error, Result};

@@ -337,12 +337,14 @@ impl SymTensor for Sym3 {
 
 /// The kernel weights of one particle along each axis: `w[a][k]` and `dw[a][k]` (the
 /// derivative, already divided by the cell size) for the k-th node of the stencil along axis a,
-/// whose first node has grid index `base[a]`.
+/// whose first node has grid index `base[a]`; `d[a][k]` is that node's offset from the particle
+/// along the axis, in cells (x_i − x_p = d h).
 #[derive(Clone, Copy, Debug)]
 pub struct Stencil<const S: usize> {
     pub base: [i32; 3],
     pub w: [[Real; S]; 3],
     pub dw: [[Real; S]; 3],
+    pub d: [[Real; S]; 3],
 }
 
 /// The dimension of a simulation: its vector, gradient and stress types and its stencil loop.
@@ -353,9 +355,19 @@ pub trait Dim: Copy + Default + Debug + Send + Sync + 'static {
     const LOG_BLOCK: u32;
     type Vector: VectorOps;
     /// The velocity gradient L_ij = ∂v_i/∂x_j.
-    type Grad: Copy + Debug + AddAssign;
+    type Grad: Copy
+        + Debug
+        + Default
+        + AddAssign
+        + Mul<Real, Output = Self::Grad>
+        + Send
+        + Sync
+        + 'static;
+    const GRAD_ZERO: Self::Grad;
     type Sym: SymTensor;
 
+    /// Entry (row, col) of a gradient.
+    fn grad_entry(g: &Self::Grad, row: usize, col: usize) -> Real;
     /// v ⊗ g (the contribution v_i ∇w_ip of one node to the velocity gradient).
     fn outer(v: Self::Vector, g: Self::Vector) -> Self::Grad;
     /// The strain rate ½(L + Lᵀ) (with zz = 0 in plane strain) and the spin ½(L − Lᵀ).
@@ -368,7 +380,8 @@ pub trait Dim: Copy + Default + Debug + Send + Sync + 'static {
     // is `nodes[i + j p + k p²]`. The loops follow the tensor-product structure of the weights
     // (w_ijk = w_i w_j w_k), so that each node costs a few multiply-adds.
 
-    /// Step 1: m_i += w m and (mv)_i += w mv; with `grad`, also ∇m_i += m ∇w.
+    /// Step 1: m_i += w m and (mv)_i += w (mv + A d_i) with the APIC term A = m C h (zero
+    /// without APIC); with `grad`, also ∇m_i += m ∇w.
     fn scatter_mass<const S: usize>(
         nodes: &mut [Node<Self::Vector>],
         grad: Option<&mut [Self::Vector]>,
@@ -376,6 +389,7 @@ pub trait Dim: Copy + Default + Debug + Send + Sync + 'static {
         st: &Stencil<S>,
         m: Real,
         mv: Self::Vector,
+        affine: Option<Self::Grad>,
     );
     /// Step 2: ∇v_p = Σ_i v_i ⊗ ∇w_ip, from the nodes' `vel`.
     fn velocity_gradient<const S: usize>(
@@ -396,6 +410,25 @@ pub trait Dim: Copy + Default + Debug + Send + Sync + 'static {
         p: usize,
         st: &Stencil<S>,
     ) -> (Self::Vector, Self::Vector);
+    /// Step 6 of APIC: B = Σ_i w_ip v_i^{n+1} ⊗ d_i (offsets in cells).
+    fn gather_affine<const S: usize>(
+        nodes: &[Node<Self::Vector>],
+        p: usize,
+        st: &Stencil<S>,
+    ) -> Self::Grad;
+    /// C = B D⁻¹ for APIC, with the diagonal D_aa = h Σ_k w_a[k] d_a[k]² of the stencil
+    /// (B from [`Dim::gather_affine`]; C in 1/s).
+    fn affine_velocity<const S: usize>(b: Self::Grad, st: &Stencil<S>, h: Real) -> Self::Grad;
+}
+
+/// h Σ_k w[k] d[k]² along one axis (the APIC inertia D_aa divided by h).
+#[inline(always)]
+fn inertia<const S: usize>(st: &Stencil<S>, a: usize, h: Real) -> Real {
+    let mut sum = 0.0;
+    for k in 0..S {
+        sum += st.w[a][k] * st.d[a][k] * st.d[a][k];
+    }
+    sum * h
 }
 
 /// How many consecutive nodes a stencil of `s` nodes per axis spans in a padded block whose
@@ -419,7 +452,11 @@ impl Dim for D2 {
     type Vector = Vec2;
     type Grad = Mat2;
     type Sym = Sym2;
+    const GRAD_ZERO: Mat2 = Mat2::ZERO;
 
+    fn grad_entry(g: &Mat2, row: usize, col: usize) -> Real {
+        g.col(col)[row]
+    }
     #[inline(always)]
     fn outer(v: Vec2, g: Vec2) -> Mat2 {
         Mat2::from_cols(v * g.x, v * g.y)
@@ -448,14 +485,27 @@ impl Dim for D2 {
         st: &Stencil<S>,
         m: Real,
         mv: Vec2,
+        affine: Option<Mat2>,
     ) {
         let nodes = &mut nodes[..stencil_span(2, p, S)];
         for j in 0..S {
             let row = &mut nodes[j * p..j * p + S];
-            for i in 0..S {
-                let w = st.w[0][i] * st.w[1][j];
-                row[i].mass += w * m;
-                row[i].vel += mv * w;
+            match affine {
+                None => {
+                    for i in 0..S {
+                        let w = st.w[0][i] * st.w[1][j];
+                        row[i].mass += w * m;
+                        row[i].vel += mv * w;
+                    }
+                }
+                Some(a) => {
+                    let r = mv + a.y_axis * st.d[1][j];
+                    for i in 0..S {
+                        let w = st.w[0][i] * st.w[1][j];
+                        row[i].mass += w * m;
+                        row[i].vel += (r + a.x_axis * st.d[0][i]) * w;
+                    }
+                }
             }
             if let Some(g) = grad.as_deref_mut() {
                 for i in 0..S {
@@ -513,6 +563,27 @@ impl Dim for D2 {
         }
         (new, old)
     }
+    #[inline(always)]
+    fn gather_affine<const S: usize>(nodes: &[Node<Vec2>], p: usize, st: &Stencil<S>) -> Mat2 {
+        let nodes = &nodes[..stencil_span(2, p, S)];
+        let (mut c0, mut c1) = (Vec2::ZERO, Vec2::ZERO);
+        for j in 0..S {
+            let row = &nodes[j * p..j * p + S];
+            let (mut rn, mut rx) = (Vec2::ZERO, Vec2::ZERO);
+            for i in 0..S {
+                let v = row[i].new_vel * st.w[0][i];
+                rn += v;
+                rx += v * st.d[0][i];
+            }
+            c0 += rx * st.w[1][j];
+            c1 += rn * (st.w[1][j] * st.d[1][j]);
+        }
+        Mat2::from_cols(c0, c1)
+    }
+    #[inline(always)]
+    fn affine_velocity<const S: usize>(b: Mat2, st: &Stencil<S>, h: Real) -> Mat2 {
+        Mat2::from_cols(b.x_axis / inertia(st, 0, h), b.y_axis / inertia(st, 1, h))
+    }
 }
 
 impl Dim for D3 {
@@ -521,7 +592,11 @@ impl Dim for D3 {
     type Vector = Vec3A;
     type Grad = Mat3A;
     type Sym = Sym3;
+    const GRAD_ZERO: Mat3A = Mat3A::ZERO;
 
+    fn grad_entry(g: &Mat3A, row: usize, col: usize) -> Real {
+        g.col(col)[row]
+    }
     #[inline(always)]
     fn outer(v: Vec3A, g: Vec3A) -> Mat3A {
         Mat3A::from_cols(v * g.x, v * g.y, v * g.z)
@@ -557,6 +632,7 @@ impl Dim for D3 {
         st: &Stencil<S>,
         m: Real,
         mv: Vec3A,
+        affine: Option<Mat3A>,
     ) {
         let nodes = &mut nodes[..stencil_span(3, p, S)];
         for k in 0..S {
@@ -564,10 +640,22 @@ impl Dim for D3 {
                 let base = j * p + k * p * p;
                 let wjk = st.w[1][j] * st.w[2][k];
                 let row = &mut nodes[base..base + S];
-                for i in 0..S {
-                    let w = st.w[0][i] * wjk;
-                    row[i].mass += w * m;
-                    row[i].vel += mv * w;
+                match affine {
+                    None => {
+                        for i in 0..S {
+                            let w = st.w[0][i] * wjk;
+                            row[i].mass += w * m;
+                            row[i].vel += mv * w;
+                        }
+                    }
+                    Some(a) => {
+                        let r = mv + a.y_axis * st.d[1][j] + a.z_axis * st.d[2][k];
+                        for i in 0..S {
+                            let w = st.w[0][i] * wjk;
+                            row[i].mass += w * m;
+                            row[i].vel += (r + a.x_axis * st.d[0][i]) * w;
+                        }
+                    }
                 }
                 if let Some(g) = grad.as_deref_mut() {
                     let (djk, wdjk) = (st.dw[1][j] * st.w[2][k], st.w[1][j] * st.dw[2][k]);
@@ -649,6 +737,36 @@ impl Dim for D3 {
             }
         }
         (new, old)
+    }
+    #[inline(always)]
+    fn gather_affine<const S: usize>(nodes: &[Node<Vec3A>], p: usize, st: &Stencil<S>) -> Mat3A {
+        let nodes = &nodes[..stencil_span(3, p, S)];
+        let (mut c0, mut c1, mut c2) = (Vec3A::ZERO, Vec3A::ZERO, Vec3A::ZERO);
+        for k in 0..S {
+            for j in 0..S {
+                let base = j * p + k * p * p;
+                let row = &nodes[base..base + S];
+                let (mut rn, mut rx) = (Vec3A::ZERO, Vec3A::ZERO);
+                for i in 0..S {
+                    let v = row[i].new_vel * st.w[0][i];
+                    rn += v;
+                    rx += v * st.d[0][i];
+                }
+                let wjk = st.w[1][j] * st.w[2][k];
+                c0 += rx * wjk;
+                c1 += rn * (wjk * st.d[1][j]);
+                c2 += rn * (wjk * st.d[2][k]);
+            }
+        }
+        Mat3A::from_cols(c0, c1, c2)
+    }
+    #[inline(always)]
+    fn affine_velocity<const S: usize>(b: Mat3A, st: &Stencil<S>, h: Real) -> Mat3A {
+        Mat3A::from_cols(
+            b.x_axis / inertia(st, 0, h),
+            b.y_axis / inertia(st, 1, h),
+            b.z_axis / inertia(st, 2, h),
+        )
     }
 }
 

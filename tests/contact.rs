@@ -95,3 +95,96 @@ fn bodies_apart_do_no_contact_work() {
     apart::<D2>();
     apart::<D3>();
 }
+
+/// A kinematic plate keeps its velocity, pushes the block it meets, and the force it feels is
+/// the momentum it gives away (Newton's third law through the grid contact).
+#[test]
+fn a_kinematic_plate_keeps_its_velocity_and_pushes() {
+    let plate = BodyConfig::new(
+        "plate",
+        Shape::cuboid(&[0.1, 0.3], &[0.15, 0.7]),
+        elastic(1e5, 0.3, 1000.0),
+    )
+    .with_velocity(&[0.5, 0.0])
+    .kinematic();
+    let block = BodyConfig::new(
+        "block",
+        Shape::cuboid(&[0.3, 0.4], &[0.5, 0.6]),
+        elastic(1e5, 0.3, 1000.0),
+    );
+    let mut sim = Simulation::<D2>::builder(&[1.0, 1.0], 0.01)
+        .gravity(&[0.0, 0.0])
+        .body(plate)
+        .body(block)
+        .build()
+        .unwrap();
+    let p_plate = sim.bodies()[0].stats().momentum;
+    let mut impulse_on_plate = 0.0;
+    while sim.time() < 0.5 {
+        let dt = sim.step().unwrap().dt;
+        impulse_on_plate += sim.bodies()[0].stats().contact_force[0] * dt;
+        assert!(sim.bodies()[0].stats().bbox_max[0] < sim.bodies()[1].stats().bbox_min[0]);
+    }
+    assert_eq!(
+        sim.bodies()[0].stats().momentum,
+        p_plate,
+        "the plate's momentum never changes"
+    );
+    let p_block = sim.bodies()[1].stats().momentum[0];
+    assert!(
+        p_block > 0.5 * sim.bodies()[1].stats().mass * 0.5,
+        "the block was pushed: {p_block}"
+    );
+    assert!(
+        (impulse_on_plate + p_block).abs() < 1e-3 * p_block,
+        "impulse on the plate {impulse_on_plate} vs momentum of the block {p_block}"
+    );
+}
+
+/// A von Mises block squeezed by a kinematic plate on a frictionless floor in plane strain
+/// flows at σ_yy = 2σ_y/√3: the plate feels that stress times the block's width.
+#[test]
+fn a_von_mises_block_under_a_plate_yields_at_the_plane_strain_limit() {
+    let (width, sy) = (0.2, 1.0e4);
+    let block = BodyConfig::new(
+        "metal",
+        Shape::cuboid(&[0.4, 0.0], &[0.4 + width, 0.1]),
+        mpm::Material::von_mises(5e5, 0.3, 1000.0, sy),
+    );
+    let plate = BodyConfig::new(
+        "plate",
+        Shape::cuboid(&[0.3, 0.11], &[0.7, 0.16]),
+        elastic(1e5, 0.3, 1000.0),
+    )
+    .with_velocity(&[0.0, -0.02])
+    .kinematic();
+    let h = 0.01;
+    let mut sim = Simulation::<D2>::builder(&[1.0, 0.4], h)
+        .gravity(&[0.0, 0.0])
+        .body(block)
+        .body(plate)
+        .build()
+        .unwrap();
+    let (mut impulse, mut time) = (0.0, 0.0);
+    while sim.time() < 0.8 {
+        let dt = sim.step().unwrap().dt;
+        if sim.time() > 0.6 {
+            impulse += sim.bodies()[1].stats().contact_force[1] * dt;
+            time += dt;
+        }
+    }
+    // the block has widened as it flowed: use its current width
+    let s = sim.bodies()[0].stats();
+    let current_width = s.bbox_max[0] - s.bbox_min[0] + h / 2.0;
+    let expected = 2.0 / 3f64.sqrt() * sy * current_width;
+    let force = impulse / time;
+    assert!(
+        sim.bodies()[0].stats().max_plastic_strain > 0.05,
+        "the block did not yield"
+    );
+    eprintln!("plate force {force:.1} N/m vs {expected:.1}");
+    assert!(
+        (force - expected).abs() < 0.1 * expected,
+        "plate force {force:.1} N/m vs {expected:.1}"
+    );
+}

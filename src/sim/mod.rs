@@ -89,6 +89,12 @@ pub struct Body<D: Dim> {
     min_mass: Real,
     /// Half the particle spacing: how far a particle's material reaches (for the walls).
     radius: Real,
+    /// Moves at its initial velocity whatever acts on it (see [`BodyConfig::kinematic`]).
+    kinematic: bool,
+    /// Transfers velocities with APIC (see [`BodyConfig::apic`]).
+    apic: bool,
+    /// Momentum received through contact in the current step.
+    contact_impulse: [f64; 3],
 }
 
 impl<D: Dim> Body<D> {
@@ -104,8 +110,12 @@ impl<D: Dim> Body<D> {
     pub fn grid(&self) -> &Grid<D> {
         &self.grid
     }
-    /// The dilatational wave speed √((K + 4G/3)/ρ) at the body's lowest density (m/s).
+    /// The dilatational wave speed √((K + 4G/3)/ρ) at the body's lowest density (m/s); zero for
+    /// a kinematic body, which carries no stress.
     pub fn wave_speed(&self) -> f64 {
+        if self.kinematic {
+            return 0.0;
+        }
         let (g, k) = self.model.moduli();
         ((k + 4.0 * g / 3.0) as f64 * self.max_volume as f64 / self.min_mass as f64).sqrt()
     }
@@ -219,6 +229,7 @@ impl<D: Dim> Simulation<D> {
         let i = self.bodies.len();
         let path = format!("bodies[{i}]");
         config.validate(&path, D::DIM, &self.scene.domain.size)?;
+        self.scene.check_transfer(&config, &path)?;
         let (points, volume) = config.sample(&path, D::DIM, self.scene.cell_size)?;
         if points.is_empty() {
             return Err(Error::invalid(
@@ -239,6 +250,9 @@ impl<D: Dim> Simulation<D> {
             .velocity
             .as_deref()
             .map_or(D::Vector::ZERO, |v| D::Vector::from_fn(|a| v[a] as Real));
+        if config.apic {
+            self.particles.enable_affine();
+        }
         let start = self.particles.len();
         let mass = (volume * density) as Real;
         let radius = (0.5 * volume.powf(1.0 / D::DIM as f64)) as Real;
@@ -260,6 +274,9 @@ impl<D: Dim> Simulation<D> {
             max_volume: volume as Real,
             min_mass: mass,
             radius,
+            kinematic: config.kinematic,
+            apic: config.apic,
+            contact_impulse: [0.0; 3],
         });
         self.scene.bodies.push(config);
         self.refresh_diagnostics();
@@ -276,14 +293,7 @@ impl<D: Dim> Simulation<D> {
             ));
         }
         let r = self.bodies[i].range.clone();
-        let p = &mut self.particles;
-        p.x.drain(r.clone());
-        p.v.drain(r.clone());
-        p.stress.drain(r.clone());
-        p.volume.drain(r.clone());
-        p.mass.drain(r.clone());
-        p.plastic_strain.drain(r.clone());
-        p.id.drain(r.clone());
+        self.particles.remove(r.clone());
         self.bodies.remove(i);
         self.scene.bodies.remove(i);
         for b in &mut self.bodies[i..] {
@@ -340,6 +350,7 @@ impl<D: Dim> Simulation<D> {
                 || a.velocity != b.velocity
                 || a.jitter != b.jitter
                 || a.seed != b.seed
+                || a.kinematic != b.kinematic
             {
                 return Err(Error::invalid(
                     format!("bodies[{i}]"),
@@ -353,6 +364,10 @@ impl<D: Dim> Simulation<D> {
         for (body, cfg) in self.bodies.iter_mut().zip(&next.bodies) {
             body.model = cfg.material.model();
             body.flip = cfg.flip_ratio() as Real;
+            body.apic = cfg.apic;
+        }
+        if next.bodies.iter().any(|b| b.apic) {
+            self.particles.enable_affine();
         }
         self.scene = next;
         Ok(())
@@ -438,6 +453,9 @@ impl<D: Dim> Simulation<D> {
         if let Some(e) = &self.failed {
             return Err(e.clone());
         }
+        if limit.is_nan() || limit <= 0.0 {
+            return Err(Error::invalid("step limit", limit, "must be > 0 (s)"));
+        }
         let dt = self.stable_dt().min(limit);
         let on = self.timings.is_some();
         let mut t = [clock(on); 8];
@@ -513,9 +531,10 @@ impl<D: Dim> Simulation<D> {
         let inv_h = self.world.inv_h;
         for body in &mut self.bodies {
             let r = body.range.clone();
+            let affine = body.apic.then(|| &p.affine[r.clone()]);
             let (x, v, m) = (&p.x[r.clone()], &p.v[r.clone()], &p.mass[r]);
             let lp = body.radius * inv_h;
-            with_kernel!(self.world.kernel, K, S => passes::scatter::<D, K, S>(&mut body.grid, x, v, m, inv_h, lp));
+            with_kernel!(self.world.kernel, K, S => passes::scatter::<D, K, S>(&mut body.grid, x, v, m, affine, inv_h, lp));
             passes::grid_velocities(&mut body.grid);
         }
     }
@@ -527,6 +546,10 @@ impl<D: Dim> Simulation<D> {
         let p = &mut self.particles;
         let mut reports = Vec::with_capacity(self.bodies.len());
         for body in &mut self.bodies {
+            if body.kinematic {
+                reports.push(StressReport::default());
+                continue;
+            }
             let r = body.range.clone();
             let state = StressState {
                 x: &p.x[r.clone()],
@@ -547,29 +570,44 @@ impl<D: Dim> Simulation<D> {
     /// Step 4 on the grid: forces and gravity.
     fn grid_forces(&mut self, dt: Real) {
         for body in &mut self.bodies {
-            passes::grid_forces(&mut body.grid, self.world.gravity, dt);
+            if body.kinematic {
+                passes::hold_velocities(&mut body.grid);
+            } else {
+                passes::grid_forces(&mut body.grid, self.world.gravity, dt);
+            }
         }
     }
 
     /// Step 5 between bodies: Eq. 20–21 at the nodes they share.
     fn resolve_contacts(&mut self) {
+        for body in &mut self.bodies {
+            body.contact_impulse = [0.0; 3];
+        }
         for pair in &self.contacts {
             let (left, right) = self.bodies.split_at_mut(pair.b);
-            let d = contact::resolve(
-                &mut left[pair.a].grid,
-                &mut right[0].grid,
+            let (a, b) = (&mut left[pair.a], &mut right[0]);
+            let r = contact::resolve(
+                &mut a.grid,
+                &mut b.grid,
                 &pair.blocks,
                 self.world.contact,
+                (a.kinematic, b.kinematic),
             );
-            self.diagnostics.dissipated_contact += d;
+            self.diagnostics.dissipated_contact += r.dissipated;
+            for k in 0..3 {
+                a.contact_impulse[k] += r.impulse_on_a[k];
+                b.contact_impulse[k] -= r.impulse_on_a[k];
+            }
         }
     }
 
     /// Step 5 at the walls; then the halos take the final grid velocities.
     fn apply_walls(&mut self) {
         for body in &mut self.bodies {
-            self.diagnostics.dissipated_boundary +=
-                passes::grid_walls(&mut body.grid, &self.world.walls);
+            if !body.kinematic {
+                self.diagnostics.dissipated_boundary +=
+                    passes::grid_walls(&mut body.grid, &self.world.walls);
+            }
             passes::fill_new_velocities(&mut body.grid);
         }
     }
@@ -584,14 +622,21 @@ impl<D: Dim> Simulation<D> {
             let state = GatherState {
                 x: &mut p.x[r.clone()],
                 v: &mut p.v[r.clone()],
+                affine: if body.apic {
+                    Some(&mut p.affine[r.clone()])
+                } else {
+                    None
+                },
                 mass: &p.mass[r.clone()],
                 plastic_strain: &p.plastic_strain[r],
             };
-            reports.push(
+            reports.push(if body.kinematic {
+                passes::advect_kinematic(state, dt, &w.walls, body.radius, w.gravity)
+            } else {
                 with_kernel!(w.kernel, K, S => passes::gather_and_advect::<D, K, S>(
                     &body.grid, state, body.flip, dt, w.inv_h, &w.walls, body.radius, w.gravity,
-                )),
-            );
+                ))
+            });
         }
         reports
     }
@@ -620,6 +665,9 @@ impl<D: Dim> Simulation<D> {
             body.stats.dissipated_plastic += s.dissipated;
             body.stats.elastic = s.elastic;
             set_body_stats::<D>(&mut body.stats, g, body.range.len());
+            body.stats.contact_force = body
+                .contact_impulse
+                .map(|j| if dt > 0.0 { j / dt } else { 0.0 });
             kinetic += g.kinetic;
             grav += g.gravitational;
             elastic += s.elastic;

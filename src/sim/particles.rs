@@ -21,6 +21,10 @@ pub struct Particles<D: Dim> {
     pub plastic_strain: Vec<Real>,
     /// A stable identifier (particles are reordered for locality).
     pub id: Vec<u32>,
+    /// The affine velocity C_p of APIC (Jiang et al. 2015); empty unless a body uses APIC.
+    pub affine: Vec<D::Grad>,
+    /// Whether `affine` is kept (one entry per particle).
+    with_affine: bool,
 }
 
 impl<D: Dim> Particles<D> {
@@ -40,6 +44,31 @@ impl<D: Dim> Particles<D> {
         self.mass.push(mass);
         self.plastic_strain.push(0.0);
         self.id.push(id);
+        if self.with_affine {
+            self.affine.push(D::GRAD_ZERO);
+        }
+    }
+
+    /// Keeps affine velocities (zero to begin with) for every particle, for APIC bodies.
+    pub fn enable_affine(&mut self) {
+        if !self.with_affine {
+            self.with_affine = true;
+            self.affine.resize(self.len(), D::GRAD_ZERO);
+        }
+    }
+
+    /// Removes the particles of `range`.
+    pub fn remove(&mut self, range: Range<usize>) {
+        self.x.drain(range.clone());
+        self.v.drain(range.clone());
+        self.stress.drain(range.clone());
+        self.volume.drain(range.clone());
+        self.mass.drain(range.clone());
+        self.plastic_strain.drain(range.clone());
+        self.id.drain(range.clone());
+        if self.with_affine {
+            self.affine.drain(range);
+        }
     }
 
     /// Removes every particle.
@@ -51,6 +80,7 @@ impl<D: Dim> Particles<D> {
         self.mass.clear();
         self.plastic_strain.clear();
         self.id.clear();
+        self.affine.clear();
     }
 
     /// Reorders the particles of `range` so that the particle now at `range.start + i` is the
@@ -69,7 +99,10 @@ impl<D: Dim> Particles<D> {
         apply(&mut self.volume[r.clone()], order);
         apply(&mut self.mass[r.clone()], order);
         apply(&mut self.plastic_strain[r.clone()], order);
-        apply(&mut self.id[r], order);
+        apply(&mut self.id[r.clone()], order);
+        if self.with_affine {
+            apply(&mut self.affine[r], order);
+        }
     }
 
     /// Bytes of particle state per particle.

@@ -27,13 +27,15 @@ pub fn grid_coords<D: Dim>(x: D::Vector, inv_h: Real) -> [Real; 3] {
     g
 }
 
-/// Step 1: rasterise mass and momentum, m_i = Σ_p m_p w_ip and (mv)_i = Σ_p m_p v_p w_ip;
-/// for bodies that may touch another body also the mass gradient ∇m_i = Σ_p m_p ∇w_ip.
+/// Step 1: rasterise mass and momentum, m_i = Σ_p m_p w_ip and (mv)_i = Σ_p m_p v_p w_ip
+/// (with APIC, m_p (v_p + C_p (x_i − x_p)) w_ip); for bodies that may touch another body also
+/// the mass gradient ∇m_i = Σ_p m_p ∇w_ip.
 pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
     grid: &mut Grid<D>,
     x: &[D::Vector],
     v: &[D::Vector],
     mass: &[Real],
+    affine: Option<&[D::Grad]>,
     inv_h: Real,
     lp: Real,
 ) {
@@ -46,6 +48,7 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
         ..
     } = &mut *grid;
     let with_gradient = !mass_grad.is_empty();
+    let h = 1.0 / inv_h;
     for q in 0..x.len() {
         let st = K::stencil(grid_coords::<D>(x[q], inv_h), D::DIM, inv_h, lp);
         let origin = layout.stencil_origin(particle_slot[q], st.base);
@@ -61,6 +64,7 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
             &st,
             mass[q],
             v[q] * mass[q],
+            affine.map(|c| c[q] * (mass[q] * h)),
         );
     }
     grid.reduce_nodes(|o, h| {
@@ -174,6 +178,13 @@ pub fn grid_forces<D: Dim>(grid: &mut Grid<D>, gravity: D::Vector, dt: Real) {
     }
 }
 
+/// Step 4 for a kinematic body: its grid velocities stay those its particles brought.
+pub fn hold_velocities<D: Dim>(grid: &mut Grid<D>) {
+    for node in &mut grid.nodes {
+        node.new_vel = node.vel;
+    }
+}
+
 /// The energy a constraint removes from a mass `m` whose velocity it changes from `before` to
 /// `after` within a step that started at velocity `start`: minus the work of the impulse
 /// J = m (after − before) over the mean velocity (start + after)/2. It is ½ m v² for a mass
@@ -224,6 +235,8 @@ pub fn fill_new_velocities<D: Dim>(grid: &mut Grid<D>) {
 pub struct GatherState<'a, D: Dim> {
     pub x: &'a mut [D::Vector],
     pub v: &'a mut [D::Vector],
+    /// The APIC affine velocities, for APIC bodies.
+    pub affine: Option<&'a mut [D::Grad]>,
     pub mass: &'a [Real],
     pub plastic_strain: &'a [Real],
 }
@@ -245,6 +258,25 @@ pub struct GatherReport<D: Dim> {
     pub dissipated_walls: f64,
     pub bad: usize,
     pub first_bad: Option<usize>,
+}
+
+/// Steps 7–8 for a kinematic body: its particles keep their velocities and move, staying
+/// inside the domain.
+pub fn advect_kinematic<D: Dim>(
+    ps: GatherState<'_, D>,
+    dt: Real,
+    walls: &Walls<D>,
+    radius: Real,
+    gravity: D::Vector,
+) -> GatherReport<D> {
+    let mut r = GatherReport::<D>::empty();
+    for q in 0..ps.x.len() {
+        let x = walls.clamp(ps.x[q] + ps.v[q] * dt, radius);
+        ps.x[q] = x;
+        r.record(ps.mass[q], x, ps.v[q], gravity, ps.plastic_strain[q]);
+    }
+    r.max_speed = r.max_speed.sqrt();
+    r
 }
 
 impl<D: Dim> GatherReport<D> {
@@ -291,7 +323,8 @@ impl<D: Dim> GatherReport<D> {
     }
 }
 
-/// Steps 6–8: the PIC/FLIP blend v_p = (1 − α) Σ_i v_i^{n+1} w_ip + α (v_p + Σ_i Δv_i w_ip),
+/// Steps 6–8: the PIC/FLIP blend v_p = (1 − α) Σ_i v_i^{n+1} w_ip + α (v_p + Σ_i Δv_i w_ip)
+/// (with APIC also C_p = B_p D_p⁻¹ from B_p = Σ_i w_ip v_i^{n+1} (x_i − x_p)ᵀ),
 /// the particle-side wall projection for particles of half-width `radius`, and advection
 /// x_p += Δt v_p.
 #[allow(clippy::too_many_arguments)]
@@ -313,11 +346,17 @@ pub fn gather_and_advect<D: Dim, K: Kernel<S>, const S: usize>(
         ..
     } = grid;
     let mut r = GatherReport::<D>::empty();
+    let h = 1.0 / inv_h;
+    let mut affine = ps.affine;
     for q in 0..ps.x.len() {
         let x = ps.x[q];
         let st = K::stencil(grid_coords::<D>(x, inv_h), D::DIM, inv_h, radius * inv_h);
         let origin = layout.stencil_origin(particle_slot[q], st.base);
-        let (v_pic, v_old) = D::gather_velocity(&nodes[origin..origin + span], p, &st);
+        let cell = &nodes[origin..origin + span];
+        let (v_pic, v_old) = D::gather_velocity(cell, p, &st);
+        if let Some(c) = affine.as_deref_mut() {
+            c[q] = D::affine_velocity(D::gather_affine(cell, p, &st), &st, h);
+        }
         let blended = v_pic * (1.0 - alpha) + (ps.v[q] + v_pic - v_old) * alpha;
         let v = walls.particle_velocity(x, blended, dt, radius);
         let m = ps.mass[q];

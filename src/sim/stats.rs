@@ -57,6 +57,9 @@ pub struct BodyStats {
     pub bbox_max: [f64; 3],
     pub max_speed: f64,
     pub max_plastic_strain: f64,
+    /// The force other bodies exerted on this one through contact in the latest step (N; N/m
+    /// in 2D): the momentum exchanged at shared nodes divided by the step.
+    pub contact_force: [f64; 3],
     /// Cumulative plastic dissipation of this body.
     pub dissipated_plastic: f64,
 }

@@ -1,35 +1,71 @@
 //! Project tasks (the cargo xtask pattern): `cargo xtask <task>`.
 //!
-//! - `test`  — every test: formatting, clippy, the native test suite.
-//! - `validate` — the long validation runs; writes docs/validation-report.md.
-//! - `work-precision` — the run time against error study; writes docs/work-precision-report.md
-//!   and the SVG diagrams.
-//! - `passes` — the cost of each pass for scenes that need different work; writes
+//! - `build`     — the browser playground: adds the wasm32 target if missing, installs
+//!   wasm-bindgen-cli at the version in Cargo.lock if that version is not on PATH, builds the
+//!   release wasm with simd128, runs `wasm-bindgen --target web` into `www/pkg/` and writes
+//!   the scene list `www/pkg/scenes.json` from the files in `scenes/`.
+//! - `serve`     — `build`, then serves the repository root on http://127.0.0.1:8080.
+//! - `test`      — every test: formatting, clippy (native and wasm), the native test suite, the
+//!   wasm tests in Node and the end-to-end test in headless Chromium.
+//! - `bench-web` — benchmarks that print figures: wasm in Node against native on the same
+//!   scene, and the page's frame rate in headless Chromium.
+//! - `validate`  — the long validation runs; writes docs/validation-report.md.
+//! - `work-precision` — the run time against error study; writes
+//!   docs/work-precision-report.md and the SVG diagrams.
+//! - `passes`    — the cost of each pass for scenes that need different work; writes
 //!   docs/passes-report.md.
-//! - `stress` — the long stability sweep (`MPM_LONG=1`: more random scenes, longer resting
+//! - `stress`    — the long stability sweep (`MPM_LONG=1`: more random scenes, longer resting
 //!   runs, more fuzzing).
 //!
-//! The benchmarks are pinned to one core with `taskset -c 0` where it exists.
+//! The report-writing benchmarks are pinned to one core with `taskset -c 0` where it exists.
 
+mod serve;
+
+use std::net::TcpListener;
+use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
+
+const WASM_TARGET: &str = "wasm32-unknown-unknown";
+/// Also in `.cargo/config.toml`; set here too so that the build never depends on it.
+const WASM_RUSTFLAGS: &str = "-C target-feature=+simd128";
+/// The scene the speed benchmarks use (3D, about 21 000 particles).
+const BENCH_SCENE: &str = "www/test-scenes/bench_3d.json";
+/// The scene the page opens with.
+const DEFAULT_SCENE: &str = "scenes/bunny_on_sand_ball_3d.json";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
+    let rest = args.get(1..).unwrap_or(&[]);
     let result = match args.first().map(String::as_str) {
+        Some("build") => build().map(|_| ()),
+        Some("serve") => serve_task(rest),
         Some("test") => test(),
-        Some("validate") => bench("validate", &args[1..]),
-        Some("work-precision") => bench("work_precision", &args[1..]),
-        Some("passes") => bench("passes", &args[1..]),
+        Some("bench-web") => bench_web(rest),
+        Some("validate") => report_bench("validate", rest),
+        Some("work-precision") => report_bench("work_precision", rest),
+        Some("passes") => report_bench("passes", rest),
         Some("stress") => stress(),
         _ => {
-            eprintln!("usage: cargo xtask <test|validate|work-precision|passes|stress>");
-            eprintln!("  test            run every test (fmt, clippy, native tests)");
-            eprintln!("  validate        long validation runs -> docs/validation-report.md");
             eprintln!(
-                "  work-precision  run time against error -> docs/work-precision-report.md, SVGs"
+                "usage: cargo xtask <build|serve|test|bench-web|validate|work-precision|passes|stress>"
             );
-            eprintln!("  passes          cost of each pass -> docs/passes-report.md");
-            eprintln!("  stress          the long stability sweep (MPM_LONG=1)");
+            eprintln!(
+                "  build              build the browser playground into www/pkg/ (wasm, simd128)"
+            );
+            eprintln!(
+                "  serve [--port N]   build, then serve the playground on http://127.0.0.1:8080"
+            );
+            eprintln!(
+                "  test               run every test (fmt, clippy, native, wasm in Node, browser)"
+            );
+            eprintln!("  bench-web [--steps N] [--seconds S]");
+            eprintln!("                     wasm vs native time per step, and fps in Chromium");
+            eprintln!("  validate [CASE..]  long validation runs -> docs/validation-report.md");
+            eprintln!(
+                "  work-precision     run time against error -> docs/work-precision-report.md, SVGs"
+            );
+            eprintln!("  passes             cost of each pass -> docs/passes-report.md");
+            eprintln!("  stress             the long stability sweep (MPM_LONG=1)");
             return ExitCode::from(2);
         }
     };
@@ -42,26 +78,282 @@ fn main() -> ExitCode {
     }
 }
 
-/// Runs a command from the workspace root, failing on a non-zero exit.
-fn run(program: &str, args: &[&str]) -> Result<(), String> {
-    eprintln!("xtask: {program} {}", args.join(" "));
-    let status = Command::new(program)
-        .args(args)
-        .current_dir(root())
-        .status()
-        .map_err(|e| format!("cannot start {program}: {e}"))?;
-    if status.success() {
-        Ok(())
-    } else {
-        Err(format!("{program} {} failed ({status})", args.join(" ")))
-    }
-}
-
-fn root() -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
         .parent()
         .expect("xtask lives in the workspace")
         .to_path_buf()
+}
+
+/// Where `cargo install` puts binaries.
+fn cargo_bin() -> PathBuf {
+    std::env::var_os("CARGO_HOME")
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cargo")))
+        .unwrap_or_else(|| PathBuf::from(".cargo"))
+        .join("bin")
+}
+
+/// PATH with cargo's bin directory in front (where wasm-bindgen and its test runner live).
+fn path_env() -> std::ffi::OsString {
+    let mut paths = vec![cargo_bin()];
+    if let Some(p) = std::env::var_os("PATH") {
+        paths.extend(std::env::split_paths(&p));
+    }
+    std::env::join_paths(paths).unwrap_or_default()
+}
+
+fn command(program: &str, args: &[&str]) -> Command {
+    let mut c = Command::new(program);
+    c.args(args).current_dir(root()).env("PATH", path_env());
+    c
+}
+
+/// Runs a command, failing on a non-zero exit.
+fn run_cmd(mut c: Command) -> Result<(), String> {
+    let shown = format!(
+        "{} {}",
+        c.get_program().to_string_lossy(),
+        c.get_args()
+            .map(|a| a.to_string_lossy())
+            .collect::<Vec<_>>()
+            .join(" ")
+    );
+    eprintln!("xtask: {shown}");
+    let status = c
+        .status()
+        .map_err(|e| format!("cannot start {shown}: {e}"))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("{shown} failed ({status})"))
+    }
+}
+
+fn run(program: &str, args: &[&str]) -> Result<(), String> {
+    run_cmd(command(program, args))
+}
+
+/// A command's standard output, if it ran and succeeded.
+fn output(program: &str, args: &[&str]) -> Option<String> {
+    let out = command(program, args).output().ok()?;
+    out.status
+        .success()
+        .then(|| String::from_utf8_lossy(&out.stdout).into_owned())
+}
+
+/// A cargo command for the wasm target (simd128 on).
+fn wasm_cargo(args: &[&str]) -> Command {
+    let mut c = command("cargo", args);
+    c.env(
+        format!(
+            "CARGO_TARGET_{}_RUSTFLAGS",
+            WASM_TARGET.to_uppercase().replace('-', "_")
+        ),
+        WASM_RUSTFLAGS,
+    );
+    c
+}
+
+/// The version of `package` in Cargo.lock.
+fn locked_version(package: &str) -> Result<String, String> {
+    let lock = std::fs::read_to_string(root().join("Cargo.lock"))
+        .map_err(|e| format!("Cargo.lock: {e}"))?;
+    let mut lines = lock.lines();
+    while let Some(l) = lines.next() {
+        if l.trim() == format!("name = \"{package}\"")
+            && let Some(v) = lines
+                .next()
+                .and_then(|v| v.trim().strip_prefix("version = "))
+        {
+            return Ok(v.trim_matches('"').to_string());
+        }
+    }
+    Err(format!("{package} is not in Cargo.lock"))
+}
+
+/// Adds the wasm target and installs wasm-bindgen-cli at the Cargo.lock version when missing.
+fn ensure_wasm_tools() -> Result<(), String> {
+    let installed = output("rustup", &["target", "list", "--installed"]).unwrap_or_default();
+    if !installed.lines().any(|l| l.trim() == WASM_TARGET) {
+        run("rustup", &["target", "add", WASM_TARGET])?;
+    }
+    let want = locked_version("wasm-bindgen")?;
+    let have = output("wasm-bindgen", &["--version"]).unwrap_or_default();
+    let runner = output("wasm-bindgen-test-runner", &["--version"]).unwrap_or_default();
+    let version_of = |s: &str| s.split_whitespace().nth(1).map(str::to_string);
+    if version_of(&have).as_deref() != Some(want.as_str())
+        || version_of(&runner).as_deref() != Some(want.as_str())
+    {
+        eprintln!(
+            "xtask: wasm-bindgen-cli {want} is needed (found {:?}); installing it (a few minutes)",
+            have.trim()
+        );
+        // Not --locked: one of its locked dependencies is missing from some registry mirrors.
+        run(
+            "cargo",
+            &[
+                "install",
+                "wasm-bindgen-cli",
+                "--version",
+                &format!("={want}"),
+                "--force",
+            ],
+        )?;
+    }
+    Ok(())
+}
+
+/// The scene list of the page: every `scenes/*.json`, with its name and dimension.
+fn write_scene_list() -> Result<usize, String> {
+    let dir = root().join("scenes");
+    let mut entries = Vec::new();
+    if let Ok(read) = std::fs::read_dir(&dir) {
+        let mut files: Vec<PathBuf> = read
+            .flatten()
+            .map(|e| e.path())
+            .filter(|p| p.extension().is_some_and(|e| e == "json"))
+            .collect();
+        files.sort();
+        for p in files {
+            let file = p.file_name().unwrap().to_string_lossy().into_owned();
+            let text = std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))?;
+            let v: serde_json::Value =
+                serde_json::from_str(&text).map_err(|e| format!("scenes/{file}: not JSON: {e}"))?;
+            let stem = file.trim_end_matches(".json");
+            let base = stem
+                .strip_suffix("_2d")
+                .or_else(|| stem.strip_suffix("_3d"))
+                .unwrap_or(stem);
+            entries.push(serde_json::json!({
+                "path": format!("scenes/{file}"),
+                "base": base,
+                "dim": v.get("dim").and_then(|d| d.as_u64()).unwrap_or(3),
+                "name": v.get("name").and_then(|n| n.as_str()).unwrap_or(base),
+            }));
+        }
+    }
+    let n = entries.len();
+    let out = root().join("www/pkg/scenes.json");
+    std::fs::write(
+        &out,
+        serde_json::to_string_pretty(&entries).expect("serialisable"),
+    )
+    .map_err(|e| format!("{}: {e}", out.display()))?;
+    Ok(n)
+}
+
+/// Builds the playground into `www/pkg/`; returns the size of the wasm file.
+fn build() -> Result<u64, String> {
+    ensure_wasm_tools()?;
+    run_cmd(wasm_cargo(&[
+        "build",
+        "--release",
+        "--lib",
+        "--target",
+        WASM_TARGET,
+        "--package",
+        "mpm",
+    ]))?;
+    let wasm = root().join("target/wasm32-unknown-unknown/release/mpm.wasm");
+    let pkg = root().join("www/pkg");
+    run(
+        "wasm-bindgen",
+        &[
+            "--target",
+            "web",
+            "--no-typescript",
+            "--out-dir",
+            &pkg.to_string_lossy(),
+            &wasm.to_string_lossy(),
+        ],
+    )?;
+    let scenes = write_scene_list()?;
+    let size = std::fs::metadata(pkg.join("mpm_bg.wasm"))
+        .map(|m| m.len())
+        .unwrap_or(0);
+    eprintln!(
+        "xtask: built www/pkg/ (mpm_bg.wasm {:.0} KiB, {scenes} scene files listed)",
+        size as f64 / 1024.0
+    );
+    Ok(size)
+}
+
+fn flag<'a>(args: &'a [String], name: &str) -> Option<&'a str> {
+    args.iter()
+        .position(|a| a == name)
+        .and_then(|i| args.get(i + 1))
+        .map(String::as_str)
+}
+
+fn serve_task(args: &[String]) -> Result<(), String> {
+    let port: u16 = flag(args, "--port")
+        .unwrap_or("8080")
+        .parse()
+        .map_err(|e| format!("--port: {e}"))?;
+    if !args.iter().any(|a| a == "--no-build") {
+        build()?;
+    }
+    let listener = TcpListener::bind(("127.0.0.1", port)).map_err(|e| {
+        format!("cannot listen on 127.0.0.1:{port}: {e} (another server running? try --port)")
+    })?;
+    let addr = listener.local_addr().map_err(|e| e.to_string())?;
+    println!("Serving the MPM playground at http://{addr}/  (Ctrl-C to stop)");
+    serve::run(listener, root(), false);
+    Ok(())
+}
+
+/// Starts the file server on a free loopback port in this process; returns its URL.
+fn background_server() -> Result<String, String> {
+    let listener = TcpListener::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
+    let addr = listener.local_addr().map_err(|e| e.to_string())?;
+    std::thread::spawn(move || serve::run(listener, root(), true));
+    Ok(format!("http://{addr}/"))
+}
+
+/// Node.js, the npm packages of package-lock.json and Chromium, for the browser tests.
+fn ensure_browser_tools() -> Result<String, String> {
+    let node = output("node", &["--version"])
+        .ok_or("Node.js is needed for the wasm and browser tests (apt-get install nodejs)")?;
+    let major: u32 = node
+        .trim()
+        .trim_start_matches('v')
+        .split('.')
+        .next()
+        .and_then(|m| m.parse().ok())
+        .unwrap_or(0);
+    if major < 18 {
+        return Err(format!(
+            "Node.js 18 or newer is needed, found {}",
+            node.trim()
+        ));
+    }
+    let r = root();
+    let installed = r.join("node_modules/.package-lock.json");
+    let stale = match (
+        std::fs::metadata(r.join("package-lock.json")).and_then(|m| m.modified()),
+        std::fs::metadata(&installed).and_then(|m| m.modified()),
+    ) {
+        (Ok(lock), Ok(inst)) => lock > inst,
+        _ => true,
+    };
+    if stale || !r.join("node_modules/playwright-core").exists() {
+        run("npm", &["ci", "--no-audit", "--no-fund"])?;
+    }
+    let chromium = std::env::var("CHROMIUM").unwrap_or_else(|_| "/usr/bin/chromium".into());
+    if !Path::new(&chromium).exists() {
+        let root_user = output("id", &["-u"]).is_some_and(|u| u.trim() == "0");
+        if root_user && Path::new("/usr/bin/apt-get").exists() {
+            eprintln!("xtask: installing Debian's chromium for the browser test");
+            run("apt-get", &["update", "-qq"])?;
+            run("apt-get", &["install", "-y", "-qq", "chromium"])?;
+        } else {
+            return Err(format!(
+                "Chromium not found at {chromium}: install Debian's `chromium` package or set CHROMIUM"
+            ));
+        }
+    }
+    Ok(chromium)
 }
 
 fn test() -> Result<(), String> {
@@ -80,21 +372,127 @@ fn test() -> Result<(), String> {
     run("cargo", &["test", "--workspace"])?;
     // the f64 build option: the unit tests (constitutive models, kernels, grid) in double precision
     run("cargo", &["test", "--lib", "--features", "f64"])?;
+    build()?;
+    run_cmd(wasm_cargo(&[
+        "clippy",
+        "--package",
+        "mpm",
+        "--target",
+        WASM_TARGET,
+        "--lib",
+        "--test",
+        "wasm",
+        "--",
+        "-D",
+        "warnings",
+    ]))?;
+    // The wasm tests in Node, through wasm-bindgen-test-runner (.cargo/config.toml).
+    run_cmd(wasm_cargo(&[
+        "test",
+        "--package",
+        "mpm",
+        "--target",
+        WASM_TARGET,
+        "--test",
+        "wasm",
+    ]))?;
+    let chromium = ensure_browser_tools()?;
+    let url = background_server()?;
+    let mut e2e = command(
+        "node",
+        &["--test", "--test-reporter=spec", "www/tests/e2e.test.mjs"],
+    );
+    e2e.env("MPM_URL", &url)
+        .env("CHROMIUM", &chromium)
+        .env("MPM_OUT", root().join("target/e2e"));
+    run_cmd(e2e)?;
+    eprintln!("xtask: every test passed");
     Ok(())
 }
 
-/// Runs a report-writing benchmark on one core (`taskset -c 0` when available).
-fn bench(name: &str, filters: &[String]) -> Result<(), String> {
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    if v.is_empty() { 0.0 } else { v[v.len() / 2] }
+}
+
+/// The `median_ms_per_step=` figure of a benchmark's output.
+fn parse_median(out: &str) -> Option<f64> {
+    out.split_whitespace()
+        .find_map(|w| w.strip_prefix("median_ms_per_step="))
+        .and_then(|v| v.parse().ok())
+}
+
+fn captured(mut c: Command) -> Result<String, String> {
+    let shown = format!("{:?}", c);
+    eprintln!("xtask: {shown}");
+    let out = c.output().map_err(|e| format!("{shown}: {e}"))?;
+    eprint!("{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    print!("{text}");
+    if out.status.success() {
+        Ok(text)
+    } else {
+        Err(format!("{shown} failed ({})", out.status))
+    }
+}
+
+fn bench_web(args: &[String]) -> Result<(), String> {
+    let steps = flag(args, "--steps").unwrap_or("200");
+    let seconds = flag(args, "--seconds").unwrap_or("10");
+    let runs: usize = flag(args, "--runs").unwrap_or("3").parse().unwrap_or(3);
+    let size = build()?;
+    let (mut native, mut wasm) = (Vec::new(), Vec::new());
+    for _ in 0..runs {
+        let out = captured(command(
+            "cargo",
+            &[
+                "bench",
+                "--quiet",
+                "--package",
+                "mpm",
+                "--bench",
+                "playground",
+                "--",
+                BENCH_SCENE,
+                steps,
+            ],
+        ))?;
+        native.extend(parse_median(&out));
+        let out = captured(command(
+            "node",
+            &["www/bench/node-bench.mjs", BENCH_SCENE, steps],
+        ))?;
+        wasm.extend(parse_median(&out));
+    }
+    let (n, w) = (median(&mut native), median(&mut wasm));
+    println!(
+        "bench-web: {BENCH_SCENE}: native {n:.3} ms/step, wasm in Node {w:.3} ms/step, ratio {:.2} (medians of {runs} runs of {steps} steps); mpm_bg.wasm {:.0} KiB",
+        w / n,
+        size as f64 / 1024.0
+    );
+    let chromium = ensure_browser_tools()?;
+    let url = background_server()?;
+    // The benchmark scene (≥ 20 000 particles) and the page's default 3D scene.
+    for scene in [BENCH_SCENE, DEFAULT_SCENE] {
+        let mut fps = command("node", &["www/bench/fps.mjs"]);
+        fps.env("MPM_URL", &url)
+            .env("CHROMIUM", &chromium)
+            .env("MPM_SCENE", scene)
+            .env("MPM_SECONDS", seconds);
+        run_cmd(fps)?;
+    }
+    Ok(())
+}
+
+/// Runs a report-writing benchmark on one core (`taskset -c 0` when available); `filters`
+/// select parts of it.
+fn report_bench(name: &str, filters: &[String]) -> Result<(), String> {
     let mut args: Vec<&str> = vec!["bench", "--bench", name];
     if !filters.is_empty() {
         args.push("--");
         args.extend(filters.iter().map(String::as_str));
     }
-    let pinned = Command::new("taskset")
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if pinned {
+    if output("taskset", &["--version"]).is_some() {
         let mut all = vec!["-c", "0", "cargo"];
         all.extend(args);
         run("taskset", &all)
@@ -103,25 +501,9 @@ fn bench(name: &str, filters: &[String]) -> Result<(), String> {
     }
 }
 
-/// The long stability sweep.
+/// The long stability sweep: `MPM_LONG=1 cargo test --test stability -- --nocapture`.
 fn stress() -> Result<(), String> {
-    eprintln!("xtask: MPM_LONG=1 cargo test --release --test stability -- --nocapture");
-    let status = Command::new("cargo")
-        .args([
-            "test",
-            "--release",
-            "--test",
-            "stability",
-            "--",
-            "--nocapture",
-        ])
-        .env("MPM_LONG", "1")
-        .current_dir(root())
-        .status()
-        .map_err(|e| format!("cannot start cargo: {e}"))?;
-    if status.success() {
-        Ok(())
-    } else {
-        Err(format!("the long stability sweep failed ({status})"))
-    }
+    let mut c = command("cargo", &["test", "--test", "stability", "--", "--nocapture"]);
+    c.env("MPM_LONG", "1");
+    run_cmd(c)
 }

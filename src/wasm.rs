@@ -1,0 +1,252 @@
+//! The WebAssembly API of the browser playground: a thin wasm-bindgen layer over
+//! [`crate::playground::Playground`]. Errors become JS `Error`s whose message names the
+//! parameter and its allowed range; small records cross as JSON strings; particle positions
+//! and colours are read in place through pointers into wasm memory (JS builds
+//! `new Float32Array(memory.buffer, ptr, len)` views after each call that may grow memory).
+
+use crate::playground::{BunnyAssets, ColourMode, Playground as Core};
+use std::collections::HashMap;
+use wasm_bindgen::prelude::*;
+
+// The page reads positions as f32: the wasm build must keep the default precision.
+const _: () = assert!(std::mem::size_of::<crate::math::Real>() == 4);
+
+#[wasm_bindgen]
+extern "C" {
+    /// `performance.now()`: in browsers and in Node ≥ 16 alike.
+    #[wasm_bindgen(js_namespace = performance, js_name = now)]
+    fn performance_now() -> f64;
+}
+
+fn js_err(e: impl std::fmt::Display) -> JsError {
+    JsError::new(&e.to_string())
+}
+
+fn json(v: &impl serde::Serialize) -> String {
+    serde_json::to_string(v).unwrap_or_else(|e| format!("{{\"error\":\"{e}\"}}"))
+}
+
+/// Installs the panic hook (a Rust panic shows in the console with its message).
+#[wasm_bindgen(start)]
+pub fn start() {
+    console_error_panic_hook::set_once();
+}
+
+/// The scene JSON of an empty box of dimension 2 or 3 to drop things into.
+#[wasm_bindgen(js_name = sandboxScene)]
+pub fn sandbox_scene(dim: usize) -> String {
+    json(&Core::sandbox_scene(dim))
+}
+
+/// The files a scene references (meshes, vertex lists), as written in it: relative to the
+/// scene file. Fetch each and pass their texts to the `Playground` constructor.
+#[wasm_bindgen(js_name = assetPaths)]
+pub fn asset_paths(scene_json: &str) -> Result<Vec<String>, JsError> {
+    crate::playground::asset_paths(scene_json).map_err(js_err)
+}
+
+/// A simulation with its presets, live parameters and render buffers.
+#[wasm_bindgen]
+pub struct Playground {
+    core: Core,
+    colour: ColourMode,
+}
+
+#[wasm_bindgen]
+impl Playground {
+    /// Builds a playground from scene JSON (the scene-file format of the CLI) and, when the
+    /// scene references files (see `assetPaths`), a JSON object of their texts keyed by the
+    /// paths as written in the scene.
+    #[wasm_bindgen(constructor)]
+    pub fn new(scene_json: &str, assets_json: Option<String>) -> Result<Playground, JsError> {
+        let assets: HashMap<String, String> = match assets_json {
+            Some(text) => serde_json::from_str(&text)
+                .map_err(|e| js_err(format!("assets: {e} (want {{\"path\": \"text\"}})")))?,
+            None => HashMap::new(),
+        };
+        Ok(Playground {
+            core: Core::from_json_with_assets(scene_json, &assets).map_err(js_err)?,
+            colour: ColourMode::Body,
+        })
+    }
+
+    /// Dropped bunnies use the shipped mesh (`scenes/bunny.obj`, 3D) and silhouette
+    /// (`scenes/bunny2d.txt`, 2D) given as text; without them, a bunny made of balls.
+    #[wasm_bindgen(js_name = setBunny)]
+    pub fn set_bunny(
+        &mut self,
+        obj: Option<String>,
+        polygon: Option<String>,
+    ) -> Result<(), JsError> {
+        let bunny = BunnyAssets::parse(obj.as_deref(), polygon.as_deref()).map_err(js_err)?;
+        self.core.set_bunny(bunny);
+        Ok(())
+    }
+
+    pub fn dim(&self) -> usize {
+        self.core.dim()
+    }
+    /// The scene as it stands (world, and each body's parameters), as JSON.
+    #[wasm_bindgen(js_name = sceneJson)]
+    pub fn scene_json(&self) -> String {
+        json(self.core.scene())
+    }
+    #[wasm_bindgen(js_name = particleCount)]
+    pub fn particle_count(&self) -> usize {
+        self.core.particle_count()
+    }
+    #[wasm_bindgen(js_name = bodyCount)]
+    pub fn body_count(&self) -> usize {
+        self.core.body_count()
+    }
+    /// Simulated time (s).
+    pub fn time(&self) -> f64 {
+        self.core.simulation().time()
+    }
+    #[wasm_bindgen(js_name = stableDt)]
+    pub fn stable_dt(&self) -> f64 {
+        self.core.simulation().stable_dt()
+    }
+    /// The diagnostics after the latest step, as JSON (energies, momentum, dt, CFL, …).
+    pub fn diagnostics(&self) -> String {
+        json(self.core.diagnostics())
+    }
+    /// The error that stopped the simulation, or undefined.
+    pub fn failure(&self) -> Option<String> {
+        self.core.failure()
+    }
+
+    /// Advances by up to `sim_time` seconds within `budget_ms` of wall-clock time; returns a
+    /// JSON report (substeps, sim_time, wall_ms, fell_behind, ms_per_step, stable_dt).
+    pub fn frame(&mut self, sim_time: f64, budget_ms: f64) -> Result<String, JsError> {
+        let r = self
+            .core
+            .frame(sim_time, budget_ms, performance_now)
+            .map_err(js_err)?;
+        Ok(json(&r))
+    }
+    /// One time step.
+    pub fn step(&mut self) -> Result<(), JsError> {
+        self.core.step().map_err(js_err)
+    }
+
+    /// Sets a live parameter (`gravity`, `wall_friction`, `cfl`, or `<model>.<field>`),
+    /// validated like a scene file; throws naming the parameter and its range, state unchanged.
+    #[wasm_bindgen(js_name = setParameter)]
+    pub fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), JsError> {
+        self.core.set_parameter(name, value).map_err(js_err)
+    }
+    /// The current value of a live parameter.
+    pub fn parameter(&self, name: &str) -> Result<f64, JsError> {
+        self.core.parameter(name).map_err(js_err)
+    }
+    /// Every live parameter and its value, as a JSON object.
+    pub fn parameters(&self) -> String {
+        json(
+            &self
+                .core
+                .parameters()
+                .into_iter()
+                .collect::<std::collections::BTreeMap<_, _>>(),
+        )
+    }
+    /// The parameters changed since the scene was loaded, as JSON `[[name, value], …]`.
+    pub fn overrides(&self) -> String {
+        json(&self.core.overrides())
+    }
+    /// What a parameter value would cost (JSON: valid, error, stable_dt,
+    /// substeps_per_frame, realtime_ratio), without applying it.
+    pub fn predict(&self, name: &str, value: f64, frame_time: f64) -> String {
+        json(&self.core.predict(name, value, frame_time))
+    }
+
+    /// Adds an object (`bunny`, `ball`, `box`) of a preset material (`elastic`, `von_mises`,
+    /// `drucker_prager`), `size` m tall, centred at `center`, moving at `velocity`.
+    #[wasm_bindgen(js_name = addObject)]
+    pub fn add_object(
+        &mut self,
+        object: &str,
+        model: &str,
+        center: &[f64],
+        velocity: &[f64],
+        size: f64,
+    ) -> Result<usize, JsError> {
+        self.core
+            .add_object(object, model, center, velocity, size)
+            .map_err(js_err)
+    }
+    /// Adds a body given as JSON (a scene file's `bodies[i]`).
+    #[wasm_bindgen(js_name = addBodyJson)]
+    pub fn add_body_json(&mut self, body_json: &str) -> Result<usize, JsError> {
+        let body: crate::BodyConfig = serde_json::from_str(body_json).map_err(js_err)?;
+        self.core.add_body(body).map_err(js_err)
+    }
+    /// Removes every body.
+    pub fn clear(&mut self) {
+        self.core.clear();
+    }
+    /// Reloads the scene with the current parameter overrides.
+    pub fn reset(&mut self) -> Result<(), JsError> {
+        self.core.reset().map_err(js_err)
+    }
+    /// The top of the material within `radius` of (x, z): where a dropped object lands.
+    #[wasm_bindgen(js_name = surfaceHeight)]
+    pub fn surface_height(&self, x: f64, z: f64, radius: f64) -> f64 {
+        self.core.surface_height(x, z, radius)
+    }
+
+    /// Byte address of the positions in wasm memory (`positionsStride` f32 per particle, the
+    /// first `dim` of them x, y (, z)). Valid until
+    /// the next call that steps, adds or removes bodies.
+    #[wasm_bindgen(js_name = positionsPtr)]
+    pub fn positions_ptr(&self) -> usize {
+        self.core.positions_ptr() as usize
+    }
+    /// Floats from one particle's position to the next (2 in 2D, 4 in 3D: x, y, z, unused).
+    #[wasm_bindgen(js_name = positionsStride)]
+    pub fn positions_stride(&self) -> usize {
+        self.core.positions_stride()
+    }
+    /// Number of f32 in the positions.
+    #[wasm_bindgen(js_name = positionsLen)]
+    pub fn positions_len(&self) -> usize {
+        self.core.positions_len()
+    }
+    /// Chooses what the colour scalar shows: `body`, `speed`, `pressure`, `plastic_strain`,
+    /// `yield`.
+    #[wasm_bindgen(js_name = setColourMode)]
+    pub fn set_colour_mode(&mut self, mode: &str) -> Result<(), JsError> {
+        self.colour = ColourMode::parse(mode).map_err(js_err)?;
+        Ok(())
+    }
+    /// Recomputes the colour scalars; returns the range the colour map spans `[lo, hi]`.
+    #[wasm_bindgen(js_name = updateColours)]
+    pub fn update_colours(&mut self) -> Vec<f32> {
+        self.core.update_colours(self.colour);
+        self.core.colour_range().to_vec()
+    }
+    /// Byte address of the colour scalars (one f32 per particle).
+    #[wasm_bindgen(js_name = coloursPtr)]
+    pub fn colours_ptr(&self) -> usize {
+        self.core.colours_ptr() as usize
+    }
+    #[wasm_bindgen(js_name = coloursLen)]
+    pub fn colours_len(&self) -> usize {
+        self.core.colours_len()
+    }
+    /// The stable id of particle `index` (particles are reordered for locality).
+    #[wasm_bindgen(js_name = particleId)]
+    pub fn particle_id(&self, index: usize) -> Result<u32, JsError> {
+        Ok(self.core.stress_point(index).map_err(js_err)?.id)
+    }
+    /// The index of the particle with stable id `id`, or undefined if it is gone.
+    #[wasm_bindgen(js_name = indexOf)]
+    pub fn index_of(&self, id: u32) -> Option<usize> {
+        self.core.index_of(id)
+    }
+    /// Particle `index`'s stress in p–q space and its body's yield surface, as JSON.
+    #[wasm_bindgen(js_name = stressPoint)]
+    pub fn stress_point(&self, index: usize) -> Result<String, JsError> {
+        Ok(json(&self.core.stress_point(index).map_err(js_err)?))
+    }
+}

@@ -1,0 +1,350 @@
+//! The wasm API in Node (`cargo test --target wasm32-unknown-unknown --test wasm`, runner
+//! wasm-bindgen-test-runner): every shipped scene and every test scene is created and
+//! stepped; each live parameter accepts a valid value and rejects an invalid one with a named
+//! error and the state unchanged; bodies are added and cleared.
+#![cfg(target_arch = "wasm32")]
+
+use mpm::wasm::Playground;
+use wasm_bindgen::prelude::*;
+use wasm_bindgen_test::*;
+
+#[wasm_bindgen(module = "node:fs")]
+extern "C" {
+    #[wasm_bindgen(js_name = readFileSync, catch)]
+    fn read_file_sync(path: &str, encoding: &str) -> Result<String, JsValue>;
+    #[wasm_bindgen(js_name = readdirSync, catch)]
+    fn readdir_sync(path: &str) -> Result<Vec<String>, JsValue>;
+}
+
+const ROOT: &str = env!("CARGO_MANIFEST_DIR");
+
+/// (path, JSON) of every scene file in `dir` (relative to the repository root).
+fn scene_files(dir: &str) -> Vec<(String, String)> {
+    let Ok(mut names) = readdir_sync(&format!("{ROOT}/{dir}")) else {
+        return Vec::new();
+    };
+    names.sort();
+    names
+        .into_iter()
+        .filter(|n| n.ends_with(".json"))
+        .map(|n| {
+            let path = format!("{dir}/{n}");
+            let text = read_file_sync(&format!("{ROOT}/{path}"), "utf8").expect("readable");
+            (path, text)
+        })
+        .collect()
+}
+
+fn message(e: JsError) -> String {
+    let v: JsValue = e.into();
+    js_sys::Error::from(v).message().into()
+}
+
+#[derive(serde::Deserialize)]
+struct Diag {
+    kinetic: f64,
+    gravitational: f64,
+    elastic: f64,
+    dissipated_plastic: f64,
+    dissipated_boundary: f64,
+    dissipated_contact: f64,
+    dt: f64,
+    cfl: f64,
+    particles: usize,
+}
+
+fn diag(pg: &Playground) -> Diag {
+    serde_json::from_str(&pg.diagnostics()).unwrap()
+}
+
+#[wasm_bindgen_test]
+fn every_scene_steps_with_finite_bounded_energy() {
+    let mut files = scene_files("scenes");
+    files.extend(scene_files("www/test-scenes"));
+    assert!(files.len() >= 13, "found {files:?}");
+    assert!(
+        files
+            .iter()
+            .any(|(p, _)| p == "scenes/bunny_on_sand_ball_3d.json")
+    );
+    for (path, text) in files {
+        // Files the scene references (the bunny mesh, …), relative to the scene file.
+        let dir = &path[..path.rfind('/').unwrap()];
+        let assets: serde_json::Map<String, serde_json::Value> = mpm::wasm::asset_paths(&text)
+            .unwrap_or_else(|e| panic!("{path}: {}", message(e)))
+            .into_iter()
+            .map(|a| {
+                let t = read_file_sync(&format!("{ROOT}/{dir}/{a}"), "utf8").expect("asset");
+                (a, serde_json::Value::String(t))
+            })
+            .collect();
+        let assets = (!assets.is_empty()).then(|| serde_json::Value::Object(assets).to_string());
+        let mut pg =
+            Playground::new(&text, assets).unwrap_or_else(|e| panic!("{path}: {}", message(e)));
+        assert!(pg.particle_count() > 0, "{path}");
+        let d0 = diag(&pg);
+        let e0 = d0.kinetic + d0.gravitational + d0.elastic;
+        for _ in 0..5 {
+            pg.frame(0.004, 1e9)
+                .unwrap_or_else(|e| panic!("{path}: {}", message(e)));
+        }
+        let d = diag(&pg);
+        let total = d.kinetic + d.gravitational + d.elastic;
+        for (name, v) in [
+            ("kinetic", d.kinetic),
+            ("gravitational", d.gravitational),
+            ("elastic", d.elastic),
+            (
+                "dissipated",
+                d.dissipated_plastic + d.dissipated_boundary + d.dissipated_contact,
+            ),
+            ("dt", d.dt),
+            ("cfl", d.cfl),
+        ] {
+            assert!(v.is_finite(), "{path}: {name} = {v}");
+        }
+        // Energy is bounded: nothing is created beyond the starting total (tolerance for
+        // the discretisation: 5 % of the initial kinetic + gravitational magnitude).
+        let scale = d0.kinetic.abs() + d0.gravitational.abs() + d0.elastic.abs() + 1e-9;
+        assert!(
+            total <= e0 + 0.05 * scale,
+            "{path}: energy grew from {e0} to {total}"
+        );
+        assert!(d.cfl > 0.0 && d.cfl <= 1.0 + 1e-6, "{path}: cfl {}", d.cfl);
+        assert_eq!(d.particles, pg.particle_count());
+        let report: serde_json::Value =
+            serde_json::from_str(&pg.frame(0.01, 1e9).unwrap()).unwrap();
+        assert!(
+            report["substeps"].as_u64().unwrap() >= 1,
+            "{path}: {report}"
+        );
+    }
+}
+
+#[wasm_bindgen_test]
+fn a_missing_asset_is_named() {
+    let text = read_file_sync(&format!("{ROOT}/scenes/elastic_bunny_3d.json"), "utf8").unwrap();
+    assert_eq!(
+        mpm::wasm::asset_paths(&text).unwrap(),
+        vec!["bunny.obj".to_string()]
+    );
+    let e = message(Playground::new(&text, None).err().unwrap());
+    assert!(e.contains("bunny.obj"), "{e}");
+    let e = message(Playground::new(&text, Some("[1, 2]".into())).err().unwrap());
+    assert!(e.starts_with("assets: "), "{e}");
+}
+
+/// A valid and an invalid value of every live parameter, and the error's start.
+const PARAMETERS: &[(&str, f64, f64, &str)] = &[
+    (
+        "gravity",
+        3.7,
+        f64::NAN,
+        "gravity[1] = NaN: must be a finite number",
+    ),
+    (
+        "wall_friction",
+        0.2,
+        -1.0,
+        "boundary.friction = -1: must be a finite number >= 0",
+    ),
+    ("cfl", 0.3, 1.5, "cfl = 1.5: must be in [0.001, 1]"),
+    (
+        "elastic.youngs_modulus",
+        2e5,
+        0.0,
+        "material.elastic.youngs_modulus = 0: must be a finite number > 0 (Pa)",
+    ),
+    (
+        "elastic.poisson_ratio",
+        0.25,
+        0.5,
+        "material.elastic.poisson_ratio = 0.5: must be in [0, 0.5)",
+    ),
+    (
+        "elastic.density",
+        1200.0,
+        -5.0,
+        "material.elastic.density = -5: must be a finite number > 0 (kg/m³)",
+    ),
+    (
+        "elastic.flip",
+        0.5,
+        1.5,
+        "elastic.flip = 1.5: must be in [0, 1]",
+    ),
+    (
+        "von_mises.yield_stress",
+        4000.0,
+        0.0,
+        "material.von_mises.yield_stress = 0: must be a finite number > 0 (Pa)",
+    ),
+    (
+        "von_mises.youngs_modulus",
+        3e5,
+        f64::INFINITY,
+        "material.von_mises.youngs_modulus = inf: must be a finite number > 0 (Pa)",
+    ),
+    (
+        "drucker_prager.friction_angle",
+        30.0,
+        90.0,
+        "material.drucker_prager.friction_angle = 90: must be in [0, 90) (degrees)",
+    ),
+    (
+        "drucker_prager.dilatancy_angle",
+        5.0,
+        45.0,
+        "material.drucker_prager.dilatancy_angle = 45: must be in [0, 30]",
+    ),
+    (
+        "drucker_prager.cohesion",
+        100.0,
+        -1.0,
+        "material.drucker_prager.cohesion = -1: must be a finite number >= 0 (Pa)",
+    ),
+    (
+        "drucker_prager.poisson_ratio",
+        0.2,
+        f64::NAN,
+        "material.drucker_prager.poisson_ratio = NaN: must be in [0, 0.5)",
+    ),
+    (
+        "drucker_prager.density",
+        1800.0,
+        0.0,
+        "material.drucker_prager.density = 0: must be a finite number > 0",
+    ),
+    (
+        "drucker_prager.flip",
+        0.9,
+        -0.1,
+        "drucker_prager.flip = -0.1: must be in [0, 1]",
+    ),
+];
+
+#[wasm_bindgen_test]
+fn every_live_parameter_is_validated_with_the_state_unchanged() {
+    for dim in [2, 3] {
+        let text =
+            read_file_sync(&format!("{ROOT}/www/test-scenes/drop_{dim}d.json"), "utf8").unwrap();
+        let mut pg = Playground::new(&text, None).unwrap();
+        pg.frame(0.01, 1e9).unwrap();
+        for &(name, good, bad, error) in PARAMETERS {
+            pg.set_parameter(name, good)
+                .unwrap_or_else(|e| panic!("{name} = {good}: {}", message(e)));
+            assert_eq!(pg.parameter(name).unwrap(), good, "{name}");
+            let (scene, time, n) = (pg.scene_json(), pg.time(), pg.particle_count());
+            let e = message(pg.set_parameter(name, bad).unwrap_err());
+            assert!(
+                e.starts_with(error),
+                "{name} = {bad}: got {e:?}, want {error:?}"
+            );
+            assert_eq!(pg.scene_json(), scene, "{name}: state changed on error");
+            assert_eq!((pg.time(), pg.particle_count()), (time, n));
+            assert_eq!(pg.parameter(name).unwrap(), good, "{name}");
+        }
+        let e = message(pg.set_parameter("warp_speed", 9.0).unwrap_err());
+        assert!(
+            e.starts_with("parameter = warp_speed: must be one of gravity, wall_friction, cfl"),
+            "{e}"
+        );
+        // The changed parameters drive the next frames without trouble.
+        pg.frame(0.02, 1e9).unwrap();
+        assert!(pg.failure().is_none());
+        let overrides: Vec<(String, f64)> = serde_json::from_str(&pg.overrides()).unwrap();
+        assert_eq!(overrides.len(), PARAMETERS.len());
+    }
+}
+
+#[wasm_bindgen_test]
+fn bodies_are_added_and_cleared() {
+    for dim in [2usize, 3] {
+        let mut pg = Playground::new(&mpm::wasm::sandbox_scene(dim), None).unwrap();
+        assert_eq!(pg.particle_count(), 0);
+        let obj = read_file_sync(&format!("{ROOT}/scenes/bunny.obj"), "utf8").unwrap();
+        let polygon = read_file_sync(&format!("{ROOT}/scenes/bunny2d.txt"), "utf8").unwrap();
+        let e = message(pg.set_bunny(Some("v 0 0".into()), None).unwrap_err());
+        assert!(e.starts_with("bunny.obj: "), "{e}");
+        pg.set_bunny(Some(obj), Some(polygon)).unwrap();
+        pg.frame(1.0 / 60.0, 1e9).unwrap();
+        let mut last = 0;
+        for (object, model) in [
+            ("bunny", "elastic"),
+            ("ball", "drucker_prager"),
+            ("box", "von_mises"),
+        ] {
+            let c = [1.0, 0.5, 0.5];
+            let v = [0.0, -1.0, 0.0];
+            pg.add_object(object, model, &c[..dim], &v[..dim], 0.3)
+                .unwrap();
+            assert!(pg.particle_count() > last, "{object}");
+            last = pg.particle_count();
+            assert_eq!(pg.positions_len(), last * pg.positions_stride());
+            assert!(pg.positions_stride() >= dim);
+        }
+        assert_eq!(pg.body_count(), 3);
+        let e = message(
+            pg.add_object(
+                "teapot",
+                "elastic",
+                &[1.0, 0.5, 0.5][..dim],
+                &[0.0; 3][..dim],
+                0.3,
+            )
+            .unwrap_err(),
+        );
+        assert!(
+            e.starts_with("object = teapot: must be one of bunny, ball, box"),
+            "{e}"
+        );
+        let e = message(
+            pg.add_object(
+                "ball",
+                "elastic",
+                &[1.0, f64::NAN, 0.5][..dim],
+                &[0.0; 3][..dim],
+                0.3,
+            )
+            .unwrap_err(),
+        );
+        assert!(e.starts_with("center[1] = NaN"), "{e}");
+        assert_eq!(pg.body_count(), 3);
+        pg.frame(0.02, 1e9).unwrap();
+        for mode in ["body", "speed", "pressure", "plastic_strain", "yield"] {
+            pg.set_colour_mode(mode).unwrap();
+            let range = pg.update_colours();
+            assert!(range[1] > range[0], "{mode}: {range:?}");
+            assert_eq!(pg.colours_len(), pg.particle_count());
+        }
+        assert!(pg.set_colour_mode("rainbow").is_err());
+        let sp: serde_json::Value = serde_json::from_str(&pg.stress_point(0).unwrap()).unwrap();
+        assert!(sp["p"].as_f64().unwrap().is_finite());
+        // The views JS builds over wasm memory read the same positions as Rust does.
+        let memory: js_sys::WebAssembly::Memory = wasm_bindgen::memory().unchecked_into();
+        let view = js_sys::Float32Array::new_with_byte_offset_and_length(
+            &memory.buffer(),
+            pg.positions_ptr() as u32,
+            pg.positions_len() as u32,
+        );
+        let stride = pg.positions_stride();
+        for i in (0..pg.particle_count()).step_by(97) {
+            let sp: serde_json::Value = serde_json::from_str(&pg.stress_point(i).unwrap()).unwrap();
+            for a in 0..dim {
+                // Rust's f32 went through JSON as f64: compare in f32.
+                let want = sp["position"][a].as_f64().unwrap() as f32;
+                let got = view.get_index((i * stride + a) as u32);
+                assert_eq!(got, want, "particle {i} axis {a}");
+            }
+        }
+        pg.update_colours();
+        assert_eq!(pg.colours_len(), pg.particle_count());
+        let id = pg.particle_id(0).unwrap();
+        assert!(pg.index_of(id).is_some());
+        pg.clear();
+        assert_eq!((pg.particle_count(), pg.body_count()), (0, 0));
+        pg.frame(1.0 / 60.0, 1e9).unwrap();
+        pg.reset().unwrap();
+        assert_eq!(pg.particle_count(), 0);
+    }
+}

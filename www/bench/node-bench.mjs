@@ -1,0 +1,39 @@
+// Time per step of a scene in the release wasm (www/pkg/, built by `cargo xtask build`) under
+// Node, the same steps as `cargo bench --bench playground` takes natively.
+//
+//   node www/bench/node-bench.mjs SCENE.json [STEPS]
+// prints `wasm scene=<path> particles=<n> steps=<k> median_ms_per_step=<x> mean_ms_per_step=<y>`.
+import { readFileSync } from 'node:fs';
+import { fileURLToPath } from 'node:url';
+import { performance } from 'node:perf_hooks';
+
+const root = fileURLToPath(new URL('../../', import.meta.url));
+const [path = 'www/test-scenes/bench_3d.json', stepsArg = '200'] = process.argv.slice(2);
+const steps = Number(stepsArg);
+
+const wasm = await import(new URL('www/pkg/mpm.js', `file://${root}`));
+wasm.initSync({ module: readFileSync(`${root}www/pkg/mpm_bg.wasm`) });
+
+const text = readFileSync(`${root}${path}`, 'utf8');
+const dir = path.slice(0, path.lastIndexOf('/') + 1);
+const files = wasm.assetPaths(text);
+const assets = files.length
+  ? JSON.stringify(Object.fromEntries(files.map((f) => [f, readFileSync(`${root}${dir}${f}`, 'utf8')])))
+  : undefined;
+const pg = new wasm.Playground(text, assets);
+// Warm up: V8 first runs wasm in its baseline compiler (Liftoff) and tiers hot functions up
+// to TurboFan; a step-sized function needs a few dozen calls before it is tiered up.
+const warm = performance.now();
+for (let i = 0; i < 30 || performance.now() - warm < 3000; i++) pg.step();
+const times = [];
+for (let i = 0; i < steps; i++) {
+  const t = performance.now();
+  pg.step();
+  times.push(performance.now() - t);
+}
+const mean = times.reduce((a, b) => a + b, 0) / steps;
+times.sort((a, b) => a - b);
+console.log(
+  `wasm scene=${path} particles=${pg.particleCount()} steps=${steps} ` +
+    `median_ms_per_step=${times[Math.floor(steps / 2)].toFixed(4)} mean_ms_per_step=${mean.toFixed(4)}`,
+);

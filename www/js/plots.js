@@ -1,0 +1,223 @@
+// Teaching plots on 2D canvases: the energy budget over time, and a particle's stress path in
+// p–q space against its material's yield surface.
+
+import { format } from './params.js';
+
+function setup(canvas) {
+  const dpr = Math.min(2, window.devicePixelRatio || 1);
+  const w = canvas.clientWidth, h = canvas.clientHeight;
+  if (canvas.width !== Math.round(w * dpr) || canvas.height !== Math.round(h * dpr)) {
+    canvas.width = Math.round(w * dpr);
+    canvas.height = Math.round(h * dpr);
+  }
+  const ctx = canvas.getContext('2d');
+  ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
+  ctx.clearRect(0, 0, w, h);
+  return { ctx, w, h };
+}
+
+/// Round tick values covering [lo, hi].
+function ticks(lo, hi, n = 4) {
+  const span = hi - lo || 1;
+  const raw = span / n;
+  const p = 10 ** Math.floor(Math.log10(raw));
+  const step = [1, 2, 5, 10].map((m) => m * p).find((s) => s >= raw);
+  const out = [];
+  for (let t = Math.ceil(lo / step) * step; t <= hi + 1e-9 * span; t += step) out.push(Number(t.toPrecision(12)));
+  return out;
+}
+
+function axes(ctx, box, xr, yr, xlabel, ylabel, fmtX, fmtY) {
+  const { x0, y0, x1, y1 } = box;
+  ctx.strokeStyle = '#d5dbe5';
+  ctx.fillStyle = '#5b6577';
+  ctx.font = '11px system-ui, sans-serif';
+  ctx.lineWidth = 1;
+  ctx.textAlign = 'right';
+  ctx.textBaseline = 'middle';
+  for (const t of ticks(yr[0], yr[1])) {
+    const y = y1 - ((t - yr[0]) / (yr[1] - yr[0])) * (y1 - y0);
+    ctx.beginPath(); ctx.moveTo(x0, y); ctx.lineTo(x1, y); ctx.stroke();
+    ctx.fillText(fmtY(t), x0 - 4, y);
+  }
+  ctx.textAlign = 'center';
+  ctx.textBaseline = 'top';
+  for (const t of ticks(xr[0], xr[1])) {
+    const x = x0 + ((t - xr[0]) / (xr[1] - xr[0])) * (x1 - x0);
+    ctx.beginPath(); ctx.moveTo(x, y0); ctx.lineTo(x, y1); ctx.stroke();
+    ctx.fillText(fmtX(t), x, y1 + 3);
+  }
+  ctx.fillStyle = '#2a3345';
+  ctx.font = '12px system-ui, sans-serif';
+  ctx.fillText(xlabel, (x0 + x1) / 2, y1 + 17);
+  ctx.save();
+  ctx.translate(10, (y0 + y1) / 2);
+  ctx.rotate(-Math.PI / 2);
+  ctx.textBaseline = 'middle';
+  ctx.fillText(ylabel, 0, 0);
+  ctx.restore();
+}
+
+export const ENERGY_SERIES = [
+  { key: 'kinetic', label: 'kinetic', colour: '#d9480f' },
+  { key: 'potential', label: 'gravitational', colour: '#1c7ed6' },
+  { key: 'elastic', label: 'elastic', colour: '#2b8a3e' },
+  { key: 'dissipated', label: 'dissipated', colour: '#862e9c' },
+  { key: 'total', label: 'sum', colour: '#212529', dash: [4, 3] },
+];
+
+/// Energies over time, relative to the state when the plot was (re)started: gravitational
+/// energy is measured from its value then, dissipation counts from then, and the sum
+/// (kinetic + gravitational + elastic + dissipated) shows how well energy is accounted for.
+export class EnergyPlot {
+  constructor(canvas, capacity = 900) {
+    this.canvas = canvas;
+    this.capacity = capacity;
+    this.restart();
+  }
+
+  restart() {
+    this.samples = [];
+    this.ref = null;
+  }
+
+  push(d) {
+    const dissipated = d.dissipated_plastic + d.dissipated_boundary + d.dissipated_contact;
+    if (!this.ref) this.ref = { gravitational: d.gravitational, dissipated, time: d.time };
+    const s = {
+      time: d.time - this.ref.time,
+      kinetic: d.kinetic,
+      potential: d.gravitational - this.ref.gravitational,
+      elastic: d.elastic,
+      dissipated: dissipated - this.ref.dissipated,
+    };
+    s.total = s.kinetic + s.potential + s.elastic + s.dissipated;
+    const last = this.samples[this.samples.length - 1];
+    if (last && s.time <= last.time) return;
+    this.samples.push(s);
+    if (this.samples.length > this.capacity) this.samples.splice(0, this.samples.length - this.capacity);
+  }
+
+  draw(unit) {
+    const { ctx, w, h } = setup(this.canvas);
+    const box = { x0: 60, y0: 8, x1: w - 10, y1: h - 34 };
+    const S = this.samples;
+    if (S.length < 2) {
+      ctx.fillStyle = '#5b6577';
+      ctx.font = '13px system-ui, sans-serif';
+      ctx.textAlign = 'center';
+      ctx.fillText('energies appear here while the simulation runs', w / 2, h / 2);
+      return;
+    }
+    const xr = [S[0].time, S[S.length - 1].time];
+    let lo = 0, hi = 0;
+    for (const s of S) for (const k of ENERGY_SERIES) { lo = Math.min(lo, s[k.key]); hi = Math.max(hi, s[k.key]); }
+    const pad = 0.05 * (hi - lo || 1);
+    const yr = [lo - pad, hi + pad];
+    axes(ctx, box, xr, yr, 'time (s)', unit, (t) => `${+t.toPrecision(3)}`, (v) => format(v));
+    const X = (t) => box.x0 + ((t - xr[0]) / (xr[1] - xr[0] || 1)) * (box.x1 - box.x0);
+    const Y = (v) => box.y1 - ((v - yr[0]) / (yr[1] - yr[0])) * (box.y1 - box.y0);
+    for (const k of ENERGY_SERIES) {
+      ctx.strokeStyle = k.colour;
+      ctx.lineWidth = 2;
+      ctx.setLineDash(k.dash || []);
+      ctx.beginPath();
+      S.forEach((s, i) => (i ? ctx.lineTo(X(s.time), Y(s[k.key])) : ctx.moveTo(X(s.time), Y(s[k.key]))));
+      ctx.stroke();
+    }
+    ctx.setLineDash([]);
+  }
+}
+
+/// A particle's stress path in p–q space (p = −tr σ/3, q = √(3 J2), kPa) with the current
+/// yield surface of its material: the Drucker–Prager cone q = slope·p + intercept (from its
+/// apex), or the von Mises cylinder q = σ_y.
+export class StressPlot {
+  constructor(canvas, capacity = 1500) {
+    this.canvas = canvas;
+    this.capacity = capacity;
+    this.clear();
+  }
+
+  clear() {
+    this.path = [];
+    this.point = null;
+  }
+
+  push(sp) {
+    this.point = sp;
+    this.path.push([sp.p, sp.q]);
+    if (this.path.length > this.capacity) this.path.shift();
+  }
+
+  draw() {
+    const { ctx, w, h } = setup(this.canvas);
+    const sp = this.point;
+    if (!sp) {
+      ctx.fillStyle = '#5b6577';
+      ctx.font = '13px system-ui, sans-serif';
+      ctx.textAlign = 'center';
+      ctx.fillText('choose “Inspect” and click a particle', w / 2, h / 2 - 8);
+      ctx.fillText('to follow its stress path', w / 2, h / 2 + 10);
+      return;
+    }
+    // kPa, or Pa when the stresses are small (a particle near a free surface).
+    let big = Math.abs(sp.intercept) >= 1e3;
+    for (const [p, q] of this.path) big ||= Math.max(Math.abs(p), q) >= 1e3;
+    const k = big ? 1e-3 : 1;
+    const unit = big ? 'kPa' : 'Pa';
+    let pMax = 0, qMax = 0, pMin = 0;
+    for (const [p, q] of this.path) { pMax = Math.max(pMax, p * k); pMin = Math.min(pMin, p * k); qMax = Math.max(qMax, q * k); }
+    if (sp.surface === 'von_mises') qMax = Math.max(qMax, sp.intercept * k);
+    if (sp.surface === 'drucker_prager') {
+      pMin = Math.min(pMin, Math.max(sp.apex_p * k, -0.25 * (pMax || 1)));
+      qMax = Math.max(qMax, sp.slope * pMax + sp.intercept * k);
+    }
+    pMax = Math.max(pMax * 1.15, big ? 0.1 : 10);
+    qMax = Math.max(qMax * 1.15, big ? 0.1 : 10);
+    pMin = pMin < 0 ? pMin * 1.15 : 0;
+    const box = { x0: 60, y0: 8, x1: w - 10, y1: h - 34 };
+    const tick = (v) => `${+v.toPrecision(3)}`;
+    axes(ctx, box, [pMin, pMax], [0, qMax], `pressure p (${unit})`, `q = √(3 J₂) (${unit})`, tick, tick);
+    const X = (p) => box.x0 + ((p - pMin) / (pMax - pMin)) * (box.x1 - box.x0);
+    const Y = (q) => box.y1 - (q / qMax) * (box.y1 - box.y0);
+    // The yield surface, with the inadmissible side shaded.
+    ctx.fillStyle = 'rgba(224, 49, 49, 0.08)';
+    ctx.strokeStyle = '#e03131';
+    ctx.lineWidth = 2.5;
+    if (sp.surface !== 'none') {
+      const p0 = sp.surface === 'drucker_prager' ? Math.max(pMin, sp.apex_p * k) : pMin;
+      const q = (p) => (sp.slope * p + sp.intercept * k);
+      ctx.beginPath();
+      ctx.moveTo(X(p0), Y(Math.max(0, q(p0))));
+      ctx.lineTo(X(pMax), Y(q(pMax)));
+      ctx.lineTo(X(pMax), box.y0);
+      ctx.lineTo(X(p0), box.y0);
+      ctx.closePath();
+      ctx.fill();
+      ctx.beginPath();
+      ctx.moveTo(X(p0), Y(Math.max(0, q(p0))));
+      ctx.lineTo(X(pMax), Y(q(pMax)));
+      ctx.stroke();
+      ctx.fillStyle = '#c92a2a';
+      ctx.font = '12px system-ui, sans-serif';
+      ctx.textAlign = 'left';
+      const label = sp.surface === 'drucker_prager' ? 'Drucker–Prager cone' : 'von Mises: q = σ_y';
+      ctx.fillText(label, box.x0 + 6, box.y0 + 12);
+    } else {
+      ctx.fillStyle = '#5b6577';
+      ctx.font = '12px system-ui, sans-serif';
+      ctx.textAlign = 'left';
+      ctx.fillText('elastic: no yield surface', box.x0 + 6, box.y0 + 12);
+    }
+    ctx.strokeStyle = '#1c7ed6';
+    ctx.lineWidth = 1.5;
+    ctx.beginPath();
+    this.path.forEach(([p, q], i) => (i ? ctx.lineTo(X(p * k), Y(q * k)) : ctx.moveTo(X(p * k), Y(q * k))));
+    ctx.stroke();
+    ctx.fillStyle = '#d81b8c';
+    ctx.beginPath();
+    ctx.arc(X(sp.p * k), Y(sp.q * k), 5, 0, 2 * Math.PI);
+    ctx.fill();
+  }
+}

@@ -1,0 +1,162 @@
+// End-to-end test of the playground in a real headless Chromium (Debian's package, driven by
+// playwright-core). The page is served by `cargo xtask test` (MPM_URL); screenshots go to
+// MPM_OUT (default target/e2e).
+//
+//   MPM_URL=http://127.0.0.1:8080/ node --test www/tests/e2e.test.mjs
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { mkdirSync, statSync } from 'node:fs';
+import { join } from 'node:path';
+import { launch } from './browser.mjs';
+import { decodePng, pixelStats } from './png.mjs';
+
+const URL_ROOT = process.env.MPM_URL || 'http://127.0.0.1:8080/';
+const OUT = process.env.MPM_OUT || 'target/e2e';
+mkdirSync(OUT, { recursive: true });
+
+let browser;
+before(async () => { browser = await launch(); });
+after(async () => { await browser?.close(); });
+
+/// Opens the page with `hash`, collecting console errors and uncaught exceptions.
+async function open(hash = '', init) {
+  const page = await browser.context.newPage();
+  const errors = [];
+  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+  page.on('pageerror', (e) => errors.push(e.message));
+  if (init) await page.addInitScript(init);
+  await page.goto(URL_ROOT + hash);
+  await page.waitForFunction(() => window.mpm?.pg && window.mpm.stats.frames > 5, null, { timeout: 60_000 });
+  return { page, errors };
+}
+
+const stats = (page) => page.evaluate(() => ({
+  particles: mpm.pg.particleCount(),
+  bodies: mpm.pg.bodyCount(),
+  time: mpm.pg.time(),
+  frames: mpm.stats.frames,
+  hash: location.hash,
+  renderer: mpm.renderer.kind,
+}));
+
+/// Screen position (page pixels) of a world point.
+async function screenOf(page, x, y, z) {
+  return page.evaluate(([x, y, z]) => {
+    const c = document.getElementById('view');
+    const r = c.getBoundingClientRect();
+    mpm.camera.matrices(c.clientWidth, c.clientHeight);
+    const p = mpm.camera.project(x, y, z);
+    return [r.left + p[0], r.top + p[1]];
+  }, [x, y, z]);
+}
+
+/// Screenshot of the simulation view, with its pixel statistics.
+async function viewShot(page, path) {
+  const box = await page.locator('#view').boundingBox();
+  const buf = await page.screenshot({ path, clip: box });
+  return pixelStats(decodePng(buf));
+}
+
+test('3D: the default scene runs, a click drops a bunny, the friction slider changes the sand and the link', async () => {
+  const { page, errors } = await open('');
+  const s0 = await stats(page);
+  assert.equal(s0.renderer, 'WebGL2');
+  // The picker lists every scene in scenes/ (2D and 3D files paired) and the sandbox.
+  const options = await page.$$eval('#scene option', (o) => o.map((x) => x.value));
+  for (const base of ['bunny_on_sand_ball', 'column_collapse', 'elastic_bunny', 'notched_sand_block', 'plastic_bunny', 'sandbox'])
+    assert.ok(options.includes(base), `${base} in ${options}`);
+  assert.equal(await page.inputValue('#scene'), 'bunny_on_sand_ball', 'a sand scene by default');
+  assert.ok(s0.particles > 10_000 && s0.bodies === 2, JSON.stringify(s0));
+  // Drop an elastic bunny (the shipped mesh) by clicking on the floor.
+  await page.click('#objects button[data-id="bunny"]');
+  await page.click('#materials button[data-id="elastic"]');
+  const size = await page.evaluate(() => JSON.parse(mpm.pg.sceneJson()).domain.size);
+  let [x, y] = await screenOf(page, 0.8 * size[0], 0, 0.5 * size[2]);
+  await page.mouse.click(x, y);
+  const s1 = await stats(page);
+  assert.equal(s1.bodies, 3, 'a body dropped');
+  assert.ok(s1.particles > s0.particles + 500, `particle count grew: ${s0.particles} → ${s1.particles}`);
+  const shape = await page.evaluate(() => JSON.parse(mpm.pg.sceneJson()).bodies[2].shape);
+  assert.ok('mesh' in shape, `the dropped bunny is the mesh: ${JSON.stringify(shape).slice(0, 80)}`);
+  await page.waitForFunction((t) => mpm.pg.time() > t + 0.02, s1.time, { timeout: 60_000 });
+
+  // Move the friction-angle slider of the sand.
+  await page.click('#materials button[data-id="drucker_prager"]');
+  const slider = page.locator('input[type=range][data-param="drucker_prager.friction_angle"]');
+  await slider.focus();
+  for (let i = 0; i < 40; i++) await page.keyboard.press('ArrowLeft');
+  const phi = await page.evaluate(() => mpm.pg.parameter('drucker_prager.friction_angle'));
+  assert.ok(phi < 35 && phi >= 0, `friction angle moved: ${phi}`);
+  const scene = await page.evaluate(() => JSON.parse(mpm.pg.sceneJson()));
+  assert.equal(scene.bodies[0].material.drucker_prager.friction_angle, phi, 'the sand body got the new angle');
+  const s2 = await stats(page);
+  assert.notEqual(s2.hash, s0.hash, 'the URL hash changed');
+  assert.match(decodeURIComponent(s2.hash), new RegExp(`drucker_prager\\.friction_angle=${phi}`));
+
+  // A typed out-of-range value is refused with the scene-file message, state unchanged.
+  const box = page.locator('input[data-param-value="drucker_prager.friction_angle"]');
+  await box.fill('95');
+  await box.press('Enter');
+  const err = await page.locator('.param:has([data-param="drucker_prager.friction_angle"]) .error').textContent();
+  assert.match(err, /friction_angle = 95: must be in \[0, 90\) \(degrees\)/);
+  assert.equal(await page.evaluate(() => mpm.pg.parameter('drucker_prager.friction_angle')), phi);
+
+  await page.waitForFunction((t) => mpm.pg.time() > t + 0.02, s2.time, { timeout: 60_000 });
+  const s3 = await stats(page);
+  assert.ok(s3.time > s1.time, `the simulation advanced: ${s1.time} → ${s3.time}`);
+  assert.ok(s3.frames > s1.frames);
+
+  // Inspect a particle: the p–q plot follows it.
+  await page.click('#tool-inspect');
+  [x, y] = await screenOf(page, 0.5 * size[0], 0.02, 0.5 * size[2]);
+  const picked = await page.evaluate(() => mpm.probeId);
+  await page.mouse.click(x, y);
+  await page.waitForFunction(() => mpm.probeId !== null, null, { timeout: 10_000 }).catch(() => {});
+  assert.notEqual(await page.evaluate(() => mpm.probeId), picked, 'a particle was picked');
+  await page.waitForFunction(() => /drucker prager/.test(document.getElementById('pq-note').textContent), null, { timeout: 20_000 });
+
+  const px = await viewShot(page, join(OUT, 'view-3d.png'));
+  if ((await page.getAttribute('#toggle-plots', 'aria-pressed')) === 'false') await page.click('#toggle-plots');
+  await page.waitForTimeout(500);
+  const shot = join(OUT, 'playground-3d.png');
+  await page.screenshot({ path: shot });
+  assert.ok(statSync(shot).size > 20_000, 'the screenshot has content');
+  assert.ok(px.variance > 50 && px.colours > 20, `the view is not blank: ${JSON.stringify(px)}`);
+  assert.deepEqual(errors, [], 'no console error');
+  await page.close();
+});
+
+test('2D: a link reproduces the parameters, and a box drops where clicked', async () => {
+  const { page, errors } = await open('#scene=sandbox&dim=2&gravity=3.5&elastic.youngs_modulus=20000&colour=speed');
+  assert.equal(await page.evaluate(() => mpm.pg.parameter('gravity')), 3.5);
+  assert.equal(await page.evaluate(() => mpm.pg.parameter('elastic.youngs_modulus')), 20000);
+  await page.click('#objects button[data-id="box"]');
+  await page.click('#materials button[data-id="von_mises"]');
+  const [x, y] = await screenOf(page, 1.0, 0.6, 0);
+  await page.mouse.click(x, y);
+  const s = await stats(page);
+  assert.equal(s.bodies, 1);
+  await page.waitForFunction(() => mpm.pg.time() > 0.05, null, { timeout: 60_000 });
+  assert.match(s.hash, /colour=speed/);
+  await page.screenshot({ path: join(OUT, 'playground-2d.png') });
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test('without WebGL2 the canvas fallback draws the particles', async () => {
+  const noWebgl = () => {
+    const get = HTMLCanvasElement.prototype.getContext;
+    HTMLCanvasElement.prototype.getContext = function (kind, ...rest) {
+      return kind === 'webgl2' ? null : get.call(this, kind, ...rest);
+    };
+  };
+  const { page, errors } = await open('#scene=www/test-scenes/drop_2d.json', noWebgl);
+  const s = await stats(page);
+  assert.match(s.renderer, /Canvas 2D/);
+  assert.ok(s.particles > 0);
+  const px = await viewShot(page, join(OUT, 'view-fallback.png'));
+  assert.ok(px.variance > 50 && px.colours > 5, `fallback view is not blank: ${JSON.stringify(px)}`);
+  await page.screenshot({ path: join(OUT, 'playground-fallback.png') });
+  assert.deepEqual(errors, []);
+  await page.close();
+});
