@@ -48,6 +48,7 @@ struct BodySpec {
     half: [f64; 3],
     ball: bool,
     ppc: u32,
+    apic: bool,
 }
 
 #[derive(Clone, Debug)]
@@ -75,10 +76,15 @@ fn body_spec() -> impl Strategy<Value = BodySpec> {
             prop::array::uniform3(0.25f64..0.75),
             prop::array::uniform3(0.04f64..0.15),
         ),
-        (any::<bool>(), 1u32..=3),
+        (any::<bool>(), 1u32..=3, any::<bool>()),
     )
         .prop_map(
-            |((kind, log_e, nu, rho, phi), (ys, flip, speed), (dir, center, half), (ball, ppc))| {
+            |(
+                (kind, log_e, nu, rho, phi),
+                (ys, flip, speed),
+                (dir, center, half),
+                (ball, ppc, apic),
+            )| {
                 BodySpec {
                     kind,
                     youngs_modulus: 10f64.powf(log_e),
@@ -93,6 +99,7 @@ fn body_spec() -> impl Strategy<Value = BodySpec> {
                     half,
                     ball,
                     ppc,
+                    apic,
                 }
             },
         )
@@ -160,12 +167,13 @@ impl SceneSpec {
                 .sqrt()
                 .max(1e-9);
             let v: Vec<f64> = (0..d).map(|a| b.speed * b.direction[a] / norm).collect();
-            scene.bodies.push(
-                BodyConfig::new(&format!("body {i}"), shape, material)
-                    .with_velocity(&v)
-                    .with_particles_per_cell(b.ppc)
-                    .with_flip(b.flip),
-            );
+            let mut body = BodyConfig::new(&format!("body {i}"), shape, material)
+                .with_velocity(&v)
+                .with_particles_per_cell(b.ppc)
+                .with_flip(b.flip);
+            // APIC where the kernel allows it (not the linear one)
+            body.apic = b.apic && scene.kernel != mpm::KernelKind::Linear;
+            scene.bodies.push(body);
         }
         scene
     }

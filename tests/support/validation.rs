@@ -26,6 +26,8 @@ pub struct Numerics {
     pub kernel: KernelKind,
     /// PIC/FLIP α of the body under test; `None` keeps the scene's.
     pub flip: Option<f64>,
+    /// APIC transfers for the body under test.
+    pub apic: bool,
     pub cfl: f64,
 }
 
@@ -36,8 +38,13 @@ impl Numerics {
             ppc: 2,
             kernel,
             flip: None,
+            apic: false,
             cfl: 0.4,
         }
+    }
+    pub fn apic(mut self) -> Self {
+        self.apic = true;
+        self
     }
     pub fn ppc(mut self, ppc: u32) -> Self {
         self.ppc = ppc;
@@ -63,16 +70,18 @@ impl Numerics {
         if let Some(a) = self.flip {
             scene.bodies[0].flip = Some(a);
         }
+        scene.bodies[0].apic = self.apic;
     }
-    /// A short label, e.g. `gimp h=0.0125 ppc=2 α=1 cfl=0.4`.
+    /// A short label, e.g. `gimp h=0.0125 ppc=2 α=1 cfl=0.4` (and ` apic`).
     pub fn label(&self) -> String {
         let alpha = self.flip.map_or("scene".to_string(), |a| format!("{a}"));
         format!(
-            "{} h={} ppc={} α={alpha} cfl={}",
+            "{} h={} ppc={} α={alpha} cfl={}{}",
             kernel_name(self.kernel),
             self.cell_size,
             self.ppc,
-            self.cfl
+            self.cfl,
+            if self.apic { " apic" } else { "" }
         )
     }
 }

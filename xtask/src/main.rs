@@ -503,7 +503,10 @@ fn report_bench(name: &str, filters: &[String]) -> Result<(), String> {
 
 /// The long stability sweep: `MPM_LONG=1 cargo test --test stability -- --nocapture`.
 fn stress() -> Result<(), String> {
-    let mut c = command("cargo", &["test", "--test", "stability", "--", "--nocapture"]);
+    let mut c = command(
+        "cargo",
+        &["test", "--test", "stability", "--", "--nocapture"],
+    );
     c.env("MPM_LONG", "1");
     run_cmd(c)
 }
