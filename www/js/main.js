@@ -180,6 +180,7 @@ async function loadScene(params = []) {
   banner('failed');
   banner('slow');
   banner('cfl');
+  warnFlip();
   pg.setColourMode(app.view.colour);
   buildDropControls();
   syncControls();
@@ -216,6 +217,19 @@ function warnCost(name, value, p, before) {
   const cfl = app.pg.parameter('cfl');
   banner('cfl', 'warn', cfl > 0.6
     ? `CFL number ${cfl}: steps this close to the stability limit can make fast impacts jitter or blow up; 0.3–0.5 is safe.`
+    : '');
+  warnFlip();
+}
+
+/// FLIP ratios above 0.7 with the linear or GIMP kernel can add energy when an elastic or
+/// von Mises body hits a wall (docs/stability.md, "FLIP and the walls"): say so.
+function warnFlip() {
+  const scene = JSON.parse(app.pg.sceneJson());
+  const risky = scene.kernel !== 'quadratic_bspline' && ['elastic', 'von_mises'].filter((m) =>
+    scene.bodies.some((b) => m in b.material) && app.pg.parameter(`${m}.flip`) > 0.7);
+  banner('flip', 'warn', risky && risky.length
+    ? `FLIP ratio above 0.7 for ${risky.join(' and ')} bodies with the ${scene.kernel} kernel: impacts on the walls can add energy ` +
+      '(bounces grow). Up to 0.7 is safe; the quadratic B-spline kernel is safe at any ratio.'
     : '');
 }
 
