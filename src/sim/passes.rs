@@ -143,7 +143,9 @@ pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
             ps.plastic_strain[q] += update.plastic_strain;
             report.dissipated += (update.dissipation * ps.volume[q]) as f64;
         }
-        let volume = ps.volume[q] * (1.0 + dt * rate.trace());
+        // V̇ = V tr(ε̇), integrated exactly for the step's rate: first-order the same as
+        // V (1 + Δt tr ε̇), but never zero or negative however violent the compression.
+        let volume = ps.volume[q] * (dt * rate.trace()).exp();
         ps.volume[q] = volume;
         let sigma = ps.stress[q];
         // One finiteness test for all components: a sum of finite numbers this size is finite.
