@@ -221,15 +221,15 @@ function warnCost(name, value, p, before) {
   warnFlip();
 }
 
-/// FLIP ratios above 0.7 with the linear or GIMP kernel can add energy when an elastic or
-/// von Mises body hits a wall (docs/stability.md, "FLIP and the walls"): say so.
+/// FLIP ratios above 0.6 with the linear or GIMP kernel can add energy when an elastic or
+/// von Mises body hits a wall or another body (docs/stability.md): say so.
 function warnFlip() {
   const scene = JSON.parse(app.pg.sceneJson());
   const risky = scene.kernel !== 'quadratic_bspline' && ['elastic', 'von_mises'].filter((m) =>
-    scene.bodies.some((b) => m in b.material) && app.pg.parameter(`${m}.flip`) > 0.7);
+    scene.bodies.some((b) => m in b.material) && app.pg.parameter(`${m}.flip`) > 0.6);
   banner('flip', 'warn', risky && risky.length
-    ? `FLIP ratio above 0.7 for ${risky.join(' and ')} bodies with the ${scene.kernel} kernel: impacts on the walls can add energy ` +
-      '(bounces grow). Up to 0.7 is safe; the quadratic B-spline kernel is safe at any ratio.'
+    ? `FLIP ratio above 0.6 for ${risky.join(' and ')} bodies with the ${scene.kernel} kernel: impacts on walls and between bodies can add energy ` +
+      '(bounces grow). Up to 0.6 is safe; the quadratic B-spline kernel is safe at any ratio.'
     : '');
 }
 
