@@ -64,11 +64,9 @@ const HEADER: [&str; 10] = [
 ];
 
 fn main() {
-    let filters: Vec<String> = std::env::args()
-        .skip(1)
-        .filter(|a| !a.starts_with("--"))
-        .collect();
-    let want = |s: &str| filters.is_empty() || filters.iter().any(|f| f == s);
+    let filters = Filters::from_args();
+    let want = |s: &str| filters.want(s);
+    let filters = &filters.0;
     let mut md = String::new();
     let _ = writeln!(
         md,

@@ -4,6 +4,24 @@
 
 use std::fmt::Write;
 
+/// The bench's name filters (its arguments that are not `--flags`, e.g. `bar column`), and
+/// whether the case `name` is wanted (every case when no filter is given).
+pub struct Filters(pub Vec<String>);
+
+impl Filters {
+    pub fn from_args() -> Self {
+        Filters(
+            std::env::args()
+                .skip(1)
+                .filter(|a| !a.starts_with("--"))
+                .collect(),
+        )
+    }
+    pub fn want(&self, name: &str) -> bool {
+        self.0.is_empty() || self.0.iter().any(|f| f == name)
+    }
+}
+
 /// A markdown table.
 pub fn table(header: &[&str], rows: &[Vec<String>]) -> String {
     let mut s = String::new();
