@@ -13,7 +13,6 @@ use mpm::math::Dim;
 use mpm::{BodyConfig, D2, D3, Material, PassTimings, SceneConfig, Shape, Simulation};
 use report::*;
 use std::fmt::Write;
-use std::time::Instant;
 
 fn elastic() -> Material {
     Material::elastic(1.0e5, 0.3, 1000.0)
@@ -91,27 +90,32 @@ struct Measured {
     t: PassTimings,
 }
 
+/// Five rounds of `steps` steps on each of three fresh simulations of the scene (after as
+/// many warm-up steps each); the median round of the fifteen. Fresh simulations because the
+/// spread between them (memory placement) is larger than between rounds of one.
 fn measure<D: Dim>(scene: SceneConfig, steps: u64) -> Measured {
-    let mut sim = Simulation::<D>::new(scene).expect("bench scene");
-    for _ in 0..steps {
-        sim.step().expect("warm-up");
-    }
-    let mut rounds: Vec<PassTimings> = (0..5)
-        .map(|_| {
+    let mut rounds = Vec::new();
+    let (mut particles, mut blocks) = (0, 0);
+    for _ in 0..3 {
+        let mut sim = Simulation::<D>::new(scene.clone()).expect("bench scene");
+        for _ in 0..steps {
+            sim.step().expect("warm-up");
+        }
+        for _ in 0..5 {
             sim.timings = Some(PassTimings::default());
-            let start = Instant::now();
             for _ in 0..steps {
                 sim.step().expect("step");
             }
-            let _ = start.elapsed();
-            sim.timings.take().unwrap()
-        })
-        .collect();
+            rounds.push(sim.timings.take().unwrap());
+        }
+        particles = sim.particles().len();
+        blocks = sim.diagnostics().grid_blocks;
+    }
     rounds.sort_by(|a, b| total(a).partial_cmp(&total(b)).unwrap());
     Measured {
-        particles: sim.particles().len(),
-        blocks: sim.diagnostics().grid_blocks,
-        t: rounds[2],
+        particles,
+        blocks,
+        t: rounds[rounds.len() / 2],
     }
 }
 
@@ -160,7 +164,7 @@ fn main() {
     let mut md = String::new();
     let _ = writeln!(
         md,
-        "# Cost of each pass (generated)\n\nRegenerate with `taskset -c 0 cargo bench --bench passes` (or `cargo xtask passes`). Nanoseconds per particle per step, median of five rounds (100 steps in 2D, 30 in 3D, after as many warm-up steps), one core; the last column is the total against the one elastic body of the same dimension. Written by `benches/passes.rs`; the discussion is in [work-precision.md](work-precision.md#skipping-what-a-scene-does-not-need).\n\n{}",
+        "# Cost of each pass (generated)\n\nRegenerate with `taskset -c 0 cargo bench --bench passes` (or `cargo xtask passes`). Nanoseconds per particle per step, the median of fifteen rounds (five on each of three fresh simulations; 100 steps in 2D, 30 in 3D, after as many warm-up steps), one core; the last column is the total against the one elastic body of the same dimension. Written by `benches/passes.rs`; the discussion is in [work-precision.md](work-precision.md#skipping-what-a-scene-does-not-need).\n\n{}",
         table(
             &[
                 "dim",
