@@ -337,23 +337,40 @@ fn ensure_browser_tools() -> Result<String, String> {
         (Ok(lock), Ok(inst)) => lock > inst,
         _ => true,
     };
-    if stale || !r.join("node_modules/playwright-core").exists() {
+    if stale
+        || !r.join("node_modules/playwright-core").exists()
+        || !r.join("node_modules/puppeteer-core").exists()
+    {
         run("npm", &["ci", "--no-audit", "--no-fund"])?;
     }
     let chromium = std::env::var("CHROMIUM").unwrap_or_else(|_| "/usr/bin/chromium".into());
-    if !Path::new(&chromium).exists() {
-        let root_user = output("id", &["-u"]).is_some_and(|u| u.trim() == "0");
-        if root_user && Path::new("/usr/bin/apt-get").exists() {
-            eprintln!("xtask: installing Debian's chromium for the browser test");
-            run("apt-get", &["update", "-qq"])?;
-            run("apt-get", &["install", "-y", "-qq", "chromium"])?;
-        } else {
-            return Err(format!(
-                "Chromium not found at {chromium}: install Debian's `chromium` package or set CHROMIUM"
-            ));
-        }
-    }
+    ensure_debian_browser(&chromium, "chromium", "CHROMIUM")?;
     Ok(chromium)
+}
+
+/// Debian's Firefox ESR for the Firefox test: its path (`FIREFOX` or /usr/bin/firefox-esr).
+fn ensure_firefox() -> Result<String, String> {
+    let firefox = std::env::var("FIREFOX").unwrap_or_else(|_| "/usr/bin/firefox-esr".into());
+    ensure_debian_browser(&firefox, "firefox-esr", "FIREFOX")?;
+    Ok(firefox)
+}
+
+/// Installs Debian's `package` with apt-get when the browser at `path` is missing and this
+/// runs as root; otherwise says what to install (or which variable to set).
+fn ensure_debian_browser(path: &str, package: &str, variable: &str) -> Result<(), String> {
+    if Path::new(path).exists() {
+        return Ok(());
+    }
+    let root_user = output("id", &["-u"]).is_some_and(|u| u.trim() == "0");
+    if root_user && Path::new("/usr/bin/apt-get").exists() {
+        eprintln!("xtask: installing Debian's {package} for the browser tests");
+        run("apt-get", &["update", "-qq"])?;
+        run("apt-get", &["install", "-y", "-qq", package])
+    } else {
+        Err(format!(
+            "{path} not found: install Debian's `{package}` package or set {variable}"
+        ))
+    }
 }
 
 fn test() -> Result<(), String> {
@@ -406,6 +423,20 @@ fn test() -> Result<(), String> {
         .env("CHROMIUM", &chromium)
         .env("MPM_OUT", root().join("target/e2e"));
     run_cmd(e2e)?;
+    // The same page in Firefox (Debian's firefox-esr through puppeteer-core).
+    let firefox = ensure_firefox()?;
+    let mut ff = command(
+        "node",
+        &[
+            "--test",
+            "--test-reporter=spec",
+            "www/tests/firefox.test.mjs",
+        ],
+    );
+    ff.env("MPM_URL", &url)
+        .env("FIREFOX", &firefox)
+        .env("MPM_OUT", root().join("target/e2e"));
+    run_cmd(ff)?;
     eprintln!("xtask: every test passed");
     Ok(())
 }
