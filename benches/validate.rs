@@ -23,7 +23,6 @@ fn pct(x: f64) -> String {
 fn main() {
     let filters = Filters::from_args();
     let want = |s: &str| filters.want(s);
-    let filters = &filters.0;
     let mut md = String::new();
     let _ = writeln!(
         md,
@@ -336,11 +335,7 @@ fn main() {
             )
         );
     }
-    let path = root().join("docs").join(if filters.is_empty() {
-        "validation-report.md".to_string()
-    } else {
-        format!("validation-report-{}.md", filters.join("-"))
-    });
+    let path = filters.report_path("validation-report");
     std::fs::write(&path, md).unwrap();
     println!("wrote {}", path.display());
 }

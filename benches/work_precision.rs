@@ -66,17 +66,12 @@ const HEADER: [&str; 10] = [
 fn main() {
     let filters = Filters::from_args();
     let want = |s: &str| filters.want(s);
-    let filters = &filters.0;
     let mut md = String::new();
     let _ = writeln!(
         md,
         "# Work–precision report (generated)\n\nRegenerate with `taskset -c 0 cargo bench --bench work_precision` (or `cargo xtask work-precision`). Run times are wall-clock seconds on one core of the shared development machine; errors are defined per case below. Written by `benches/work_precision.rs`; the discussion is in [work-precision.md](work-precision.md).\n"
     );
-    let path = root().join("docs").join(if filters.is_empty() {
-        "work-precision-report.md".to_string()
-    } else {
-        format!("work-precision-report-{}.md", filters.join("-"))
-    });
+    let path = filters.report_path("work-precision-report");
     std::fs::create_dir_all(path.parent().unwrap()).unwrap();
     // the report is rewritten after each study, so that an interrupted run keeps its results
     let studies: [Study; 3] = [
@@ -125,6 +120,29 @@ fn bar_run(n: Numerics) -> Row {
     row
 }
 
+/// One run per cell size in `hs` (rows appended to `rows`): the cell sizes, the errors and the
+/// (run time, error) points of the work–precision diagram.
+struct Sweep {
+    hs: Vec<f64>,
+    errors: Vec<f64>,
+    points: Vec<(f64, f64)>,
+}
+
+fn sweep(hs: &[f64], mut run: impl FnMut(f64) -> Row, rows: &mut Vec<Row>) -> Sweep {
+    let mut s = Sweep {
+        hs: hs.to_vec(),
+        errors: Vec::new(),
+        points: Vec::new(),
+    };
+    for &h in hs {
+        let r = run(h);
+        s.errors.push(r.error);
+        s.points.push((r.seconds, r.error));
+        rows.push(r);
+    }
+    s
+}
+
 fn bar_study(md: &mut String) {
     let _ = writeln!(
         md,
@@ -136,25 +154,17 @@ fn bar_study(md: &mut String) {
     let mut orders = Vec::new();
     for (ka, &alpha) in [1.0, 0.0].iter().enumerate() {
         for (kk, &k) in KERNELS.iter().enumerate() {
-            let mut pts = Vec::new();
-            let (mut xs, mut ys) = (Vec::new(), Vec::new());
-            for &h in &hs {
-                let r = bar_run(Numerics::new(h, k).flip(alpha));
-                pts.push((r.seconds, r.error));
-                xs.push(h);
-                ys.push(r.error);
-                rows.push(r);
-            }
+            let s = sweep(&hs, |h| bar_run(Numerics::new(h, k).flip(alpha)), &mut rows);
             orders.push(vec![
                 kernel_name(k).to_string(),
                 format!("{alpha}"),
-                format!("{:.2}", log_slope(&xs, &ys)),
-                format!("{:.2}", log_slope(&xs[1..], &ys[1..])),
+                format!("{:.2}", log_slope(&s.hs, &s.errors)),
+                format!("{:.2}", log_slope(&s.hs[1..], &s.errors[1..])),
             ]);
             series.push(Series {
                 label: format!("{} α={alpha}", kernel_name(k)),
                 colour: COLOURS[kk],
-                points: pts,
+                points: s.points,
                 dashed: ka == 1,
             });
         }
@@ -245,23 +255,19 @@ fn column_study(md: &mut String) {
     let mut series = Vec::new();
     let mut orders = Vec::new();
     for (kk, &k) in KERNELS.iter().enumerate() {
-        let mut pts = Vec::new();
-        let (mut xs, mut ys) = (Vec::new(), Vec::new());
-        for h in [0.02, 0.01, 0.005] {
-            let r = run(Numerics::new(h, k));
-            pts.push((r.seconds, r.error));
-            xs.push(h);
-            ys.push(r.error);
-            rows.push(r);
-        }
+        let s = sweep(
+            &[0.02, 0.01, 0.005],
+            |h| run(Numerics::new(h, k)),
+            &mut rows,
+        );
         orders.push(vec![
             kernel_name(k).to_string(),
-            format!("{:.2}", log_slope(&xs, &ys)),
+            format!("{:.2}", log_slope(&s.hs, &s.errors)),
         ]);
         series.push(Series {
             label: kernel_name(k).to_string(),
             colour: COLOURS[kk],
-            points: pts,
+            points: s.points,
             dashed: false,
         });
     }

@@ -20,6 +20,16 @@ impl Filters {
     pub fn want(&self, name: &str) -> bool {
         self.0.is_empty() || self.0.iter().any(|f| f == name)
     }
+    /// `docs/<stem>.md`, or `docs/<stem>-<filters>.md` for a partial run (so that a partial
+    /// run never overwrites the full report).
+    pub fn report_path(&self, stem: &str) -> std::path::PathBuf {
+        let name = if self.0.is_empty() {
+            format!("{stem}.md")
+        } else {
+            format!("{stem}-{}.md", self.0.join("-"))
+        };
+        root().join("docs").join(name)
+    }
 }
 
 /// A markdown table.

@@ -295,37 +295,44 @@ impl<'a> AssetLoader<'a> {
     }
 
     fn mesh(&mut self, field: &str, path: &str) -> Result<Arc<TriMesh>> {
-        if let Some(m) = self.meshes.get(path) {
-            return Ok(m.clone());
-        }
-        let text = self.text(field, path, "an OBJ file")?;
-        let mesh = TriMesh::from_obj(path, &text).map_err(|e| {
-            Error::invalid(
-                field,
-                format!("{path:?}"),
-                format!("{e}; must be a closed triangle mesh in Wavefront OBJ format"),
-            )
-        })?;
-        let mesh = Arc::new(mesh);
-        self.meshes.insert(path.to_string(), mesh.clone());
-        Ok(mesh)
+        self.cached(
+            |l| &mut l.meshes,
+            (field, path),
+            "an OBJ file",
+            TriMesh::from_obj,
+            "must be a closed triangle mesh in Wavefront OBJ format",
+        )
     }
 
     fn polygon(&mut self, field: &str, path: &str) -> Result<Arc<Polygon2>> {
-        if let Some(p) = self.polygons.get(path) {
-            return Ok(p.clone());
+        self.cached(
+            |l| &mut l.polygons,
+            (field, path),
+            "a vertex list file",
+            Polygon2::from_vertex_list,
+            "must list one vertex `x y` per line",
+        )
+    }
+
+    /// The file at `path` (for the scene field `field`), parsed once: `what` names the file in
+    /// read errors, `expected` says what a parse error should have been.
+    fn cached<T>(
+        &mut self,
+        cache: fn(&mut Self) -> &mut HashMap<String, Arc<T>>,
+        (field, path): (&str, &str),
+        what: &str,
+        parse: fn(&str, &str) -> std::result::Result<T, String>,
+        expected: &str,
+    ) -> Result<Arc<T>> {
+        if let Some(v) = cache(self).get(path) {
+            return Ok(v.clone());
         }
-        let text = self.text(field, path, "a vertex list file")?;
-        let poly = Polygon2::from_vertex_list(path, &text).map_err(|e| {
-            Error::invalid(
-                field,
-                format!("{path:?}"),
-                format!("{e}; must list one vertex `x y` per line"),
-            )
-        })?;
-        let poly = Arc::new(poly);
-        self.polygons.insert(path.to_string(), poly.clone());
-        Ok(poly)
+        let text = self.text(field, path, what)?;
+        let parsed = parse(path, &text)
+            .map_err(|e| Error::invalid(field, format!("{path:?}"), format!("{e}; {expected}")))?;
+        let v = Arc::new(parsed);
+        cache(self).insert(path.to_string(), v.clone());
+        Ok(v)
     }
 }
 

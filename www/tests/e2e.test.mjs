@@ -9,6 +9,7 @@ import { mkdirSync, statSync } from 'node:fs';
 import { join } from 'node:path';
 import { launch } from './browser.mjs';
 import { decodePng, pixelStats } from './png.mjs';
+import { screenOf } from './view.mjs';
 
 const URL_ROOT = process.env.MPM_URL || 'http://127.0.0.1:8080/';
 const OUT = process.env.MPM_OUT || 'target/e2e';
@@ -39,16 +40,6 @@ const stats = (page) => page.evaluate(() => ({
   renderer: mpm.renderer.kind,
 }));
 
-/// Screen position (page pixels) of a world point.
-async function screenOf(page, x, y, z) {
-  return page.evaluate(([x, y, z]) => {
-    const c = document.getElementById('view');
-    const r = c.getBoundingClientRect();
-    mpm.camera.matrices(c.clientWidth, c.clientHeight);
-    const p = mpm.camera.project(x, y, z);
-    return [r.left + p[0], r.top + p[1]];
-  }, [x, y, z]);
-}
 
 /// Screenshot of the simulation view, with its pixel statistics.
 async function viewShot(page, path) {

@@ -9,6 +9,7 @@ import { mkdirSync } from 'node:fs';
 import { join } from 'node:path';
 import puppeteer from 'puppeteer-core';
 import { decodePng, pixelStats } from './png.mjs';
+import { screenOf } from './view.mjs';
 
 const URL_ROOT = process.env.MPM_URL || 'http://127.0.0.1:8080/';
 const OUT = process.env.MPM_OUT || 'target/e2e';
@@ -43,14 +44,8 @@ test('Firefox: the default scene runs and draws, a click drops a ball, no consol
   assert.ok(s0.particles > 10_000 && s0.bodies === 2, JSON.stringify(s0));
   // a ball dropped by clicking on the floor
   await page.click('#objects button[data-id="ball"]');
-  const [x, y] = await page.evaluate(() => {
-    const size = JSON.parse(mpm.pg.sceneJson()).domain.size;
-    const c = document.getElementById('view');
-    const r = c.getBoundingClientRect();
-    mpm.camera.matrices(c.clientWidth, c.clientHeight);
-    const p = mpm.camera.project(0.8 * size[0], 0, 0.5 * size[2]);
-    return [r.left + p[0], r.top + p[1]];
-  });
+  const size = await page.evaluate(() => JSON.parse(mpm.pg.sceneJson()).domain.size);
+  const [x, y] = await screenOf(page, 0.8 * size[0], 0, 0.5 * size[2]);
   await page.mouse.click(x, y);
   await page.waitForFunction((t) => mpm.pg.time() > t + 0.02, { timeout: 60_000 }, s0.time);
   const s1 = await stats();
