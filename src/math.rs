@@ -431,6 +431,18 @@ fn inertia<const S: usize>(st: &Stencil<S>, a: usize, h: Real) -> Real {
     sum * h
 }
 
+/// eˣ, cheaply for the small arguments a time step gives (|x| ≤ 1/32: the Taylor series to x⁴,
+/// relative error below x⁵/120 ≈ 2·10⁻¹⁰, under f32 rounding), and by `exp` otherwise. `exp` is
+/// a library call natively and a software routine in WebAssembly.
+#[inline(always)]
+pub fn exp_small(x: Real) -> Real {
+    if x.abs() <= 1.0 / 32.0 {
+        1.0 + x * (1.0 + x * (0.5 + x * (1.0 / 6.0 + x * (1.0 / 24.0))))
+    } else {
+        x.exp()
+    }
+}
+
 /// How many consecutive nodes a stencil of `s` nodes per axis spans in a padded block whose
 /// rows are `p` nodes long.
 #[inline(always)]
@@ -839,6 +851,17 @@ mod tests {
         assert!((r2.yy - r3.yy).abs() < 1e-6);
         assert!((r2.xy - r3.xy).abs() < 1e-6);
         assert!((r2.zz - r3.zz).abs() < 1e-6);
+    }
+
+    #[test]
+    fn exp_small_matches_exp_on_both_sides_of_the_switch() {
+        for i in -400..=400 {
+            let x = i as f64 * 1e-4; // -0.04 ..= 0.04, across ±1/32
+            let (fast, exact) = (exp_small(x as Real) as f64, x.exp());
+            assert!(((fast - exact) / exact).abs() < 2.0 * Real::EPSILON as f64, "{x}: {fast}");
+        }
+        assert!(exp_small(Real::NAN).is_nan());
+        assert_eq!(exp_small(-200.0), 0.0);
     }
 
     #[test]

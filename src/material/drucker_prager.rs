@@ -132,11 +132,14 @@ impl Constitutive for DruckerPrager {
         let trial = self.elastic.trial(*stress, rate, spin, dt);
         let i1_trial = trial.trace();
         let s_trial = trial - S::IDENTITY * (i1_trial * (1.0 / 3.0));
-        let sqrt_j2_trial = (0.5 * s_trial.ddot(s_trial)).sqrt();
+        let j2_trial = 0.5 * s_trial.ddot(s_trial);
+        let sqrt_j2_trial = j2_trial.sqrt();
         let f = sqrt_j2_trial + self.alpha_phi * i1_trial - self.k_c;
+        let e = &self.elastic;
+        let energy_trial = e.energy_from_invariants(j2_trial, i1_trial * (1.0 / 3.0));
         if f <= 0.0 && i1_trial <= self.apex {
             *stress = trial;
-            return StressUpdate::default();
+            return StressUpdate::elastic(energy_trial);
         }
         // Plastic correction of Eq. 14 with the multiplier Δλ (radial in the deviatoric plane).
         let (mut i1, mut sqrt_j2) = (i1_trial, sqrt_j2_trial);
@@ -156,9 +159,13 @@ impl Constitutive for DruckerPrager {
             0.0
         };
         *stress = s_trial * ratio + S::IDENTITY * (i1 * (1.0 / 3.0));
+        // The deviator is scaled to ratio·√J2_trial (zero when the trial deviator is zero).
+        let sqrt_j2 = ratio * sqrt_j2_trial;
+        let energy = e.energy_from_invariants(sqrt_j2 * sqrt_j2, i1 * (1.0 / 3.0));
         StressUpdate {
             plastic_strain: (sqrt_j2_trial - sqrt_j2) * (1.0 / (SQRT_3 * g)),
-            dissipation: self.elastic.energy_density(trial) - self.elastic.energy_density(*stress),
+            dissipation: energy_trial - energy,
+            energy,
         }
     }
     fn elastic(&self) -> &Elastic {

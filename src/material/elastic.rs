@@ -77,6 +77,13 @@ impl Elastic {
         s.ddot(s) * self.inv_4g + p * p * self.inv_2k
     }
 
+    /// The same energy density from the invariants J2 = ½ s:s and the mean stress tr(σ)/3:
+    /// J2/(2G) + mean²/(2K).
+    #[inline(always)]
+    pub fn energy_from_invariants(&self, j2: Real, mean: Real) -> Real {
+        j2 * (2.0 * self.inv_4g) + mean * mean * self.inv_2k
+    }
+
     /// The elastic trial stress: the old stress rotated with the material, plus the
     /// elastic increment 2G dt dev(ε̇) + K dt tr(ε̇) I.
     #[inline(always)]
@@ -98,7 +105,7 @@ impl Constitutive for Elastic {
         dt: Real,
     ) -> StressUpdate {
         *stress = self.trial(*stress, rate, spin, dt);
-        StressUpdate::default()
+        StressUpdate::elastic(self.energy_density(*stress))
     }
     fn elastic(&self) -> &Elastic {
         self

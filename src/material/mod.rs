@@ -25,6 +25,21 @@ pub struct StressUpdate {
     /// Energy removed by the plastic correction, per unit volume (J/m³): the stored elastic
     /// energy of the elastic trial stress minus that of the corrected stress.
     pub dissipation: Real,
+    /// The stored elastic energy per unit volume of the updated stress (J/m³), as
+    /// [`Elastic::energy_density`] gives it, from the invariants the model already formed.
+    pub energy: Real,
+}
+
+impl StressUpdate {
+    /// An elastic update that leaves the energy density `energy`.
+    #[inline(always)]
+    pub fn elastic(energy: Real) -> Self {
+        StressUpdate {
+            plastic_strain: 0.0,
+            dissipation: 0.0,
+            energy,
+        }
+    }
 }
 
 /// A constitutive model: advances a particle's Cauchy stress (tension positive) over one
@@ -210,5 +225,57 @@ pub(crate) mod test_util {
             each(i, &stress);
         }
         (stress, ep, diss)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::{D2, Dim, Mat2, Sym2, Sym3, Vec2};
+
+    /// The models report the stored energy of the stress they return: the same number
+    /// `Elastic::energy_density` computes from the tensor, elastic and plastic steps alike.
+    fn check_energy<M: Constitutive>(model: &M, steps: usize) {
+        let elastic = *model.elastic();
+        let check = |u: StressUpdate, e: Real, what: &str| {
+            let scale = e.abs().max(1e-3);
+            assert!((u.energy - e).abs() <= 1e-4 * scale, "{what}: {} vs {e}", u.energy);
+        };
+        // 3D: a compression, then shear with spin (elastic, then yielding), then unloading in
+        // tension (the Drucker–Prager apex).
+        let mut s3 = Sym3::ZERO;
+        let mut s2 = Sym2::ZERO;
+        for i in 0..steps {
+            let phase = (i * 3) / steps;
+            let l = match phase {
+                0 => [[-0.4, 0.0, 0.0], [0.0, -0.3, 0.0], [0.0, 0.0, -0.2]],
+                1 => [[0.0, 0.9, 0.2], [-0.3, 0.0, 0.0], [0.1, 0.4, 0.0]],
+                _ => [[0.6, 0.1, 0.0], [0.0, 0.5, 0.0], [0.0, 0.0, 0.4]],
+            };
+            let (rate, spin) = test_util::rate_spin(l);
+            let u = model.update(&mut s3, rate, spin, 1e-3);
+            check(u, elastic.energy_density(s3), "3D");
+            let g = Mat2::from_cols(Vec2::new(l[0][0], l[1][0]), Vec2::new(l[0][1], l[1][1]));
+            let (rate, spin) = D2::rate_and_spin(g);
+            let u = model.update(&mut s2, rate, spin, 1e-3);
+            check(u, elastic.energy_density(s2), "2D");
+        }
+    }
+
+    #[test]
+    fn every_model_reports_the_energy_of_the_stress_it_returns() {
+        let (e, nu, rho) = (1.0e6, 0.3, 1000.0);
+        check_energy(Material::elastic(e, nu, rho).model().elastic(), 300);
+        let Model::VonMises(m) = Material::von_mises(e, nu, rho, 2.0e3).model() else {
+            unreachable!()
+        };
+        check_energy(&m, 300);
+        for c in [0.0, 500.0] {
+            let Model::DruckerPrager(m) = Material::drucker_prager(e, nu, rho, 30.0, 10.0, c).model()
+            else {
+                unreachable!()
+            };
+            check_energy(&m, 300);
+        }
     }
 }

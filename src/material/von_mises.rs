@@ -65,7 +65,7 @@ impl Constitutive for VonMises {
         let j2 = 0.5 * s_tr.ddot(s_tr);
         if j2 <= self.y * self.y {
             *stress = trial;
-            return StressUpdate::default();
+            return StressUpdate::elastic(self.elastic.energy_from_invariants(j2, mean));
         }
         let sqrt_j2 = j2.sqrt();
         let ratio = self.y / sqrt_j2;
@@ -75,6 +75,7 @@ impl Constitutive for VonMises {
             plastic_strain: (sqrt_j2 - self.y) * (1.0 / (SQRT_3 * g)),
             // the deviatoric energy s:s/(4G) = J2/(2G) drops from J2 to Y²
             dissipation: (j2 - self.y * self.y) * (0.5 / g),
+            energy: self.elastic.energy_from_invariants(self.y * self.y, mean),
         }
     }
     fn elastic(&self) -> &Elastic {

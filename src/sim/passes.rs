@@ -6,7 +6,7 @@ use crate::boundary::Walls;
 use crate::grid::{GHOST, Grid};
 use crate::kernel::Kernel;
 use crate::material::Constitutive;
-use crate::math::{Dim, Real, SymTensor, VectorOps, stencil_span};
+use crate::math::{Dim, Real, SymTensor, VectorOps, exp_small, stencil_span};
 
 /// Nodes per row of a padded block for a kernel of `S` nodes per axis, and the number of
 /// consecutive nodes a stencil spans (compile-time constants after monomorphisation).
@@ -131,7 +131,6 @@ pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
         particle_slot,
         ..
     } = &mut *grid;
-    let elastic = model.elastic();
     let mut report = StressReport::default();
     for q in 0..ps.x.len() {
         let st = K::stencil(grid_coords::<D>(ps.x[q], inv_h), D::DIM, inv_h, lp);
@@ -145,7 +144,7 @@ pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
         }
         // V̇ = V tr(ε̇), integrated exactly for the step's rate: first-order the same as
         // V (1 + Δt tr ε̇), but never zero or negative however violent the compression.
-        let volume = ps.volume[q] * (dt * rate.trace()).exp();
+        let volume = ps.volume[q] * exp_small(dt * rate.trace());
         ps.volume[q] = volume;
         let sigma = ps.stress[q];
         // One finiteness test for all components: a sum of finite numbers this size is finite.
@@ -162,7 +161,7 @@ pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
             ));
             continue;
         }
-        report.elastic += (elastic.energy_density(sigma) * volume) as f64;
+        report.elastic += (update.energy * volume) as f64;
         report.max_volume = report.max_volume.max(volume);
         D::scatter_force(cell, p, &st, sigma * -volume);
     }
