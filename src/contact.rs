@@ -9,7 +9,7 @@
 //! one body, or bodies apart, cost nothing.
 
 use crate::grid::{Grid, GridIndex};
-use crate::math::{Dim, Real, VectorOps};
+use crate::math::{Dim, Real, VectorOps, min};
 use crate::sim::passes::constraint_dissipation;
 
 /// The shared blocks of two bodies `a < b`, as (slot in a, slot in b).
@@ -117,7 +117,7 @@ pub fn resolve<D: Dim>(
                     let slip_len = slip.length();
                     let mut dp = n * (-reduced * approach);
                     if slip_len > 0.0 {
-                        let friction = (mu * reduced * approach).min(reduced * slip_len);
+                        let friction = min(mu * reduced * approach, reduced * slip_len);
                         dp -= slip * (friction / slip_len);
                     }
                     dp

@@ -431,6 +431,20 @@ fn inertia<const S: usize>(st: &Stencil<S>, a: usize, h: Real) -> Real {
     sum * h
 }
 
+/// The larger of `a` and `b` as one compare and select (`b` when `a` is NaN, as `f32::max`
+/// gives; NaN when `b` is). `f32::max` follows IEEE maxNum, which WebAssembly has no instruction
+/// for: there it is a call to `fmaxf` in the middle of the hot loops.
+#[inline(always)]
+pub fn max(a: Real, b: Real) -> Real {
+    if a > b { a } else { b }
+}
+
+/// The smaller of `a` and `b` as one compare and select (see [`max`]).
+#[inline(always)]
+pub fn min(a: Real, b: Real) -> Real {
+    if a < b { a } else { b }
+}
+
 /// eˣ, cheaply for the small arguments a time step gives (|x| ≤ 1/32: the Taylor series to x⁴,
 /// relative error below x⁵/120 ≈ 2·10⁻¹⁰, under f32 rounding), and by `exp` otherwise. `exp` is
 /// a library call natively and a software routine in WebAssembly.
@@ -858,7 +872,10 @@ mod tests {
         for i in -400..=400 {
             let x = i as f64 * 1e-4; // -0.04 ..= 0.04, across ±1/32
             let (fast, exact) = (exp_small(x as Real) as f64, x.exp());
-            assert!(((fast - exact) / exact).abs() < 2.0 * Real::EPSILON as f64, "{x}: {fast}");
+            assert!(
+                ((fast - exact) / exact).abs() < 2.0 * Real::EPSILON as f64,
+                "{x}: {fast}"
+            );
         }
         assert!(exp_small(Real::NAN).is_nan());
         assert_eq!(exp_small(-200.0), 0.0);

@@ -15,7 +15,7 @@
 
 use super::{Constitutive, Elastic, ElasticParams, StressUpdate};
 use crate::error::{Error, Result, check_non_negative, check_range};
-use crate::math::{Real, SymTensor};
+use crate::math::{Real, SymTensor, max, min};
 
 const SQRT_3: Real = 1.732_050_8;
 use serde::{Deserialize, Serialize};
@@ -147,12 +147,12 @@ impl Constitutive for DruckerPrager {
             let dl = f * self.inv_hardening;
             i1 -= 9.0 * self.elastic.k * self.alpha_psi * dl;
             // Below zero the return passes the cone's axis: only possible beyond the apex.
-            sqrt_j2 = (sqrt_j2_trial - g * dl).max(0.0);
+            sqrt_j2 = max(sqrt_j2_trial - g * dl, 0.0);
         }
         // Safeguard 1 (tension cracking): shift the hydrostatic part back to the apex.
-        i1 = i1.min(self.apex);
+        i1 = min(i1, self.apex);
         // Safeguard 2: scale the deviatoric stress back onto the cone.
-        sqrt_j2 = sqrt_j2.min(self.k_c - self.alpha_phi * i1);
+        sqrt_j2 = min(sqrt_j2, self.k_c - self.alpha_phi * i1);
         let ratio = if sqrt_j2_trial > 0.0 {
             sqrt_j2 / sqrt_j2_trial
         } else {

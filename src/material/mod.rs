@@ -239,7 +239,11 @@ mod tests {
         let elastic = *model.elastic();
         let check = |u: StressUpdate, e: Real, what: &str| {
             let scale = e.abs().max(1e-3);
-            assert!((u.energy - e).abs() <= 1e-4 * scale, "{what}: {} vs {e}", u.energy);
+            assert!(
+                (u.energy - e).abs() <= 1e-4 * scale,
+                "{what}: {} vs {e}",
+                u.energy
+            );
         };
         // 3D: a compression, then shear with spin (elastic, then yielding), then unloading in
         // tension (the Drucker–Prager apex).
@@ -271,7 +275,8 @@ mod tests {
         };
         check_energy(&m, 300);
         for c in [0.0, 500.0] {
-            let Model::DruckerPrager(m) = Material::drucker_prager(e, nu, rho, 30.0, 10.0, c).model()
+            let Model::DruckerPrager(m) =
+                Material::drucker_prager(e, nu, rho, 30.0, 10.0, c).model()
             else {
                 unreachable!()
             };

@@ -6,7 +6,7 @@ use crate::boundary::Walls;
 use crate::grid::{GHOST, Grid};
 use crate::kernel::Kernel;
 use crate::material::Constitutive;
-use crate::math::{Dim, Real, SymTensor, VectorOps, exp_small, stencil_span};
+use crate::math::{Dim, Real, SymTensor, VectorOps, exp_small, max, stencil_span};
 
 /// Nodes per row of a padded block for a kernel of `S` nodes per axis, and the number of
 /// consecutive nodes a stencil spans (compile-time constants after monomorphisation).
@@ -162,7 +162,7 @@ pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
             continue;
         }
         report.elastic += (update.energy * volume) as f64;
-        report.max_volume = report.max_volume.max(volume);
+        report.max_volume = max(report.max_volume, volume);
         D::scatter_force(cell, p, &st, sigma * -volume);
     }
     grid.reduce_nodes(|o, h| o.new_vel += h.new_vel);
@@ -319,8 +319,8 @@ impl<D: Dim> GatherReport<D> {
         }
         self.min = self.min.min(x);
         self.max = self.max.max(x);
-        self.max_speed = self.max_speed.max(v2);
-        self.max_plastic_strain = self.max_plastic_strain.max(plastic_strain);
+        self.max_speed = max(self.max_speed, v2);
+        self.max_plastic_strain = max(self.max_plastic_strain, plastic_strain);
     }
 }
 
