@@ -1,26 +1,88 @@
 // The page state in the URL hash, so that a link reproduces a demo exactly:
 // #scene=column_collapse&dim=3&colour=speed&object=bunny&material=drucker_prager&time=1
-//  &drucker_prager.friction_angle=25&gravity=9.81
+//  &drucker_prager.friction_angle=25&gravity=9.81&drop=0.0412:ball:elastic:0.25:0.8,0.55,0.5
 // Parameters keep the order in which they were set (ψ ≤ φ checks depend on it).
+//
+// Each body dropped by a click is a `drop` entry, in the order they were dropped:
+//   drop=TIME:OBJECT:MATERIAL:SIZE:X,Y[,Z][:VX,VY[,VZ]]
+// TIME is the simulated time (s) of the drop, counted from the start of the scene or from
+// `cleared=1` (the scene's own bodies were removed with Clear before the drops); OBJECT one of
+// bunny, ball, box; MATERIAL the preset (elastic, von_mises, drucker_prager); SIZE (m) and
+// the centre (m) as given to addObject; the velocity (m/s) is left out when zero. The drop
+// entries are written unescaped (`:` and `,` are allowed in a fragment) to keep links short.
 
 const VIEW_KEYS = ['scene', 'dim', 'colour', 'object', 'material', 'time', 'size'];
+const NUMBER = /^-?\d+(\.\d+)?(e-?\d+)?$/;
 
+/// The state of `hash`: { view, params, drops, cleared, errors }. A malformed entry is left
+/// out, with a message naming it in `errors` (never an exception).
 export function readHash(hash = location.hash) {
   const q = new URLSearchParams(hash.replace(/^#/, ''));
   const view = {};
   const params = [];
+  const drops = [];
+  const errors = [];
+  let cleared = false;
   for (const [k, v] of q) {
     if (VIEW_KEYS.includes(k)) view[k] = v;
+    else if (k === 'drop') {
+      try {
+        drops.push(parseDrop(v));
+      } catch (e) {
+        errors.push(`drop=${v}: ${e.message}`);
+      }
+    } else if (k === 'cleared') cleared = v === '1';
     else if (/^[a-z_]+(\.[a-z_]+)?$/.test(k)) params.push([k, Number(v)]);
   }
-  return { view, params };
+  return { view, params, drops, cleared, errors };
 }
 
-export function writeHash(view, params) {
+/// A `drop` entry: { t, object, material, size, centre, velocity }; throws on a malformed one.
+export function parseDrop(text) {
+  const expected = 'expected TIME:OBJECT:MATERIAL:SIZE:X,Y[,Z][:VX,VY[,VZ]]';
+  const parts = text.split(':');
+  if (parts.length < 5 || parts.length > 6) throw new Error(`${parts.length} fields, ${expected}`);
+  const [time, object, material, size, centre, velocity] = parts;
+  const number = (what, s) => {
+    if (!NUMBER.test(s)) throw new Error(`${what} “${s}” is not a number; ${expected}`);
+    return Number(s);
+  };
+  const vector = (what, s) => {
+    const v = s.split(',').map((x) => number(what, x));
+    if (v.length < 2 || v.length > 3) throw new Error(`the ${what} needs 2 or 3 components, not ${v.length}; ${expected}`);
+    return v;
+  };
+  for (const [what, s] of [['object', object], ['material', material]])
+    if (!/^[a-z_]+$/.test(s)) throw new Error(`${what} “${s}” is not a name; ${expected}`);
+  const drop = {
+    t: number('time', time),
+    object,
+    material,
+    size: number('size', size),
+    centre: vector('centre', centre),
+  };
+  if (drop.t < 0) throw new Error(`time ${time} is negative`);
+  drop.velocity = velocity === undefined ? drop.centre.map(() => 0) : vector('velocity', velocity);
+  if (drop.velocity.length !== drop.centre.length)
+    throw new Error(`the centre has ${drop.centre.length} components, the velocity ${drop.velocity.length}`);
+  return drop;
+}
+
+/// The `drop` entry of a drop (see the top of the file).
+export function formatDrop(d) {
+  const n = (x) => String(+x);
+  const fields = [n(d.t), d.object, d.material, n(d.size), d.centre.map(n).join(',')];
+  if (d.velocity.some((v) => v !== 0)) fields.push(d.velocity.map(n).join(','));
+  return fields.join(':');
+}
+
+export function writeHash(view, params, drops = [], cleared = false) {
   const q = new URLSearchParams();
   for (const k of VIEW_KEYS) if (view[k] !== undefined && view[k] !== null && view[k] !== '') q.set(k, view[k]);
   for (const [k, v] of params) q.append(k, String(+v.toPrecision(6)));
-  const hash = `#${q.toString()}`;
+  if (cleared) q.set('cleared', '1');
+  const entries = [q.toString(), ...drops.map((d) => `drop=${formatDrop(d)}`)].filter((s) => s);
+  const hash = `#${entries.join('&')}`;
   if (hash !== location.hash) history.replaceState(null, '', hash);
   return hash;
 }

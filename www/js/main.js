@@ -9,7 +9,7 @@ import { CanvasRenderer } from './render-2d.js';
 import { BODY_COLOURS, YIELD_COLOURS, YIELD_LABELS, css, viridis } from './colours.js';
 import { MODELS, OBJECTS, WORLD, materialParams, spec, format, formatTime } from './params.js';
 import { EnergyPlot, StressPlot, ENERGY_SERIES } from './plots.js';
-import { readHash, writeHash } from './hash.js';
+import { formatDrop, readHash, writeHash } from './hash.js';
 import { el, paramSlider, segmented } from './widgets.js';
 
 const $ = (id) => document.getElementById(id);
@@ -37,6 +37,14 @@ const app = {
   sliders: new Map(),
   lastFrame: 0,
   stepOnce: false,
+  // The bodies dropped by clicks, in the URL hash so that a link replays them (hash.js):
+  // { t, object, material, size, centre, velocity, appliedAt }, sorted by t, the simulated
+  // time of the drop counted from dropOrigin. Those from a link are dropped when the
+  // simulation reaches their time; drops[nextDrop] is the first still to come.
+  drops: [],
+  nextDrop: 0,
+  dropOrigin: 0,
+  cleared: false, // the scene's own bodies were removed (Clear) before the drops
 };
 window.mpm = app; // for tests, benchmarks and curious students
 app.setQuality = (level) => setQuality(level);
@@ -125,8 +133,10 @@ async function loadBunny() {
   [app.bunnyObj, app.bunnyPolygon] = await Promise.all([get('bunny.obj'), get('bunny2d.txt')]);
 }
 
-/// Loads the scene of `app.view`, then applies `params` ([name, value] in order).
-async function loadScene(params = []) {
+/// Loads the scene of `app.view`, then applies `params` ([name, value] in order), removes
+/// the scene's bodies if `cleared`, and replays `drops` (see hash.js) at their times.
+/// `ignored` lists what the link held that cannot be used, for the message.
+async function loadScene(params = [], { drops = [], cleared = false, ignored = [] } = {}) {
   const token = (app.loadToken = (app.loadToken || 0) + 1);
   let source;
   try {
@@ -152,7 +162,7 @@ async function loadScene(params = []) {
   }
   app.pg?.free();
   app.pg = pg;
-  const rejected = [];
+  const rejected = [...ignored];
   for (const [name, value] of params) {
     try {
       pg.setParameter(name, value);
@@ -160,7 +170,6 @@ async function loadScene(params = []) {
       rejected.push(e.message);
     }
   }
-  if (rejected.length) toast(`Ignored from the link: ${rejected.join('; ')}`);
   const scene = JSON.parse(pg.sceneJson());
   app.view.dim = String(scene.dim);
   app.domain = scene.domain.size;
@@ -173,6 +182,15 @@ async function loadScene(params = []) {
   app.sizeRange = [Math.max(3 * app.cellSize, 0.05 * minSide), 0.6 * minSide];
   const sz = Number(app.view.size);
   app.size = Number.isFinite(sz) && sz > 0 ? sz : Math.min(app.sizeRange[1], Math.max(app.sizeRange[0], 0.25 * minSide));
+  // The link's Clear and drops, after what the scene itself sets (its bodies' particle size).
+  if (cleared) pg.clear();
+  app.cleared = cleared;
+  app.dropOrigin = 0;
+  app.drops = drops.map((d) => ({ ...d })).sort((a, b) => a.t - b.t);
+  app.nextDrop = 0;
+  for (const msg of ignored) console.warn(`ignored from the link: ${msg}`);
+  rejected.push(...replayDrops());
+  if (rejected.length) toast(`Ignored from the link: ${rejected.join('; ')}`);
   app.failed = null;
   app.probeId = null;
   stressPlot.clear();
@@ -265,7 +283,55 @@ function syncControls() {
 
 function updateHash() {
   const overrides = app.pg ? JSON.parse(app.pg.overrides()) : [];
-  writeHash({ ...app.view, size: +app.size.toPrecision(3) }, overrides);
+  writeHash({ ...app.view, size: +app.size.toPrecision(3) }, overrides, app.drops, app.cleared);
+}
+
+// ---------- dropped bodies ----------
+
+/// Simulated time since the scene started (or was cleared): the clock of the drops.
+function dropClock() {
+  return app.pg.time() - app.dropOrigin;
+}
+
+/// Drops a body ({ object, material, size, centre, velocity }); returns '' or the solver's
+/// error message.
+function dropBody(d) {
+  try {
+    app.pg.addObject(d.object, d.material, new Float64Array(d.centre), new Float64Array(d.velocity), d.size);
+  } catch (e) {
+    return e.message;
+  }
+  energyPlot.restart();
+  if (app.failed) { app.failed = null; banner('failed'); }
+  return '';
+}
+
+/// Drops the bodies of the link whose time has come (all of them into an empty box, where
+/// time does not run). One the solver refuses is left out with a warning naming it; returns
+/// those messages.
+function replayDrops() {
+  const refused = [];
+  while (app.nextDrop < app.drops.length) {
+    const d = app.drops[app.nextDrop];
+    if (d.t > dropClock() + 1e-9 && app.pg.particleCount() > 0) break;
+    const err = dropBody(d);
+    if (err) {
+      refused.push(`drop=${formatDrop(d)}: ${err}`);
+      console.warn(`ignored from the link: ${refused.at(-1)}`);
+      app.drops.splice(app.nextDrop, 1);
+    } else {
+      d.appliedAt = dropClock();
+      app.nextDrop++;
+    }
+  }
+  return refused;
+}
+
+/// Forgets the drops (Reset, Clear).
+function forgetDrops() {
+  app.drops = [];
+  app.nextDrop = 0;
+  app.dropOrigin = app.pg ? app.pg.time() : 0;
 }
 
 // ---------- controls ----------
@@ -300,6 +366,9 @@ function buildControls() {
   $('reset').addEventListener('click', reset);
   $('clear').addEventListener('click', () => {
     app.pg.clear();
+    forgetDrops();
+    app.cleared = true;
+    updateHash();
     app.failed = null;
     app.probeId = null;
     stressPlot.clear();
@@ -324,9 +393,9 @@ function buildControls() {
     updateHash();
     try {
       await navigator.clipboard.writeText(location.href);
-      toast('Link copied: it opens this scene with these parameters.');
+      toast('Link copied: it opens this scene with these parameters and drops the same bodies.');
     } catch {
-      toast('Copy the address bar: it holds this scene and its parameters.');
+      toast('Copy the address bar: it holds this scene, its parameters and the bodies dropped.');
     }
   });
   for (const b of document.querySelectorAll('[data-tool]')) b.addEventListener('click', () => pickTool(b.dataset.tool));
@@ -341,9 +410,9 @@ function buildControls() {
     else if (k === 'i') pickTool('inspect');
   });
   window.addEventListener('hashchange', () => {
-    const { view, params } = readHash();
+    const { view, params, drops, cleared, errors } = readHash();
     Object.assign(app.view, view);
-    loadScene(params);
+    loadScene(params, { drops, cleared, ignored: errors });
   });
 }
 
@@ -363,6 +432,9 @@ function reset() {
   } catch (e) {
     toast(e.message);
   }
+  forgetDrops();
+  app.cleared = false;
+  updateHash();
   app.failed = null;
   app.probeId = null;
   stressPlot.clear();
@@ -477,15 +549,23 @@ function click(px, py) {
   const gap = Math.max(2 * h, 0.05 * H);
   let y = dim === 3 ? Math.max(surface + 0.5 * size + gap, 0.55 * H) : Math.max(p[1], surface + 0.5 * size + gap);
   y = Math.min(y, H - h - 0.5 * size);
-  const centre = dim === 3 ? [p[0], y, p[2]] : [p[0], y];
-  const velocity = dim === 3 ? [0, -app.dropSpeed, 0] : [0, -app.dropSpeed];
-  try {
-    app.pg.addObject(app.view.object, app.view.material, new Float64Array(centre), new Float64Array(velocity), size);
-    energyPlot.restart();
-    if (app.failed) { app.failed = null; banner('failed'); }
-  } catch (e) {
-    toast(e.message);
-  }
+  // Rounded as the link records them (mm, cm/s, 0.1 ms), so that the link drops the same body.
+  const round = (x, digits) => +x.toFixed(digits) || 0;
+  const drop = {
+    t: Math.floor(dropClock() * 1e4) / 1e4,
+    object: app.view.object,
+    material: app.view.material,
+    size: +size.toPrecision(3),
+    centre: (dim === 3 ? [p[0], y, p[2]] : [p[0], y]).map((x) => round(x, 3)),
+    velocity: (dim === 3 ? [0, -app.dropSpeed, 0] : [0, -app.dropSpeed]).map((v) => round(v, 2)),
+  };
+  const err = dropBody(drop);
+  if (err) return toast(err);
+  // Before the drops of a link still to come (their times are later).
+  drop.appliedAt = dropClock();
+  app.drops.splice(app.nextDrop, 0, drop);
+  app.nextDrop++;
+  updateHash();
 }
 
 /// Picks the particle nearest the click on screen (and nearest the eye among close ones).
@@ -535,7 +615,10 @@ function frame(ts) {
         report = { substeps: 1, sim_time: 0, wall_ms: 0, fell_behind: false, ms_per_step: performance.now() - t0, requested: 0 };
         report.wall_ms = report.ms_per_step;
       } else {
-        const simTime = (Math.min(wall, 100) / 1000) * Number(app.view.time);
+        let simTime = (Math.min(wall, 100) / 1000) * Number(app.view.time);
+        // Stop at the time of the next drop of a link, to drop it when it was dropped.
+        const next = app.drops[app.nextDrop];
+        if (next) simTime = Math.min(simTime, Math.max(0, next.t - dropClock()));
         // The frame's time budget for stepping: what the rest of the frame (rendering,
         // compositing) leaves of 1/30 s, and at least one step.
         const budget = Math.min(40, Math.max(4, 1000 / TARGET_FPS - st.otherMs - 2));
@@ -545,6 +628,11 @@ function frame(ts) {
       fail(e.message);
     }
     app.stepOnce = false;
+    const refused = app.failed ? [] : replayDrops();
+    if (refused.length) {
+      toast(`Ignored from the link: ${refused.join('; ')}`);
+      updateHash();
+    }
   }
   const t1 = performance.now();
   const range = pg.updateColours();
@@ -722,7 +810,7 @@ async function main() {
     return;
   }
   await Promise.all([loadSceneList(), loadBunny()]);
-  const { view, params } = readHash();
+  const { view, params, drops, cleared, errors } = readHash();
   if (!location.hash) {
     // First visit: a scene with sand, if the scene list has one.
     const pick = ['bunny_on_sand_ball', 'notched_sand_block', 'column_collapse'].find((b) => app.scenes.some((s) => s.base === b));
@@ -731,7 +819,7 @@ async function main() {
   Object.assign(app.view, view);
   buildControls();
   setupPointer(canvasEl);
-  await loadScene(params);
+  await loadScene(params, { drops, cleared, ignored: errors });
   requestAnimationFrame(frame);
 }
 

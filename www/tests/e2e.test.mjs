@@ -19,17 +19,24 @@ let browser;
 before(async () => { browser = await launch(); });
 after(async () => { await browser?.close(); });
 
-/// Opens the page with `hash`, collecting console errors and uncaught exceptions.
+/// Opens the page with `hash`, collecting console errors and uncaught exceptions, and
+/// console warnings.
 async function open(hash = '', init) {
   const page = await browser.context.newPage();
-  const errors = [];
-  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+  const errors = [], warnings = [];
+  page.on('console', (m) => {
+    if (m.type() === 'error') errors.push(m.text());
+    if (m.type() === 'warning') warnings.push(m.text());
+  });
   page.on('pageerror', (e) => errors.push(e.message));
   if (init) await page.addInitScript(init);
   await page.goto(URL_ROOT + hash);
   await page.waitForFunction(() => window.mpm?.pg && window.mpm.stats.frames > 5, null, { timeout: 60_000 });
-  return { page, errors };
+  return { page, errors, warnings };
 }
+
+/// The body `i` of the simulated scene, as JSON text.
+const bodyJson = (page, i) => page.evaluate((i) => JSON.stringify(JSON.parse(mpm.pg.sceneJson()).bodies[i]), i);
 
 const stats = (page) => page.evaluate(() => ({
   particles: mpm.pg.particleCount(),
@@ -69,6 +76,14 @@ test('3D: the default scene runs, a click drops a bunny, the friction slider cha
   assert.ok(s1.particles > s0.particles + 500, `particle count grew: ${s0.particles} → ${s1.particles}`);
   const shape = await page.evaluate(() => JSON.parse(mpm.pg.sceneJson()).bodies[2].shape);
   assert.ok('mesh' in shape, `the dropped bunny is the mesh: ${JSON.stringify(shape).slice(0, 80)}`);
+  // The link records the drop: simulated time, object, material, size, centre (no velocity).
+  const m = s1.hash.match(/&drop=([\d.]+):bunny:elastic:([\d.]+):([\d.]+),([\d.]+),([\d.]+)$/);
+  assert.ok(m, `the hash records the drop: ${s1.hash}`);
+  const [t, dropSize, cx, , cz] = m.slice(1).map(Number);
+  assert.ok(t > 0 && t >= s0.time - 1e-4 && t <= s1.time, `dropped at ${t} s, between ${s0.time} and ${s1.time}`);
+  assert.equal(dropSize, await page.evaluate(() => +mpm.size.toPrecision(3)));
+  assert.ok(Math.abs(cx - 0.8 * size[0]) < 0.03 && Math.abs(cz - 0.5 * size[2]) < 0.03, `dropped where clicked: ${m[0]}`);
+  const dropped = await bodyJson(page, 2);
   await page.waitForFunction((t) => mpm.pg.time() > t + 0.02, s1.time, { timeout: 60_000 });
 
   // Move the friction-angle slider of the sand.
@@ -115,23 +130,71 @@ test('3D: the default scene runs, a click drops a bunny, the friction slider cha
   assert.ok(px.variance > 50 && px.colours > 20, `the view is not blank: ${JSON.stringify(px)}`);
   assert.deepEqual(errors, [], 'no console error');
   await page.close();
+
+  // The link of the moment after the drop drops the same bunny at the same simulated time.
+  const again = await open(s1.hash);
+  await again.page.waitForFunction(() => mpm.pg.bodyCount() === 3, null, { timeout: 60_000 });
+  const r = await stats(again.page);
+  assert.equal(r.particles, s1.particles, 'the same particle count as where the link was taken');
+  assert.equal(await bodyJson(again.page, 2), dropped, 'the same body');
+  const appliedAt = await again.page.evaluate(() => mpm.drops[0].appliedAt);
+  assert.ok(Math.abs(appliedAt - t) < 1e-6, `dropped when the simulation reached ${t} s, not at ${appliedAt} s`);
+  assert.equal(r.hash, s1.hash, 'the page keeps the link it was opened with');
+  // Reset forgets the drops, in the page and in the link.
+  await again.page.click('#reset');
+  const r2 = await stats(again.page);
+  assert.equal(r2.bodies, 2);
+  assert.doesNotMatch(r2.hash, /drop=/);
+  assert.deepEqual(again.errors, [], 'no console error');
+  await again.page.close();
 });
 
-test('2D: a link reproduces the parameters, and a box drops where clicked', async () => {
-  const { page, errors } = await open('#scene=sandbox&dim=2&gravity=3.5&elastic.youngs_modulus=20000&colour=speed');
+test('2D: a link reproduces the parameters and drops, malformed drops are warned about, a box drops where clicked', async () => {
+  const bad = ['drop=ball:oops', 'drop=0:teapot:elastic:0.2:0.5,0.5', 'drop=0:ball:elastic:0.2:0.5,0.5,0.5'];
+  const ball = 'drop=0:ball:elastic:0.2:0.5,0.5';
+  const { page, errors, warnings } = await open(`#scene=sandbox&dim=2&gravity=3.5&elastic.youngs_modulus=20000&colour=speed&${bad.join('&')}&${ball}`);
   assert.equal(await page.evaluate(() => mpm.pg.parameter('gravity')), 3.5);
   assert.equal(await page.evaluate(() => mpm.pg.parameter('elastic.youngs_modulus')), 20000);
+  for (const entry of bad) assert.ok(warnings.some((w) => w.includes(entry)), `a warning names ${entry}: ${JSON.stringify(warnings)}`);
+  assert.equal((await stats(page)).bodies, 1, 'the ball of the link dropped, nothing else');
   await page.click('#objects button[data-id="box"]');
   await page.click('#materials button[data-id="von_mises"]');
   const [x, y] = await screenOf(page, 1.0, 0.6, 0);
   await page.mouse.click(x, y);
   const s = await stats(page);
-  assert.equal(s.bodies, 1);
-  await page.waitForFunction(() => mpm.pg.time() > 0.05, null, { timeout: 60_000 });
+  assert.equal(s.bodies, 2);
   assert.match(s.hash, /colour=speed/);
+  assert.match(s.hash, /&drop=0:ball:elastic:0\.2:0\.5,0\.5&drop=[\d.]+:box:von_mises:[\d.]+:[\d.]+,[\d.]+$/);
+  await page.waitForFunction(() => mpm.pg.time() > 0.05, null, { timeout: 60_000 });
   await page.screenshot({ path: join(OUT, 'playground-2d.png') });
   assert.deepEqual(errors, []);
   await page.close();
+});
+
+test('2D: Clear and the drops after it are in the link, which reproduces them', async () => {
+  const { page, errors } = await open('#scene=www/test-scenes/drop_2d.json');
+  const s0 = await stats(page);
+  assert.ok(s0.bodies >= 2 && s0.time > 0, JSON.stringify(s0));
+  await page.click('#clear');
+  const s1 = await stats(page);
+  assert.equal(s1.bodies, 0);
+  assert.match(s1.hash, /&cleared=1$/);
+  await page.click('#objects button[data-id="ball"]');
+  const [x, y] = await screenOf(page, 1.5, 0.5, 0);
+  await page.mouse.click(x, y);
+  const s2 = await stats(page);
+  assert.equal(s2.bodies, 1);
+  // In an empty box time stands still: the ball dropped at the time of the Clear.
+  assert.match(s2.hash, /&cleared=1&drop=0:ball:/);
+  const ball = await bodyJson(page, 0);
+  await page.close();
+  const again = await open(s2.hash);
+  const r = await stats(again.page);
+  assert.equal(r.bodies, 1, 'the scene\'s own bodies cleared, the ball dropped');
+  assert.equal(r.particles, s2.particles);
+  assert.equal(await bodyJson(again.page, 0), ball);
+  assert.deepEqual([...errors, ...again.errors], []);
+  await again.page.close();
 });
 
 test('without WebGL2 the canvas fallback draws the particles', async () => {

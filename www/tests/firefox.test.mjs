@@ -1,6 +1,8 @@
 // The playground in Firefox: Debian's firefox-esr, headless, driven by puppeteer-core over
 // WebDriver BiDi (playwright-core needs its own patched Firefox, which npm cannot download
-// here). Served by `cargo xtask test` (MPM_URL); the screenshot goes to MPM_OUT.
+// here). Firefox makes WebGL contexts with EGL on an X display even when headless, so the test
+// starts Xvfb (Mesa's llvmpipe draws) and the page gets WebGL2; a second page hides WebGL2 to
+// test the Canvas 2D fallback. Served by `cargo xtask test` (MPM_URL); screenshots go to MPM_OUT.
 //
 //   MPM_URL=http://127.0.0.1:8080/ FIREFOX=/usr/bin/firefox-esr node --test www/tests/firefox.test.mjs
 import { test, before, after } from 'node:test';
@@ -9,38 +11,76 @@ import { mkdirSync } from 'node:fs';
 import { join } from 'node:path';
 import puppeteer from 'puppeteer-core';
 import { decodePng, pixelStats } from './png.mjs';
-import { screenOf } from './view.mjs';
+import { bodyPoints, fractionAt, screenOf } from './view.mjs';
+import { startXvfb } from './xvfb.mjs';
 
 const URL_ROOT = process.env.MPM_URL || 'http://127.0.0.1:8080/';
 const OUT = process.env.MPM_OUT || 'target/e2e';
 mkdirSync(OUT, { recursive: true });
 
-let browser;
+let browser, xvfb;
 before(async () => {
+  xvfb = await startXvfb();
   browser = await puppeteer.launch({
     browser: 'firefox',
     protocol: 'webDriverBiDi',
     executablePath: process.env.FIREFOX || '/usr/bin/firefox-esr',
     headless: true,
     args: ['--no-remote'],
+    env: { ...process.env, DISPLAY: xvfb.display },
   });
 });
-after(async () => { await browser?.close(); });
+after(async () => {
+  await browser?.close();
+  xvfb?.stop();
+});
 
-test('Firefox: the default scene runs and draws, a click drops a ball, no console error', async () => {
+/// Opens the page (after running `init` in it, if given), collecting console errors.
+async function open(hash = '', init) {
   const page = await browser.newPage();
   const errors = [];
   page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
   page.on('pageerror', (e) => errors.push(e.message));
+  if (init) await page.evaluateOnNewDocument(init);
   await page.setViewport({ width: 1400, height: 860 });
-  await page.goto(URL_ROOT);
+  await page.goto(URL_ROOT + hash);
   await page.waitForFunction(() => window.mpm?.pg && window.mpm.stats.frames > 5, { timeout: 60_000 });
-  const stats = () => page.evaluate(() => ({
-    particles: mpm.pg.particleCount(), bodies: mpm.pg.bodyCount(), time: mpm.pg.time(),
-    frames: mpm.stats.frames, renderer: mpm.renderer.kind, ua: navigator.userAgent,
-  }));
-  const s0 = await stats();
+  return { page, errors };
+}
+
+const stats = (page) => page.evaluate(() => ({
+  particles: mpm.pg.particleCount(), bodies: mpm.pg.bodyCount(), time: mpm.pg.time(),
+  frames: mpm.stats.frames, renderer: mpm.renderer.kind, ua: navigator.userAgent,
+  gl: mpm.renderer.gl ? mpm.renderer.gl.getParameter(mpm.renderer.gl.RENDERER) : null,
+}));
+
+/// Sand orange, lit or in shade (not the blue bunny, the red ball, the grey floor or the
+/// pale background).
+const orange = ([r, g, b]) => r > 40 && g > 0.55 * r && g < 0.9 * r && b < 0.5 * r;
+
+/// Pauses the page, screenshots the view and checks that it is not blank and that body 0
+/// (the sand) is drawn where its particles are: that is what the renderer drew, not only the
+/// HUD over it.
+async function checkView(page, path) {
+  await page.click('#play');
+  assert.equal(await page.evaluate(() => mpm.playing), false, 'paused');
+  await page.waitForFunction((f) => mpm.stats.frames > f + 2, { timeout: 20_000 }, (await stats(page)).frames);
+  const view = await page.$('#view');
+  const png = decodePng(await view.screenshot({ path }));
+  const px = pixelStats(png);
+  assert.ok(px.variance > 50 && px.colours > 5, `the view is not blank: ${JSON.stringify(px)}`);
+  const points = await bodyPoints(page, 0);
+  const width = await page.evaluate(() => document.getElementById('view').clientWidth);
+  const sand = fractionAt(png, points, width, orange);
+  assert.ok(points.length > 50 && sand > 0.8, `the sand is drawn where its particles are: ${sand} of ${points.length} points`);
+  return { px, sand };
+}
+
+test('Firefox, WebGL2: the default scene runs and draws, a click drops a ball, no console error', async () => {
+  const { page, errors } = await open();
+  const s0 = await stats(page);
   assert.match(s0.ua, /Firefox\//, s0.ua);
+  assert.equal(s0.renderer, 'WebGL2', `the WebGL2 renderer draws (GL renderer ${s0.gl})`);
   assert.ok(s0.particles > 10_000 && s0.bodies === 2, JSON.stringify(s0));
   // a ball dropped by clicking on the floor
   await page.click('#objects button[data-id="ball"]');
@@ -48,15 +88,30 @@ test('Firefox: the default scene runs and draws, a click drops a ball, no consol
   const [x, y] = await screenOf(page, 0.8 * size[0], 0, 0.5 * size[2]);
   await page.mouse.click(x, y);
   await page.waitForFunction((t) => mpm.pg.time() > t + 0.02, { timeout: 60_000 }, s0.time);
-  const s1 = await stats();
+  const s1 = await stats(page);
   assert.equal(s1.bodies, 3, 'a ball dropped');
   assert.ok(s1.particles > s0.particles, `particle count grew: ${s0.particles} → ${s1.particles}`);
   assert.ok(s1.frames > s0.frames && s1.time > s0.time, `the simulation advanced: ${JSON.stringify([s0, s1])}`);
-  const view = await page.$('#view');
   const shot = join(OUT, 'firefox.png');
-  const px = pixelStats(decodePng(await view.screenshot({ path: shot })));
-  assert.ok(px.variance > 50 && px.colours > 5, `the view is not blank: ${JSON.stringify(px)}`);
+  const { sand } = await checkView(page, shot);
   assert.deepEqual(errors, [], 'no console error');
-  console.log(`firefox: ${s1.ua}; renderer ${s1.renderer}; ${s1.particles} particles; screenshot ${shot}`);
+  console.log(`firefox: ${s1.ua}; renderer ${s1.renderer} (${s1.gl}); ${s1.particles} particles; ` +
+    `${(100 * sand).toFixed(0)} % of sampled sand particles drawn orange; screenshot ${shot}`);
+  await page.close();
+});
+
+test('Firefox without WebGL2: the Canvas 2D fallback draws the particles', async () => {
+  const noWebgl = () => {
+    const get = HTMLCanvasElement.prototype.getContext;
+    HTMLCanvasElement.prototype.getContext = function (kind, ...rest) {
+      return kind === 'webgl2' ? null : get.call(this, kind, ...rest);
+    };
+  };
+  const { page, errors } = await open('', noWebgl);
+  const s = await stats(page);
+  assert.match(s.renderer, /Canvas 2D/);
+  assert.ok(s.particles > 10_000, JSON.stringify(s));
+  await checkView(page, join(OUT, 'firefox-fallback.png'));
+  assert.deepEqual(errors, [], 'no console error');
   await page.close();
 });

@@ -10,3 +10,40 @@ export async function screenOf(page, x, y, z) {
     return [r.left + p[0], r.top + p[1]];
   }, [x, y, z]);
 }
+
+/// Where up to `n` particles of body `body` are drawn: positions in CSS pixels from the view's
+/// top-left corner, evenly sampled over the body. The view must colour by body.
+export async function bodyPoints(page, body, n = 200) {
+  return page.evaluate(([body, n]) => {
+    if (mpm.view.colour !== 'body') throw new Error(`the view colours by ${mpm.view.colour}, not by body`);
+    const pg = mpm.pg, c = document.getElementById('view');
+    mpm.camera.matrices(c.clientWidth, c.clientHeight);
+    const stride = pg.positionsStride(), dim = mpm.domain.length;
+    const pos = new Float32Array(mpm.memory.buffer, pg.positionsPtr(), pg.positionsLen());
+    const which = new Float32Array(mpm.memory.buffer, pg.coloursPtr(), pg.coloursLen());
+    const mine = [];
+    for (let i = 0; i < pg.particleCount(); i++) if (which[i] === body) mine.push(i);
+    const step = Math.max(1, Math.floor(mine.length / n));
+    const out = [];
+    for (let k = 0; k < mine.length; k += step) {
+      const i = mine[k];
+      const p = mpm.camera.project(pos[i * stride], pos[i * stride + 1], dim === 3 ? pos[i * stride + 2] : 0);
+      if (p) out.push([p[0], p[1]]);
+    }
+    return out;
+  }, [body, n]);
+}
+
+/// The fraction of `points` (CSS pixels in the view, see `bodyPoints`) whose pixel in the
+/// decoded view screenshot `png` (of a view `cssWidth` pixels wide) satisfies `test([r, g, b])`.
+export function fractionAt(png, points, cssWidth, test) {
+  const scale = png.width / cssWidth;
+  let hits = 0;
+  for (const [x, y] of points) {
+    const px = Math.round(x * scale), py = Math.round(y * scale);
+    if (px < 0 || py < 0 || px >= png.width || py >= png.height) continue;
+    const i = (py * png.width + px) * png.channels;
+    if (test([png.data[i], png.data[i + 1], png.data[i + 2]])) hits++;
+  }
+  return points.length ? hits / points.length : 0;
+}

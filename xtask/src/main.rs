@@ -348,28 +348,47 @@ fn ensure_browser_tools() -> Result<String, String> {
     Ok(chromium)
 }
 
-/// Debian's Firefox ESR for the Firefox test: its path (`FIREFOX` or /usr/bin/firefox-esr).
-fn ensure_firefox() -> Result<String, String> {
+/// Debian's Firefox ESR for the Firefox test and Xvfb: their paths (`FIREFOX` or
+/// /usr/bin/firefox-esr, `XVFB` or /usr/bin/Xvfb). Also Mesa's software OpenGL (llvmpipe):
+/// Firefox makes WebGL contexts with EGL on an X display, so without one it offers no WebGL2,
+/// even headless.
+fn ensure_firefox() -> Result<(String, String), String> {
     let firefox = std::env::var("FIREFOX").unwrap_or_else(|_| "/usr/bin/firefox-esr".into());
     ensure_debian_browser(&firefox, "firefox-esr", "FIREFOX")?;
-    Ok(firefox)
+    let xvfb = std::env::var("XVFB").unwrap_or_else(|_| "/usr/bin/Xvfb".into());
+    ensure_debian_browser(&xvfb, "xvfb", "XVFB")?;
+    // Debian's package of the DRI drivers (llvmpipe); elsewhere the test says what is missing.
+    let dri = || output("dpkg-query", &["-W", "-f=${Status}", "libgl1-mesa-dri"]);
+    if Path::new("/usr/bin/dpkg-query").exists()
+        && !dri().is_some_and(|s| s.contains("ok installed"))
+    {
+        install_debian_package(
+            "libgl1-mesa-dri",
+            "Mesa's software OpenGL for Firefox's WebGL2",
+        )?;
+    }
+    Ok((firefox, xvfb))
 }
 
-/// Installs Debian's `package` with apt-get when the browser at `path` is missing and this
+/// Installs Debian's `package` with apt-get when the program at `path` is missing and this
 /// runs as root; otherwise says what to install (or which variable to set).
 fn ensure_debian_browser(path: &str, package: &str, variable: &str) -> Result<(), String> {
     if Path::new(path).exists() {
         return Ok(());
     }
+    install_debian_package(package, "the browser tests")
+        .map_err(|e| format!("{path} not found: {e}, or set {variable}"))
+}
+
+/// Installs Debian's `package` (needed for `what`) with apt-get when this runs as root.
+fn install_debian_package(package: &str, what: &str) -> Result<(), String> {
     let root_user = output("id", &["-u"]).is_some_and(|u| u.trim() == "0");
     if root_user && Path::new("/usr/bin/apt-get").exists() {
-        eprintln!("xtask: installing Debian's {package} for the browser tests");
+        eprintln!("xtask: installing Debian's {package} for {what}");
         run("apt-get", &["update", "-qq"])?;
         run("apt-get", &["install", "-y", "-qq", package])
     } else {
-        Err(format!(
-            "{path} not found: install Debian's `{package}` package or set {variable}"
-        ))
+        Err(format!("install Debian's `{package}` package ({what})"))
     }
 }
 
@@ -423,8 +442,9 @@ fn test() -> Result<(), String> {
         .env("CHROMIUM", &chromium)
         .env("MPM_OUT", root().join("target/e2e"));
     run_cmd(e2e)?;
-    // The same page in Firefox (Debian's firefox-esr through puppeteer-core).
-    let firefox = ensure_firefox()?;
+    // The same page in Firefox (Debian's firefox-esr through puppeteer-core), WebGL2 drawn by
+    // llvmpipe on an Xvfb display the test starts.
+    let (firefox, xvfb) = ensure_firefox()?;
     let mut ff = command(
         "node",
         &[
@@ -435,6 +455,7 @@ fn test() -> Result<(), String> {
     );
     ff.env("MPM_URL", &url)
         .env("FIREFOX", &firefox)
+        .env("XVFB", &xvfb)
         .env("MPM_OUT", root().join("target/e2e"));
     run_cmd(ff)?;
     eprintln!("xtask: every test passed");
