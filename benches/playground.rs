@@ -18,7 +18,18 @@ fn main() {
         .unwrap_or("www/test-scenes/bench_3d.json");
     let steps: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(200);
     let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path}: {e}"));
-    let mut pg = Playground::from_json(&text).unwrap_or_else(|e| panic!("{path}: {e}"));
+    // Meshes and outlines the scene names, read from its folder (as the page fetches them).
+    let dir = std::path::Path::new(path).parent().unwrap_or(std::path::Path::new("."));
+    let assets: std::collections::HashMap<String, String> = mpm::playground::asset_paths(&text)
+        .unwrap_or_else(|e| panic!("{path}: {e}"))
+        .into_iter()
+        .map(|f| {
+            let body = std::fs::read_to_string(dir.join(&f)).unwrap_or_else(|e| panic!("{f}: {e}"));
+            (f, body)
+        })
+        .collect();
+    let mut pg = Playground::from_json_with_assets(&text, &assets)
+        .unwrap_or_else(|e| panic!("{path}: {e}"));
     // Warm up (caches, grid allocation) as long as the wasm benchmark does, then time each step.
     let warm = Instant::now();
     let mut i = 0;
