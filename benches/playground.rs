@@ -19,7 +19,9 @@ fn main() {
     let steps: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(200);
     let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path}: {e}"));
     // Meshes and outlines the scene names, read from its folder (as the page fetches them).
-    let dir = std::path::Path::new(path).parent().unwrap_or(std::path::Path::new("."));
+    let dir = std::path::Path::new(path)
+        .parent()
+        .unwrap_or(std::path::Path::new("."));
     let assets: std::collections::HashMap<String, String> = mpm::playground::asset_paths(&text)
         .unwrap_or_else(|e| panic!("{path}: {e}"))
         .into_iter()
@@ -28,8 +30,8 @@ fn main() {
             (f, body)
         })
         .collect();
-    let mut pg = Playground::from_json_with_assets(&text, &assets)
-        .unwrap_or_else(|e| panic!("{path}: {e}"));
+    let mut pg =
+        Playground::from_json_with_assets(&text, &assets).unwrap_or_else(|e| panic!("{path}: {e}"));
     // Warm up (caches, grid allocation) as long as the wasm benchmark does, then time each step.
     let warm = Instant::now();
     let mut i = 0;

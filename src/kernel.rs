@@ -63,27 +63,39 @@ pub trait Kernel<const S: usize>: Copy + Send + Sync + 'static {
     }
 
     /// The full stencil of a particle at grid coordinates `xg` (the first `dim` entries used),
-    /// with derivatives scaled by `inv_h` to physical units.
+    /// with derivatives scaled by `inv_h` to physical units. All axes go through the same
+    /// arithmetic in four lanes (the compiler keeps them in one SIMD register); the unused lanes
+    /// repeat the last axis.
     #[inline(always)]
     fn stencil(xg: [Real; 3], dim: usize, inv_h: Real, lp: Real) -> Stencil<S> {
+        let last = xg[dim - 1];
+        let x = [xg[0], xg[1], if dim == 3 { xg[2] } else { last }, last];
+        let mut base = [0i32; 4];
+        let mut f = [0.0; 4];
+        for a in 0..4 {
+            base[a] = Self::first(x[a], lp);
+            f[a] = x[a] - base[a] as Real;
+        }
         let mut st = Stencil {
-            base: [0; 3],
-            w: [[0.0; S]; 3],
-            dw: [[0.0; S]; 3],
-            d: [[0.0; S]; 3],
+            base: [base[0], base[1], base[2]],
+            w: [[0.0; 4]; S],
+            dw: [[0.0; 4]; S],
+            d: [[0.0; 4]; S],
         };
-        for a in 0..dim {
-            let (b, w, dw) = Self::axis(xg[a], lp);
-            st.base[a] = b;
-            st.w[a] = w;
-            let f = xg[a] - b as Real;
-            for k in 0..S {
-                st.dw[a][k] = dw[k] * inv_h;
-                st.d[a][k] = k as Real - f;
+        for k in 0..S {
+            for a in 0..4 {
+                let (w, dw) = Self::node(f[a], k, lp);
+                st.w[k][a] = w;
+                st.dw[k][a] = dw * inv_h;
+                st.d[k][a] = k as Real - f[a];
             }
         }
         st
     }
+
+    /// Weight and derivative (per grid unit) of the k-th stencil node for a particle at
+    /// fractional offset `f` from the first node (the same as [`Kernel::axis`] gives).
+    fn node(f: Real, k: usize, lp: Real) -> (Real, Real);
 }
 
 /// The paper's linear shape function (Eq. 16–17): N = ½(1 + N_x N_Ix) per axis.
@@ -101,6 +113,10 @@ impl Kernel<2> for Linear {
         let base = Self::first(xg, lp);
         let f = xg - base as Real;
         (base, [1.0 - f, f], [-1.0, 1.0])
+    }
+    #[inline(always)]
+    fn node(f: Real, k: usize, _lp: Real) -> (Real, Real) {
+        if k == 0 { (1.0 - f, -1.0) } else { (f, 1.0) }
     }
 }
 
@@ -125,6 +141,14 @@ impl Kernel<3> for QuadraticBspline {
         ];
         let dw = [f - 1.5, -2.0 * (f - 1.0), f - 0.5];
         (base, w, dw)
+    }
+    #[inline(always)]
+    fn node(f: Real, k: usize, _lp: Real) -> (Real, Real) {
+        match k {
+            0 => (0.5 * (1.5 - f) * (1.5 - f), f - 1.5),
+            1 => (0.75 - (f - 1.0) * (f - 1.0), -2.0 * (f - 1.0)),
+            _ => (0.5 * (f - 0.5) * (f - 0.5), f - 0.5),
+        }
     }
 }
 
@@ -167,6 +191,10 @@ impl Kernel<3> for Gimp {
         }
         (base, w, dw)
     }
+    #[inline(always)]
+    fn node(f: Real, k: usize, lp: Real) -> (Real, Real) {
+        Self::shape(f - k as Real, lp, 0.5 / lp)
+    }
 }
 
 #[cfg(test)]
@@ -188,6 +216,37 @@ mod tests {
             assert!((dfirst - 1.0).abs() < 1e-4);
             assert!(w.iter().all(|&v| v >= 0.0));
         }
+    }
+
+    fn check_stencil<const S: usize, K: Kernel<S>>(lp: Real) {
+        let inv_h = 50.0;
+        for i in 0..300 {
+            let xg = [
+                3.0 + i as Real * 0.0137,
+                4.1 + i as Real * 0.0071,
+                2.5 + i as Real * 0.011,
+            ];
+            for dim in [2, 3] {
+                let st = K::stencil(xg, dim, inv_h, lp);
+                for a in 0..dim {
+                    let (base, w, dw) = K::axis(xg[a], lp);
+                    assert_eq!(st.base[a], base);
+                    for k in 0..S {
+                        assert!((st.w[k][a] - w[k]).abs() < 1e-6, "{:?} w {a} {k}", K::KIND);
+                        assert!((st.dw[k][a] - dw[k] * inv_h).abs() < 1e-4 * inv_h);
+                        let d = (base + k as i32) as Real - xg[a];
+                        assert!((st.d[k][a] - d).abs() < 1e-5);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn stencils_give_every_axis_what_the_one_axis_kernel_gives() {
+        check_stencil::<2, Linear>(0.0);
+        check_stencil::<3, QuadraticBspline>(0.0);
+        check_stencil::<3, Gimp>(0.25);
     }
 
     #[test]

@@ -335,16 +335,17 @@ impl SymTensor for Sym3 {
     }
 }
 
-/// The kernel weights of one particle along each axis: `w[a][k]` and `dw[a][k]` (the
+/// The kernel weights of one particle along each axis: `w[k][a]` and `dw[k][a]` (the
 /// derivative, already divided by the cell size) for the k-th node of the stencil along axis a,
-/// whose first node has grid index `base[a]`; `d[a][k]` is that node's offset from the particle
-/// along the axis, in cells (x_i − x_p = d h).
+/// whose first node has grid index `base[a]`; `d[k][a]` is that node's offset from the particle
+/// along the axis, in cells (x_i − x_p = d h). Node-major with four lanes, so that a kernel
+/// computes all axes of one node at once in SIMD registers (lane 3, and lane 2 in 2D, unused).
 #[derive(Clone, Copy, Debug)]
 pub struct Stencil<const S: usize> {
     pub base: [i32; 3],
-    pub w: [[Real; S]; 3],
-    pub dw: [[Real; S]; 3],
-    pub d: [[Real; S]; 3],
+    pub w: [[Real; 4]; S],
+    pub dw: [[Real; 4]; S],
+    pub d: [[Real; 4]; S],
 }
 
 /// The dimension of a simulation: its vector, gradient and stress types and its stencil loop.
@@ -426,7 +427,7 @@ pub trait Dim: Copy + Default + Debug + Send + Sync + 'static {
 fn inertia<const S: usize>(st: &Stencil<S>, a: usize, h: Real) -> Real {
     let mut sum = 0.0;
     for k in 0..S {
-        sum += st.w[a][k] * st.d[a][k] * st.d[a][k];
+        sum += st.w[k][a] * st.d[k][a] * st.d[k][a];
     }
     sum * h
 }
@@ -519,24 +520,24 @@ impl Dim for D2 {
             match affine {
                 None => {
                     for i in 0..S {
-                        let w = st.w[0][i] * st.w[1][j];
+                        let w = st.w[i][0] * st.w[j][1];
                         row[i].mass += w * m;
                         row[i].vel += mv * w;
                     }
                 }
                 Some(a) => {
-                    let r = mv + a.y_axis * st.d[1][j];
+                    let r = mv + a.y_axis * st.d[j][1];
                     for i in 0..S {
-                        let w = st.w[0][i] * st.w[1][j];
+                        let w = st.w[i][0] * st.w[j][1];
                         row[i].mass += w * m;
-                        row[i].vel += (r + a.x_axis * st.d[0][i]) * w;
+                        row[i].vel += (r + a.x_axis * st.d[i][0]) * w;
                     }
                 }
             }
             if let Some(g) = grad.as_deref_mut() {
                 for i in 0..S {
                     g[j * p + i] +=
-                        Vec2::new(st.dw[0][i] * st.w[1][j], st.w[0][i] * st.dw[1][j]) * m;
+                        Vec2::new(st.dw[i][0] * st.w[j][1], st.w[i][0] * st.dw[j][1]) * m;
                 }
             }
         }
@@ -549,11 +550,11 @@ impl Dim for D2 {
             let row = &nodes[j * p..j * p + S];
             let (mut a, mut b) = (Vec2::ZERO, Vec2::ZERO);
             for i in 0..S {
-                a += row[i].vel * st.dw[0][i];
-                b += row[i].vel * st.w[0][i];
+                a += row[i].vel * st.dw[i][0];
+                b += row[i].vel * st.w[i][0];
             }
-            c0 += a * st.w[1][j];
-            c1 += b * st.dw[1][j];
+            c0 += a * st.w[j][1];
+            c1 += b * st.dw[j][1];
         }
         Mat2::from_cols(c0, c1)
     }
@@ -562,10 +563,10 @@ impl Dim for D2 {
         let nodes = &mut nodes[..stencil_span(2, p, S)];
         let (a0, a1) = (Vec2::new(a.xx, a.xy), Vec2::new(a.xy, a.yy));
         for j in 0..S {
-            let (pj, qj) = (a0 * st.w[1][j], a1 * st.dw[1][j]);
+            let (pj, qj) = (a0 * st.w[j][1], a1 * st.dw[j][1]);
             let row = &mut nodes[j * p..j * p + S];
             for i in 0..S {
-                row[i].new_vel += pj * st.dw[0][i] + qj * st.w[0][i];
+                row[i].new_vel += pj * st.dw[i][0] + qj * st.w[i][0];
             }
         }
     }
@@ -581,11 +582,11 @@ impl Dim for D2 {
             let row = &nodes[j * p..j * p + S];
             let (mut rn, mut ro) = (Vec2::ZERO, Vec2::ZERO);
             for i in 0..S {
-                rn += row[i].new_vel * st.w[0][i];
-                ro += row[i].vel * st.w[0][i];
+                rn += row[i].new_vel * st.w[i][0];
+                ro += row[i].vel * st.w[i][0];
             }
-            new += rn * st.w[1][j];
-            old += ro * st.w[1][j];
+            new += rn * st.w[j][1];
+            old += ro * st.w[j][1];
         }
         (new, old)
     }
@@ -597,12 +598,12 @@ impl Dim for D2 {
             let row = &nodes[j * p..j * p + S];
             let (mut rn, mut rx) = (Vec2::ZERO, Vec2::ZERO);
             for i in 0..S {
-                let v = row[i].new_vel * st.w[0][i];
+                let v = row[i].new_vel * st.w[i][0];
                 rn += v;
-                rx += v * st.d[0][i];
+                rx += v * st.d[i][0];
             }
-            c0 += rx * st.w[1][j];
-            c1 += rn * (st.w[1][j] * st.d[1][j]);
+            c0 += rx * st.w[j][1];
+            c1 += rn * (st.w[j][1] * st.d[j][1]);
         }
         Mat2::from_cols(c0, c1)
     }
@@ -664,30 +665,30 @@ impl Dim for D3 {
         for k in 0..S {
             for j in 0..S {
                 let base = j * p + k * p * p;
-                let wjk = st.w[1][j] * st.w[2][k];
+                let wjk = st.w[j][1] * st.w[k][2];
                 let row = &mut nodes[base..base + S];
                 match affine {
                     None => {
                         for i in 0..S {
-                            let w = st.w[0][i] * wjk;
+                            let w = st.w[i][0] * wjk;
                             row[i].mass += w * m;
                             row[i].vel += mv * w;
                         }
                     }
                     Some(a) => {
-                        let r = mv + a.y_axis * st.d[1][j] + a.z_axis * st.d[2][k];
+                        let r = mv + a.y_axis * st.d[j][1] + a.z_axis * st.d[k][2];
                         for i in 0..S {
-                            let w = st.w[0][i] * wjk;
+                            let w = st.w[i][0] * wjk;
                             row[i].mass += w * m;
-                            row[i].vel += (r + a.x_axis * st.d[0][i]) * w;
+                            row[i].vel += (r + a.x_axis * st.d[i][0]) * w;
                         }
                     }
                 }
                 if let Some(g) = grad.as_deref_mut() {
-                    let (djk, wdjk) = (st.dw[1][j] * st.w[2][k], st.w[1][j] * st.dw[2][k]);
+                    let (djk, wdjk) = (st.dw[j][1] * st.w[k][2], st.w[j][1] * st.dw[k][2]);
                     for i in 0..S {
                         g[base + i] +=
-                            Vec3A::new(st.dw[0][i] * wjk, st.w[0][i] * djk, st.w[0][i] * wdjk) * m;
+                            Vec3A::new(st.dw[i][0] * wjk, st.w[i][0] * djk, st.w[i][0] * wdjk) * m;
                     }
                 }
             }
@@ -707,12 +708,12 @@ impl Dim for D3 {
                 let row = &nodes[base..base + S];
                 let (mut a, mut b) = (Vec3A::ZERO, Vec3A::ZERO);
                 for i in 0..S {
-                    a += row[i].vel * st.dw[0][i];
-                    b += row[i].vel * st.w[0][i];
+                    a += row[i].vel * st.dw[i][0];
+                    b += row[i].vel * st.w[i][0];
                 }
-                c0 += a * (st.w[1][j] * st.w[2][k]);
-                c1 += b * (st.dw[1][j] * st.w[2][k]);
-                c2 += b * (st.w[1][j] * st.dw[2][k]);
+                c0 += a * (st.w[j][1] * st.w[k][2]);
+                c1 += b * (st.dw[j][1] * st.w[k][2]);
+                c2 += b * (st.w[j][1] * st.dw[k][2]);
             }
         }
         Mat3A::from_cols(c0, c1, c2)
@@ -731,11 +732,11 @@ impl Dim for D3 {
         for k in 0..S {
             for j in 0..S {
                 let base = j * p + k * p * p;
-                let pjk = a0 * (st.w[1][j] * st.w[2][k]);
-                let qjk = a1 * (st.dw[1][j] * st.w[2][k]) + a2 * (st.w[1][j] * st.dw[2][k]);
+                let pjk = a0 * (st.w[j][1] * st.w[k][2]);
+                let qjk = a1 * (st.dw[j][1] * st.w[k][2]) + a2 * (st.w[j][1] * st.dw[k][2]);
                 let row = &mut nodes[base..base + S];
                 for i in 0..S {
-                    row[i].new_vel += pjk * st.dw[0][i] + qjk * st.w[0][i];
+                    row[i].new_vel += pjk * st.dw[i][0] + qjk * st.w[i][0];
                 }
             }
         }
@@ -754,10 +755,10 @@ impl Dim for D3 {
                 let row = &nodes[base..base + S];
                 let (mut rn, mut ro) = (Vec3A::ZERO, Vec3A::ZERO);
                 for i in 0..S {
-                    rn += row[i].new_vel * st.w[0][i];
-                    ro += row[i].vel * st.w[0][i];
+                    rn += row[i].new_vel * st.w[i][0];
+                    ro += row[i].vel * st.w[i][0];
                 }
-                let wjk = st.w[1][j] * st.w[2][k];
+                let wjk = st.w[j][1] * st.w[k][2];
                 new += rn * wjk;
                 old += ro * wjk;
             }
@@ -774,14 +775,14 @@ impl Dim for D3 {
                 let row = &nodes[base..base + S];
                 let (mut rn, mut rx) = (Vec3A::ZERO, Vec3A::ZERO);
                 for i in 0..S {
-                    let v = row[i].new_vel * st.w[0][i];
+                    let v = row[i].new_vel * st.w[i][0];
                     rn += v;
-                    rx += v * st.d[0][i];
+                    rx += v * st.d[i][0];
                 }
-                let wjk = st.w[1][j] * st.w[2][k];
+                let wjk = st.w[j][1] * st.w[k][2];
                 c0 += rx * wjk;
-                c1 += rn * (wjk * st.d[1][j]);
-                c2 += rn * (wjk * st.d[2][k]);
+                c1 += rn * (wjk * st.d[j][1]);
+                c2 += rn * (wjk * st.d[k][2]);
             }
         }
         Mat3A::from_cols(c0, c1, c2)

@@ -30,6 +30,13 @@ const WASM_TARGET: &str = "wasm32-unknown-unknown";
 const WASM_RUSTFLAGS: &str = "-C target-feature=+simd128";
 /// The scene the speed benchmarks use (3D, about 21 000 particles).
 const BENCH_SCENE: &str = "www/test-scenes/bench_3d.json";
+/// The scenes of the wasm-against-native comparison: the benchmark scene, a 2D sand scene
+/// and the page's default scene.
+const RATIO_SCENES: [&str; 3] = [
+    BENCH_SCENE,
+    "scenes/notched_sand_block_2d.json",
+    DEFAULT_SCENE,
+];
 /// The scene the page opens with.
 const DEFAULT_SCENE: &str = "scenes/bunny_on_sand_ball_3d.json";
 
@@ -491,13 +498,15 @@ fn captured(mut c: Command) -> Result<String, String> {
 fn bench_web(args: &[String]) -> Result<(), String> {
     let steps = flag(args, "--steps").unwrap_or("200");
     let seconds = flag(args, "--seconds").unwrap_or("10");
-    let runs: usize = flag(args, "--runs").unwrap_or("3").parse().unwrap_or(3);
+    let runs: usize = flag(args, "--runs").unwrap_or("5").parse().unwrap_or(5);
     let size = build()?;
-    let (mut native, mut wasm) = (Vec::new(), Vec::new());
-    for _ in 0..runs {
-        let out = captured(command(
-            "cargo",
-            &[
+    // Native and wasm in turn, pair by pair, so that both see the same machine: on a shared
+    // machine a process's speed drifts by ±20 % from one run to the next.
+    let mut summary = Vec::new();
+    for scene in RATIO_SCENES {
+        let (mut native, mut wasm, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
+        for _ in 0..runs {
+            let bench = [
                 "bench",
                 "--quiet",
                 "--package",
@@ -505,21 +514,34 @@ fn bench_web(args: &[String]) -> Result<(), String> {
                 "--bench",
                 "playground",
                 "--",
-                BENCH_SCENE,
+                scene,
                 steps,
-            ],
-        ))?;
-        native.extend(parse_median(&out));
-        let out = captured(command(
-            "node",
-            &["www/bench/node-bench.mjs", BENCH_SCENE, steps],
-        ))?;
-        wasm.extend(parse_median(&out));
+            ];
+            let n = parse_median(&captured(command("cargo", &bench))?);
+            let node = ["www/bench/node-bench.mjs", scene, steps];
+            let w = parse_median(&captured(command("node", &node))?);
+            if let (Some(n), Some(w)) = (n, w) {
+                native.push(n);
+                wasm.push(w);
+                ratios.push(w / n);
+            }
+        }
+        let best = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
+        let (bn, bw) = (best(&native), best(&wasm));
+        summary.push(format!(
+            "bench-web: {scene}: native {:.3} ms/step, wasm in Node {:.3} ms/step; ratio {:.2} (median of {} pairs), {:.2} (best against best)",
+            median(&mut native),
+            median(&mut wasm),
+            median(&mut ratios),
+            ratios.len(),
+            bw / bn,
+        ));
     }
-    let (n, w) = (median(&mut native), median(&mut wasm));
+    for line in &summary {
+        println!("{line}");
+    }
     println!(
-        "bench-web: {BENCH_SCENE}: native {n:.3} ms/step, wasm in Node {w:.3} ms/step, ratio {:.2} (medians of {runs} runs of {steps} steps); mpm_bg.wasm {:.0} KiB",
-        w / n,
+        "bench-web: {steps} steps per run after a 3 s warm-up; mpm_bg.wasm {:.0} KiB",
         size as f64 / 1024.0
     );
     let chromium = ensure_browser_tools()?;
