@@ -49,13 +49,25 @@ impl KernelKind {
 /// A shape function with `S` nodes per axis.
 pub trait Kernel<const S: usize>: Copy + Send + Sync + 'static {
     const KIND: KernelKind;
-    /// Base node index, weights and weight derivatives (per grid unit) along one axis for a
-    /// particle at grid coordinate `xg` of half-width `lp` grid units (used by GIMP only).
-    fn axis(xg: Real, lp: Real) -> (i32, [Real; S], [Real; S]);
-
-    /// The first stencil node along one axis (what [`Kernel::axis`] returns first, computed
-    /// by the same expression).
+    /// The first stencil node along one axis for a particle at grid coordinate `xg` of
+    /// half-width `lp` grid units (used by GIMP only).
     fn first(xg: Real, lp: Real) -> i32;
+
+    /// Weight and derivative (per grid unit) of the k-th stencil node for a particle at
+    /// fractional offset `f` from the first node.
+    fn node(f: Real, k: usize, lp: Real) -> (Real, Real);
+
+    /// Base node index, weights and weight derivatives (per grid unit) along one axis.
+    #[inline(always)]
+    fn axis(xg: Real, lp: Real) -> (i32, [Real; S], [Real; S]) {
+        let base = Self::first(xg, lp);
+        let f = xg - base as Real;
+        let (mut w, mut dw) = ([0.0; S], [0.0; S]);
+        for k in 0..S {
+            (w[k], dw[k]) = Self::node(f, k, lp);
+        }
+        (base, w, dw)
+    }
 
     /// The first stencil node of a particle at grid coordinates `xg`.
     #[inline(always)]
@@ -97,10 +109,6 @@ pub trait Kernel<const S: usize>: Copy + Send + Sync + 'static {
         }
         st
     }
-
-    /// Weight and derivative (per grid unit) of the k-th stencil node for a particle at
-    /// fractional offset `f` from the first node (the same as [`Kernel::axis`] gives).
-    fn node(f: Real, k: usize, lp: Real) -> (Real, Real);
 }
 
 /// The paper's linear shape function (Eq. 16–17): N = ½(1 + N_x N_Ix) per axis.
@@ -112,12 +120,6 @@ impl Kernel<2> for Linear {
     #[inline(always)]
     fn first(xg: Real, _lp: Real) -> i32 {
         floor_nonneg(xg)
-    }
-    #[inline(always)]
-    fn axis(xg: Real, lp: Real) -> (i32, [Real; 2], [Real; 2]) {
-        let base = Self::first(xg, lp);
-        let f = xg - base as Real;
-        (base, [1.0 - f, f], [-1.0, 1.0])
     }
     #[inline(always)]
     fn node(f: Real, k: usize, _lp: Real) -> (Real, Real) {
@@ -134,18 +136,6 @@ impl Kernel<3> for QuadraticBspline {
     #[inline(always)]
     fn first(xg: Real, _lp: Real) -> i32 {
         floor_nonneg(xg - 0.5)
-    }
-    #[inline(always)]
-    fn axis(xg: Real, lp: Real) -> (i32, [Real; 3], [Real; 3]) {
-        let base = Self::first(xg, lp);
-        let f = xg - base as Real; // in [0.5, 1.5)
-        let w = [
-            0.5 * (1.5 - f) * (1.5 - f),
-            0.75 - (f - 1.0) * (f - 1.0),
-            0.5 * (f - 0.5) * (f - 0.5),
-        ];
-        let dw = [f - 1.5, -2.0 * (f - 1.0), f - 0.5];
-        (base, w, dw)
     }
     #[inline(always)]
     fn node(f: Real, k: usize, _lp: Real) -> (Real, Real) {
@@ -183,18 +173,6 @@ impl Kernel<3> for Gimp {
     #[inline(always)]
     fn first(xg: Real, lp: Real) -> i32 {
         floor_nonneg(xg - lp)
-    }
-    #[inline(always)]
-    fn axis(xg: Real, lp: Real) -> (i32, [Real; 3], [Real; 3]) {
-        let base = Self::first(xg, lp);
-        let f = xg - base as Real;
-        let inv_2lp = 0.5 / lp;
-        let mut w = [0.0; 3];
-        let mut dw = [0.0; 3];
-        for k in 0..3 {
-            (w[k], dw[k]) = Self::shape(f - k as Real, lp, inv_2lp);
-        }
-        (base, w, dw)
     }
     #[inline(always)]
     fn node(f: Real, k: usize, lp: Real) -> (Real, Real) {

@@ -72,9 +72,9 @@ impl Elastic {
     /// The stored elastic energy per unit volume of a stress: s:s/(4G) + P²/(2K).
     #[inline(always)]
     pub fn energy_density<S: SymTensor>(&self, stress: S) -> Real {
-        let p = stress.trace() * (1.0 / 3.0);
-        let s = stress - S::IDENTITY * p;
-        s.ddot(s) * self.inv_4g + p * p * self.inv_2k
+        let mean = stress.trace() * (1.0 / 3.0);
+        let s = stress - S::IDENTITY * mean;
+        self.energy_from_invariants(0.5 * s.ddot(s), mean)
     }
 
     /// The same energy density from the invariants J2 = ½ s:s and the mean stress tr(σ)/3:

@@ -9,7 +9,7 @@ import { mkdirSync, statSync } from 'node:fs';
 import { join } from 'node:path';
 import { launch } from './browser.mjs';
 import { decodePng, pixelStats } from './png.mjs';
-import { screenOf } from './view.mjs';
+import { hideWebgl2, screenOf } from './view.mjs';
 
 const URL_ROOT = process.env.MPM_URL || 'http://127.0.0.1:8080/';
 const OUT = process.env.MPM_OUT || 'target/e2e';
@@ -198,13 +198,7 @@ test('2D: Clear and the drops after it are in the link, which reproduces them', 
 });
 
 test('without WebGL2 the canvas fallback draws the particles', async () => {
-  const noWebgl = () => {
-    const get = HTMLCanvasElement.prototype.getContext;
-    HTMLCanvasElement.prototype.getContext = function (kind, ...rest) {
-      return kind === 'webgl2' ? null : get.call(this, kind, ...rest);
-    };
-  };
-  const { page, errors } = await open('#scene=www/test-scenes/drop_2d.json', noWebgl);
+  const { page, errors } = await open('#scene=www/test-scenes/drop_2d.json', hideWebgl2);
   const s = await stats(page);
   assert.match(s.renderer, /Canvas 2D/);
   assert.ok(s.particles > 0);

@@ -11,7 +11,7 @@ import { mkdirSync } from 'node:fs';
 import { join } from 'node:path';
 import puppeteer from 'puppeteer-core';
 import { decodePng, pixelStats } from './png.mjs';
-import { bodyPoints, fractionAt, screenOf } from './view.mjs';
+import { bodyPoints, fractionAt, hideWebgl2, screenOf } from './view.mjs';
 import { startXvfb } from './xvfb.mjs';
 
 const URL_ROOT = process.env.MPM_URL || 'http://127.0.0.1:8080/';
@@ -101,13 +101,7 @@ test('Firefox, WebGL2: the default scene runs and draws, a click drops a ball, n
 });
 
 test('Firefox without WebGL2: the Canvas 2D fallback draws the particles', async () => {
-  const noWebgl = () => {
-    const get = HTMLCanvasElement.prototype.getContext;
-    HTMLCanvasElement.prototype.getContext = function (kind, ...rest) {
-      return kind === 'webgl2' ? null : get.call(this, kind, ...rest);
-    };
-  };
-  const { page, errors } = await open('', noWebgl);
+  const { page, errors } = await open('', hideWebgl2);
   const s = await stats(page);
   assert.match(s.renderer, /Canvas 2D/);
   assert.ok(s.particles > 10_000, JSON.stringify(s));

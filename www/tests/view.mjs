@@ -1,5 +1,14 @@
 // Helpers shared by the browser tests (Playwright and Puppeteer pages alike).
 
+/// An init script for a page that must run without WebGL2 (the Canvas 2D fallback): a
+/// canvas then refuses 'webgl2' and gives every other context as before.
+export function hideWebgl2() {
+  const get = HTMLCanvasElement.prototype.getContext;
+  HTMLCanvasElement.prototype.getContext = function (kind, ...rest) {
+    return kind === 'webgl2' ? null : get.call(this, kind, ...rest);
+  };
+}
+
 /// Screen position (page pixels) of a world point of the playground's view.
 export async function screenOf(page, x, y, z) {
   return page.evaluate(([x, y, z]) => {
