@@ -86,15 +86,21 @@ impl<D: Dim> GridIndex<D> {
 
     /// Allocates the blocks touched by the stencils of particles whose first stencil nodes are
     /// `bases`; `support` is the number of stencil nodes per axis. Slots are assigned in table
-    /// order, so blocks are laid out in space-filling order.
-    pub fn rebuild(&mut self, bases: &[[i32; 3]], support: usize) {
+    /// order, so blocks are laid out in space-filling order. `slots` receives, for each
+    /// particle, the slot of the block holding its first stencil node.
+    pub fn rebuild(&mut self, bases: &[[i32; 3]], support: usize, slots: &mut Vec<u32>) {
         self.blocks.clear();
         self.table.clear();
         self.dims = [0; 3];
+        slots.clear();
         if bases.is_empty() {
             return;
         }
         let reach = support as i32 - 1;
+        debug_assert!(
+            reach < Self::BLOCK as i32,
+            "a stencil spans at most two blocks"
+        );
         let (mut lo, mut hi) = ([0; 3], [0; 3]);
         for a in 0..D::DIM {
             (lo[a], hi[a]) = (i32::MAX, i32::MIN);
@@ -114,26 +120,32 @@ impl<D: Dim> GridIndex<D> {
         self.origin = lo;
         self.dims = dims;
         self.table.resize(dims[0] * dims[1] * dims[2], EMPTY);
+        let stride = [1, dims[0], dims[0] * dims[1]];
 
-        // Mark every block a stencil reaches (0 = marked, not yet numbered).
-        let mut last = ([i32::MIN; 3], [i32::MIN; 3]);
+        // Mark every block a stencil reaches (0 = marked, not yet numbered): the block of the
+        // first node `t`, and its upper neighbours along the axes where the stencil spills
+        // over. Consecutive particles mostly share both, so a repeat is skipped.
+        let mut last = u64::MAX;
+        slots.reserve(bases.len());
         for b in bases {
-            let mut blo = [0i32; 3];
-            let mut bhi = [0i32; 3];
+            let (mut t, mut spill) = (0usize, 0u64);
             for a in 0..D::DIM {
-                blo[a] = (b[a] >> D::LOG_BLOCK) - self.origin[a];
-                bhi[a] = ((b[a] + reach) >> D::LOG_BLOCK) - self.origin[a];
+                t += ((b[a] >> D::LOG_BLOCK) - lo[a]) as usize * stride[a];
+                spill |= ((((b[a] & Self::MASK) + reach) >> D::LOG_BLOCK) as u64) << a;
             }
-            if (blo, bhi) == last {
+            slots.push(t as u32);
+            let key = (t as u64) << 3 | spill;
+            if key == last {
                 continue;
             }
-            last = (blo, bhi);
-            for z in blo[2]..=bhi[2] {
-                for y in blo[1]..=bhi[1] {
-                    for x in blo[0]..=bhi[0] {
-                        let t = x as usize + dims[0] * (y as usize + dims[1] * z as usize);
-                        self.table[t] = 0;
+            last = key;
+            for corner in 0..1u64 << D::DIM {
+                if corner & !spill == 0 {
+                    let mut n = t;
+                    for (a, s) in stride.iter().enumerate().take(D::DIM) {
+                        n += (corner >> a & 1) as usize * s;
                     }
+                    self.table[n] = 0;
                 }
             }
         }
@@ -152,6 +164,9 @@ impl<D: Dim> GridIndex<D> {
                     self.origin[2] + z as i32,
                 ]);
             }
+        }
+        for s in slots.iter_mut() {
+            *s = self.table[*s as usize];
         }
     }
 
@@ -416,20 +431,14 @@ impl<D: Dim> Grid<D> {
         }
         self.bases.clear();
         self.bases.extend((0..count).map(base_of));
-        self.index.rebuild(&self.bases, support);
+        self.index
+            .rebuild(&self.bases, support, &mut self.particle_slot);
         self.nodes.clear();
         self.nodes.resize(
             self.index.block_count() * self.layout.padded_nodes(),
             Node::default(),
         );
         self.mass_grad.clear();
-        self.particle_slot.clear();
-        let index = &self.index;
-        self.particle_slot.extend(
-            self.bases
-                .iter()
-                .map(|&b| index.slot_of(b).expect("stencil block allocated") as u32),
-        );
     }
 
     /// Allocates (zeroed) mass gradients for every node.
@@ -512,6 +521,13 @@ mod tests {
             .collect();
         let mut g = Grid::<D>::default();
         g.rebuild(bases.len(), support, |p| bases[p]);
+        for (p, b) in bases.iter().enumerate() {
+            assert_eq!(
+                Some(g.particle_slot[p] as usize),
+                g.index.slot_of(*b),
+                "particle {p}: slot of the block of its first stencil node"
+            );
+        }
         let st = g.layout.strides();
         let stencil = |origin: usize| {
             let nz = if D::DIM == 3 { support } else { 1 };
