@@ -87,7 +87,7 @@ pub fn resolve<D: Dim>(
     for &(sa, sb) in blocks {
         for &l in &owned {
             let (ia, ib) = (sa as usize * pn + l, sb as usize * pn + l);
-            let (ma, mb) = (ga.nodes[ia].mass, gb.nodes[ib].mass);
+            let (ma, mb) = (ga.nodes[ia].mass(), gb.nodes[ib].mass());
             if ma <= 0.0 || mb <= 0.0 {
                 continue;
             }
@@ -126,12 +126,12 @@ pub fn resolve<D: Dim>(
             impulse += dp;
             if !kinematic_a {
                 let na = va + dp / ma;
-                out.dissipated += constraint_dissipation(ma, ga.nodes[ia].vel, va, na);
+                out.dissipated += constraint_dissipation(ma, ga.nodes[ia].vel(), va, na);
                 ga.nodes[ia].new_vel = na;
             }
             if !kinematic_b {
                 let nb = vb - dp / mb;
-                out.dissipated += constraint_dissipation(mb, gb.nodes[ib].vel, vb, nb);
+                out.dissipated += constraint_dissipation(mb, gb.nodes[ib].vel(), vb, nb);
                 gb.nodes[ib].new_vel = nb;
             }
         }

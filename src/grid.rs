@@ -21,12 +21,25 @@ const EMPTY: u32 = u32::MAX;
 /// One grid node of one body.
 #[derive(Clone, Copy, Debug, Default)]
 #[repr(C)]
-pub struct Node<V> {
-    pub mass: Real,
-    /// Momentum while scattering, then the velocity v_i^n.
-    pub vel: V,
+pub struct Node<V: VectorOps> {
+    /// Momentum while scattering, then the velocity v_i^n; with the mass m_i in the lane
+    /// after them (see [`Node::vel`], [`Node::mass`]).
+    pub vm: V::WithMass,
     /// Internal force while the stresses scatter, then the updated velocity v_i^{n+1}.
     pub new_vel: V,
+}
+
+impl<V: VectorOps> Node<V> {
+    /// The mass m_i.
+    #[inline(always)]
+    pub fn mass(&self) -> Real {
+        V::mass_of(self.vm)
+    }
+    /// The momentum while scattering, then the velocity v_i^n.
+    #[inline(always)]
+    pub fn vel(&self) -> V {
+        V::without_mass(self.vm)
+    }
 }
 
 /// Where the blocks of a sparse grid are: a table over the bounding box of blocks mapping each

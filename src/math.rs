@@ -17,6 +17,7 @@ mod precision {
     pub type Vec2 = glam::Vec2;
     pub type Vec3 = glam::Vec3;
     pub type Vec3A = glam::Vec3A;
+    pub type Vec4 = glam::Vec4;
     pub type Mat2 = glam::Mat2;
     pub type Mat3 = glam::Mat3;
     pub type Mat3A = glam::Mat3A;
@@ -28,6 +29,7 @@ mod precision {
     pub type Vec2 = glam::DVec2;
     pub type Vec3 = glam::DVec3;
     pub type Vec3A = glam::DVec3;
+    pub type Vec4 = glam::DVec4;
     pub type Mat2 = glam::DMat2;
     pub type Mat3 = glam::DMat3;
     pub type Mat3A = glam::DMat3;
@@ -63,15 +65,45 @@ pub trait VectorOps:
     fn splat(value: Real) -> Self;
     /// The vector whose i-th component is `f(i)`.
     fn from_fn(f: impl FnMut(usize) -> Real) -> Self;
+    /// The vector with a mass in the lane after its last component: a grid node keeps its
+    /// momentum (then velocity) and mass in one register, so that one SIMD multiply-add
+    /// scatters both (in 3D, `Vec3A` plus mass is one `Vec4`).
+    type WithMass: Copy
+        + Default
+        + Debug
+        + Send
+        + Sync
+        + 'static
+        + Add<Output = Self::WithMass>
+        + AddAssign
+        + Mul<Real, Output = Self::WithMass>;
+    fn with_mass(self, m: Real) -> Self::WithMass;
+    /// The vector part of a vector with mass.
+    fn without_mass(p: Self::WithMass) -> Self;
+    /// The mass part of a vector with mass.
+    fn mass_of(p: Self::WithMass) -> Real;
     fn length_squared(self) -> Real {
         self.dot(self)
     }
 }
 
 macro_rules! impl_vector_ops {
-    ($t:ty, $n:expr) => {
+    ($t:ty, $n:expr, $wm:ty, $drop:expr) => {
         impl VectorOps for $t {
             const ZERO: Self = <$t>::ZERO;
+            type WithMass = $wm;
+            #[inline(always)]
+            fn with_mass(self, m: Real) -> $wm {
+                self.extend(m)
+            }
+            #[inline(always)]
+            fn without_mass(p: $wm) -> Self {
+                $drop(p)
+            }
+            #[inline(always)]
+            fn mass_of(p: $wm) -> Real {
+                p[$n]
+            }
             #[inline(always)]
             fn dot(self, other: Self) -> Real {
                 <$t>::dot(self, other)
@@ -107,10 +139,12 @@ macro_rules! impl_vector_ops {
         }
     };
 }
-impl_vector_ops!(Vec2, 2);
-impl_vector_ops!(Vec3, 3);
+impl_vector_ops!(Vec2, 2, Vec3, Vec3::truncate);
+impl_vector_ops!(Vec3, 3, Vec4, Vec4::truncate);
+// The lane after z of a `Vec3A` is padding that glam ignores, so the conversion from `Vec4`
+// is free and the mass riding along in it never shows.
 #[cfg(not(feature = "f64"))]
-impl_vector_ops!(Vec3A, 3);
+impl_vector_ops!(Vec3A, 3, Vec4, Vec3A::from_vec4);
 
 /// A symmetric second-order tensor holding a (plane-strain or 3D) stress or strain rate.
 ///
@@ -516,22 +550,20 @@ impl Dim for D2 {
         affine: Option<Mat2>,
     ) {
         let nodes = &mut nodes[..stencil_span(2, p, S)];
+        let pm = mv.with_mass(m);
         for j in 0..S {
             let row = &mut nodes[j * p..j * p + S];
             match affine {
                 None => {
                     for i in 0..S {
-                        let w = st.w[i][0] * st.w[j][1];
-                        row[i].mass += w * m;
-                        row[i].vel += mv * w;
+                        row[i].vm += pm * (st.w[i][0] * st.w[j][1]);
                     }
                 }
                 Some(a) => {
-                    let r = mv + a.y_axis * st.d[j][1];
+                    let r = (mv + a.y_axis * st.d[j][1]).with_mass(m);
+                    let ax = a.x_axis.with_mass(0.0);
                     for i in 0..S {
-                        let w = st.w[i][0] * st.w[j][1];
-                        row[i].mass += w * m;
-                        row[i].vel += (r + a.x_axis * st.d[i][0]) * w;
+                        row[i].vm += (r + ax * st.d[i][0]) * (st.w[i][0] * st.w[j][1]);
                     }
                 }
             }
@@ -551,8 +583,8 @@ impl Dim for D2 {
             let row = &nodes[j * p..j * p + S];
             let (mut a, mut b) = (Vec2::ZERO, Vec2::ZERO);
             for i in 0..S {
-                a += row[i].vel * st.dw[i][0];
-                b += row[i].vel * st.w[i][0];
+                a += row[i].vel() * st.dw[i][0];
+                b += row[i].vel() * st.w[i][0];
             }
             c0 += a * st.w[j][1];
             c1 += b * st.dw[j][1];
@@ -584,7 +616,7 @@ impl Dim for D2 {
             let (mut rn, mut ro) = (Vec2::ZERO, Vec2::ZERO);
             for i in 0..S {
                 rn += row[i].new_vel * st.w[i][0];
-                ro += row[i].vel * st.w[i][0];
+                ro += row[i].vel() * st.w[i][0];
             }
             new += rn * st.w[j][1];
             old += ro * st.w[j][1];
@@ -663,6 +695,7 @@ impl Dim for D3 {
         affine: Option<Mat3A>,
     ) {
         let nodes = &mut nodes[..stencil_span(3, p, S)];
+        let pm = mv.with_mass(m);
         for k in 0..S {
             for j in 0..S {
                 let base = j * p + k * p * p;
@@ -671,17 +704,14 @@ impl Dim for D3 {
                 match affine {
                     None => {
                         for i in 0..S {
-                            let w = st.w[i][0] * wjk;
-                            row[i].mass += w * m;
-                            row[i].vel += mv * w;
+                            row[i].vm += pm * (st.w[i][0] * wjk);
                         }
                     }
                     Some(a) => {
-                        let r = mv + a.y_axis * st.d[j][1] + a.z_axis * st.d[k][2];
+                        let r = (mv + a.y_axis * st.d[j][1] + a.z_axis * st.d[k][2]).with_mass(m);
+                        let ax = a.x_axis.with_mass(0.0);
                         for i in 0..S {
-                            let w = st.w[i][0] * wjk;
-                            row[i].mass += w * m;
-                            row[i].vel += (r + a.x_axis * st.d[i][0]) * w;
+                            row[i].vm += (r + ax * st.d[i][0]) * (st.w[i][0] * wjk);
                         }
                     }
                 }
@@ -709,8 +739,8 @@ impl Dim for D3 {
                 let row = &nodes[base..base + S];
                 let (mut a, mut b) = (Vec3A::ZERO, Vec3A::ZERO);
                 for i in 0..S {
-                    a += row[i].vel * st.dw[i][0];
-                    b += row[i].vel * st.w[i][0];
+                    a += row[i].vel() * st.dw[i][0];
+                    b += row[i].vel() * st.w[i][0];
                 }
                 c0 += a * (st.w[j][1] * st.w[k][2]);
                 c1 += b * (st.dw[j][1] * st.w[k][2]);
@@ -757,7 +787,7 @@ impl Dim for D3 {
                 let (mut rn, mut ro) = (Vec3A::ZERO, Vec3A::ZERO);
                 for i in 0..S {
                     rn += row[i].new_vel * st.w[i][0];
-                    ro += row[i].vel * st.w[i][0];
+                    ro += row[i].vel() * st.w[i][0];
                 }
                 let wjk = st.w[j][1] * st.w[k][2];
                 new += rn * wjk;

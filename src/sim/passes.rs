@@ -67,10 +67,7 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
             affine.map(|c| c[q] * (mass[q] * h)),
         );
     }
-    grid.reduce_nodes(|o, h| {
-        o.mass += h.mass;
-        o.vel += h.vel;
-    });
+    grid.reduce_nodes(|o, h| o.vm += h.vm);
     if with_gradient {
         grid.reduce_mass_gradient();
     }
@@ -80,14 +77,12 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
 /// overwritten from their owners).
 pub fn grid_velocities<D: Dim>(grid: &mut Grid<D>) {
     for node in &mut grid.nodes {
-        if node.mass > 0.0 {
-            node.vel = node.vel / node.mass;
+        let m = node.mass();
+        if m > 0.0 {
+            node.vm = (node.vel() / m).with_mass(m);
         }
     }
-    grid.fill_nodes(|h, o| {
-        h.mass = o.mass;
-        h.vel = o.vel;
-    });
+    grid.fill_nodes(|h, o| h.vm = o.vm);
 }
 
 /// The mutable particle state the stress pass touches.
@@ -173,8 +168,9 @@ pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
 /// the particles gather).
 pub fn grid_forces<D: Dim>(grid: &mut Grid<D>, gravity: D::Vector, dt: Real) {
     for node in &mut grid.nodes {
-        if node.mass > 0.0 {
-            node.new_vel = node.vel + (node.new_vel / node.mass + gravity) * dt;
+        let m = node.mass();
+        if m > 0.0 {
+            node.new_vel = node.vel() + (node.new_vel / m + gravity) * dt;
         }
     }
 }
@@ -182,7 +178,7 @@ pub fn grid_forces<D: Dim>(grid: &mut Grid<D>, gravity: D::Vector, dt: Real) {
 /// Step 4 for a kinematic body: its grid velocities stay those its particles brought.
 pub fn hold_velocities<D: Dim>(grid: &mut Grid<D>) {
     for node in &mut grid.nodes {
-        node.new_vel = node.vel;
+        node.new_vel = node.vel();
     }
 }
 
@@ -213,13 +209,14 @@ pub fn grid_walls<D: Dim>(grid: &mut Grid<D>, walls: &Walls<D>) -> f64 {
         }
         layout.for_each_owned(index, slot, |coord, n| {
             let node = &mut nodes[n];
-            if node.mass <= 0.0 {
+            let m = node.mass();
+            if m <= 0.0 {
                 return;
             }
             let before = node.new_vel;
             let after = walls.node_velocity(coord, before);
             if after != before {
-                dissipated += constraint_dissipation(node.mass, node.vel, before, after);
+                dissipated += constraint_dissipation(m, node.vel(), before, after);
                 node.new_vel = after;
             }
         });
