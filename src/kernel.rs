@@ -7,6 +7,7 @@
 
 use crate::math::{Real, Stencil};
 use serde::{Deserialize, Serialize};
+use std::ops::{Add, Mul, Sub};
 
 /// ⌊x⌋ for 0 ≤ x ≤ 2^22 (other values, NaN included, are clamped into that range first), as a
 /// truncating cast (grid coordinates are never negative: the domain starts
@@ -20,6 +21,138 @@ pub fn floor_nonneg(x: Real) -> i32 {
     // SAFETY: `c` is finite and in [0, 2^22], so its truncation is representable in i32
     // (the precondition of `to_int_unchecked`).
     unsafe { c.to_int_unchecked() }
+}
+
+/// The arithmetic the shape functions are written in: one axis at a time ([`Real`]), or, in
+/// the WebAssembly build, all four lanes of a stencil at once ([`F4`]). LLVM turns the scalar
+/// lane loop of [`Kernel::stencil`] into SIMD natively but not for wasm32, where V8 then
+/// compiles each clamp to two branches and each truncation to a checked round trip.
+pub trait Lanes: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> {
+    /// The integer type with as many lanes.
+    type Int: Copy;
+    fn splat(x: Real) -> Self;
+    fn abs(self) -> Self;
+    /// `f32::clamp` in each lane (NaN stays NaN).
+    fn clamp(self, lo: Real, hi: Real) -> Self;
+    /// [`floor_nonneg`] in each lane, as an integer and as a [`Real`] (the same value).
+    fn floor_nonneg(self) -> (Self::Int, Self);
+}
+
+impl Lanes for Real {
+    type Int = i32;
+    #[inline(always)]
+    fn splat(x: Real) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        Real::abs(self)
+    }
+    #[inline(always)]
+    fn clamp(self, lo: Real, hi: Real) -> Self {
+        Real::clamp(self, lo, hi)
+    }
+    #[inline(always)]
+    fn floor_nonneg(self) -> (i32, Real) {
+        let b = floor_nonneg(self);
+        (b, b as Real)
+    }
+}
+
+#[cfg(all(
+    target_arch = "wasm32",
+    target_feature = "simd128",
+    not(feature = "f64")
+))]
+pub use simd::F4;
+
+/// Four f32 lanes in one `v128`, for the stencils of the WebAssembly build.
+#[cfg(all(
+    target_arch = "wasm32",
+    target_feature = "simd128",
+    not(feature = "f64")
+))]
+mod simd {
+    use super::Lanes;
+    use core::arch::wasm32::*;
+    use std::ops::{Add, Mul, Sub};
+
+    #[derive(Clone, Copy, Debug)]
+    pub struct F4(v128);
+
+    impl F4 {
+        #[inline(always)]
+        pub fn new(x: [f32; 4]) -> Self {
+            F4(f32x4(x[0], x[1], x[2], x[3]))
+        }
+        #[inline(always)]
+        pub fn store(self, to: &mut [f32; 4]) {
+            // SAFETY: `to` is valid for writes of 16 bytes (four f32), and `v128_store` has no
+            // alignment requirement.
+            unsafe { v128_store(to.as_mut_ptr().cast::<v128>(), self.0) }
+        }
+    }
+    impl Add for F4 {
+        type Output = F4;
+        #[inline(always)]
+        fn add(self, o: F4) -> F4 {
+            F4(f32x4_add(self.0, o.0))
+        }
+    }
+    impl Sub for F4 {
+        type Output = F4;
+        #[inline(always)]
+        fn sub(self, o: F4) -> F4 {
+            F4(f32x4_sub(self.0, o.0))
+        }
+    }
+    impl Mul for F4 {
+        type Output = F4;
+        #[inline(always)]
+        fn mul(self, o: F4) -> F4 {
+            F4(f32x4_mul(self.0, o.0))
+        }
+    }
+    impl Lanes for F4 {
+        type Int = [i32; 4];
+        #[inline(always)]
+        fn splat(x: f32) -> Self {
+            F4(f32x4_splat(x))
+        }
+        #[inline(always)]
+        fn abs(self) -> Self {
+            F4(f32x4_abs(self.0))
+        }
+        #[inline(always)]
+        fn clamp(self, lo: f32, hi: f32) -> Self {
+            // pmax(a, b) = a < b ? b : a and pmin(a, b) = b < a ? b : a: `if x < lo { lo }`,
+            // then `if x > hi { hi }`, as `f32::clamp`.
+            let x = f32x4_pmax(self.0, f32x4_splat(lo));
+            F4(f32x4_pmin(x, f32x4_splat(hi)))
+        }
+        #[inline(always)]
+        fn floor_nonneg(self) -> ([i32; 4], Self) {
+            // As `super::floor_nonneg`: pmax(0, x) = 0 < x ? x : 0 (0 for NaN), then
+            // pmin(2^22, c) = c < 2^22 ? c : 2^22.
+            let c = f32x4_pmax(f32x4_splat(0.0), self.0);
+            let c = f32x4_pmin(f32x4_splat(4_194_304.0), c);
+            let fl = f32x4_floor(c);
+            // An integer 0 ≤ n ≤ 2^22 plus 2^23 is exact, with n in the low mantissa bits.
+            let n = i32x4_sub(
+                f32x4_add(fl, f32x4_splat(8_388_608.0)),
+                i32x4_splat(0x4b00_0000),
+            );
+            (
+                [
+                    i32x4_extract_lane::<0>(n),
+                    i32x4_extract_lane::<1>(n),
+                    i32x4_extract_lane::<2>(n),
+                    i32x4_extract_lane::<3>(n),
+                ],
+                F4(fl),
+            )
+        }
+    }
 }
 
 /// The shape function of a simulation.
@@ -50,18 +183,18 @@ impl KernelKind {
 pub trait Kernel<const S: usize>: Copy + Send + Sync + 'static {
     const KIND: KernelKind;
     /// The first stencil node along one axis for a particle at grid coordinate `xg` of
-    /// half-width `lp` grid units (used by GIMP only).
-    fn first(xg: Real, lp: Real) -> i32;
+    /// half-width `lp` grid units (used by GIMP only), as an integer and as a [`Real`].
+    fn first<L: Lanes>(xg: L, lp: Real) -> (L::Int, L);
 
     /// Weight and derivative (per grid unit) of the k-th stencil node for a particle at
     /// fractional offset `f` from the first node.
-    fn node(f: Real, k: usize, lp: Real) -> (Real, Real);
+    fn node<L: Lanes>(f: L, k: usize, lp: Real) -> (L, L);
 
     /// Base node index, weights and weight derivatives (per grid unit) along one axis.
     #[inline(always)]
     fn axis(xg: Real, lp: Real) -> (i32, [Real; S], [Real; S]) {
-        let base = Self::first(xg, lp);
-        let f = xg - base as Real;
+        let (base, first) = Self::first(xg, lp);
+        let f = xg - first;
         let (mut w, mut dw) = ([0.0; S], [0.0; S]);
         for k in 0..S {
             (w[k], dw[k]) = Self::node(f, k, lp);
@@ -74,7 +207,7 @@ pub trait Kernel<const S: usize>: Copy + Send + Sync + 'static {
     fn base(xg: [Real; 3], dim: usize, lp: Real) -> [i32; 3] {
         let mut b = [0; 3];
         for a in 0..dim {
-            b[a] = Self::first(xg[a], lp);
+            b[a] = Self::first(xg[a], lp).0;
         }
         b
     }
@@ -87,28 +220,79 @@ pub trait Kernel<const S: usize>: Copy + Send + Sync + 'static {
     fn stencil(xg: [Real; 3], dim: usize, inv_h: Real, lp: Real) -> Stencil<S> {
         let last = xg[dim - 1];
         let x = [xg[0], xg[1], if dim == 3 { xg[2] } else { last }, last];
-        let mut base = [0i32; 4];
-        let mut f = [0.0; 4];
-        for a in 0..4 {
-            base[a] = Self::first(x[a], lp);
-            f[a] = x[a] - base[a] as Real;
-        }
-        let mut st = Stencil {
-            base: [base[0], base[1], base[2]],
-            w: [[0.0; 4]; S],
-            dw: [[0.0; 4]; S],
-            d: [[0.0; 4]; S],
-        };
-        for k in 0..S {
-            for a in 0..4 {
-                let (w, dw) = Self::node(f[a], k, lp);
-                st.w[k][a] = w;
-                st.dw[k][a] = dw * inv_h;
-                st.d[k][a] = k as Real - f[a];
-            }
-        }
+        #[cfg(all(
+            target_arch = "wasm32",
+            target_feature = "simd128",
+            not(feature = "f64")
+        ))]
+        let st = stencil_simd::<S, Self>(x, inv_h, lp);
+        #[cfg(not(all(
+            target_arch = "wasm32",
+            target_feature = "simd128",
+            not(feature = "f64")
+        )))]
+        let st = stencil_lanes::<S, Self>(x, inv_h, lp);
         st
     }
+}
+
+/// [`Kernel::stencil`] one lane at a time (LLVM vectorises it natively).
+#[cfg(not(all(
+    target_arch = "wasm32",
+    target_feature = "simd128",
+    not(feature = "f64")
+)))]
+#[inline(always)]
+fn stencil_lanes<const S: usize, K: Kernel<S>>(x: [Real; 4], inv_h: Real, lp: Real) -> Stencil<S> {
+    let mut base = [0i32; 4];
+    let mut f = [0.0; 4];
+    for a in 0..4 {
+        let first;
+        (base[a], first) = K::first(x[a], lp);
+        f[a] = x[a] - first;
+    }
+    let mut st = Stencil {
+        base: [base[0], base[1], base[2]],
+        w: [[0.0; 4]; S],
+        dw: [[0.0; 4]; S],
+        d: [[0.0; 4]; S],
+    };
+    for k in 0..S {
+        for a in 0..4 {
+            let (w, dw) = K::node(f[a], k, lp);
+            st.w[k][a] = w;
+            st.dw[k][a] = dw * inv_h;
+            st.d[k][a] = k as Real - f[a];
+        }
+    }
+    st
+}
+
+/// [`Kernel::stencil`] in four SIMD lanes, the same arithmetic lane by lane (LLVM does not
+/// vectorise the lane loop for wasm32; this is 15 % of the wasm step).
+#[cfg(all(
+    target_arch = "wasm32",
+    target_feature = "simd128",
+    not(feature = "f64")
+))]
+#[inline(always)]
+fn stencil_simd<const S: usize, K: Kernel<S>>(x: [Real; 4], inv_h: Real, lp: Real) -> Stencil<S> {
+    let x = F4::new(x);
+    let (base, first) = K::first(x, lp);
+    let f = x - first;
+    let mut st = Stencil {
+        base: [base[0], base[1], base[2]],
+        w: [[0.0; 4]; S],
+        dw: [[0.0; 4]; S],
+        d: [[0.0; 4]; S],
+    };
+    for k in 0..S {
+        let (w, dw) = K::node(f, k, lp);
+        w.store(&mut st.w[k]);
+        (dw * F4::splat(inv_h)).store(&mut st.dw[k]);
+        (F4::splat(k as Real) - f).store(&mut st.d[k]);
+    }
+    st
 }
 
 /// The paper's linear shape function (Eq. 16–17): N = ½(1 + N_x N_Ix) per axis.
@@ -118,12 +302,16 @@ pub struct Linear;
 impl Kernel<2> for Linear {
     const KIND: KernelKind = KernelKind::Linear;
     #[inline(always)]
-    fn first(xg: Real, _lp: Real) -> i32 {
-        floor_nonneg(xg)
+    fn first<L: Lanes>(xg: L, _lp: Real) -> (L::Int, L) {
+        xg.floor_nonneg()
     }
     #[inline(always)]
-    fn node(f: Real, k: usize, _lp: Real) -> (Real, Real) {
-        if k == 0 { (1.0 - f, -1.0) } else { (f, 1.0) }
+    fn node<L: Lanes>(f: L, k: usize, _lp: Real) -> (L, L) {
+        if k == 0 {
+            (L::splat(1.0) - f, L::splat(-1.0))
+        } else {
+            (f, L::splat(1.0))
+        }
     }
 }
 
@@ -134,15 +322,19 @@ pub struct QuadraticBspline;
 impl Kernel<3> for QuadraticBspline {
     const KIND: KernelKind = KernelKind::QuadraticBspline;
     #[inline(always)]
-    fn first(xg: Real, _lp: Real) -> i32 {
-        floor_nonneg(xg - 0.5)
+    fn first<L: Lanes>(xg: L, _lp: Real) -> (L::Int, L) {
+        (xg - L::splat(0.5)).floor_nonneg()
     }
     #[inline(always)]
-    fn node(f: Real, k: usize, _lp: Real) -> (Real, Real) {
+    fn node<L: Lanes>(f: L, k: usize, _lp: Real) -> (L, L) {
+        let s = L::splat;
         match k {
-            0 => (0.5 * (1.5 - f) * (1.5 - f), f - 1.5),
-            1 => (0.75 - (f - 1.0) * (f - 1.0), -2.0 * (f - 1.0)),
-            _ => (0.5 * (f - 0.5) * (f - 0.5), f - 0.5),
+            0 => (s(0.5) * (s(1.5) - f) * (s(1.5) - f), f - s(1.5)),
+            1 => (
+                s(0.75) - (f - s(1.0)) * (f - s(1.0)),
+                s(-2.0) * (f - s(1.0)),
+            ),
+            _ => (s(0.5) * (f - s(0.5)) * (f - s(0.5)), f - s(0.5)),
         }
     }
 }
@@ -158,12 +350,12 @@ impl Gimp {
     /// antiderivative H(s) = ½ + c − ½ c|c| (c = s clamped to [−1, 1]) so that it has no branch:
     /// w = (H(xi + lp) − H(xi − lp)) / 2lp and dw = (N(xi + lp) − N(xi − lp)) / 2lp.
     #[inline(always)]
-    fn shape(xi: Real, lp: Real, inv_2lp: Real) -> (Real, Real) {
-        let hi = (xi + lp).clamp(-1.0, 1.0);
-        let lo = (xi - lp).clamp(-1.0, 1.0);
+    fn shape<L: Lanes>(xi: L, lp: Real, inv_2lp: Real) -> (L, L) {
+        let hi = (xi + L::splat(lp)).clamp(-1.0, 1.0);
+        let lo = (xi - L::splat(lp)).clamp(-1.0, 1.0);
         let (ahi, alo) = (hi.abs(), lo.abs());
-        let w = (hi - lo - 0.5 * (hi * ahi - lo * alo)) * inv_2lp;
-        let dw = (alo - ahi) * inv_2lp;
+        let w = (hi - lo - L::splat(0.5) * (hi * ahi - lo * alo)) * L::splat(inv_2lp);
+        let dw = (alo - ahi) * L::splat(inv_2lp);
         (w, dw)
     }
 }
@@ -171,12 +363,12 @@ impl Gimp {
 impl Kernel<3> for Gimp {
     const KIND: KernelKind = KernelKind::Gimp;
     #[inline(always)]
-    fn first(xg: Real, lp: Real) -> i32 {
-        floor_nonneg(xg - lp)
+    fn first<L: Lanes>(xg: L, lp: Real) -> (L::Int, L) {
+        (xg - L::splat(lp)).floor_nonneg()
     }
     #[inline(always)]
-    fn node(f: Real, k: usize, lp: Real) -> (Real, Real) {
-        Self::shape(f - k as Real, lp, 0.5 / lp)
+    fn node<L: Lanes>(f: L, k: usize, lp: Real) -> (L, L) {
+        Self::shape(f - L::splat(k as Real), lp, 0.5 / lp)
     }
 }
 

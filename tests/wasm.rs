@@ -348,3 +348,52 @@ fn bodies_are_added_and_cleared() {
         assert_eq!(pg.particle_count(), 0);
     }
 }
+
+/// The wasm build computes stencils in four SIMD lanes (`kernel::F4`); they must equal, bit
+/// for bit, what the one-axis scalar kernel gives (the native build's arithmetic).
+#[wasm_bindgen_test]
+fn simd_stencils_equal_the_scalar_kernel_bit_for_bit() {
+    use mpm::kernel::{Gimp, Kernel, Linear, QuadraticBspline};
+    fn same(a: f32, b: f32) -> bool {
+        a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
+    }
+    fn check<const S: usize, K: Kernel<S>>(lp: f32) {
+        let inv_h = 25.0;
+        let mut xs: Vec<f32> = (0..2000).map(|i| 2.0 + i as f32 * 0.003_71).collect();
+        // Exact node positions, ties, and what is clamped (huge, infinite, NaN; a negative
+        // coordinate fails a debug assertion of the scalar kernel).
+        xs.extend([
+            0.5,
+            0.75,
+            1.0,
+            3.0,
+            3.5,
+            1e30,
+            4_194_304.0,
+            f32::INFINITY,
+            f32::NAN,
+        ]);
+        for (i, &x) in xs.iter().enumerate() {
+            let xg = [x, xs[(i * 7 + 3) % xs.len()], xs[(i * 13 + 5) % xs.len()]];
+            for dim in [2, 3] {
+                let st = K::stencil(xg, dim, inv_h, lp);
+                for a in 0..dim {
+                    let (base, w, dw) = K::axis(xg[a], lp);
+                    assert_eq!(st.base[a], base, "{:?} base at {xg:?}", K::KIND);
+                    let f = xg[a] - base as f32;
+                    for k in 0..S {
+                        let ok = same(st.w[k][a], w[k])
+                            && same(st.dw[k][a], dw[k] * inv_h)
+                            && same(st.d[k][a], k as f32 - f);
+                        assert!(ok, "{:?} node {k} axis {a} at {xg:?}", K::KIND);
+                    }
+                }
+            }
+        }
+    }
+    check::<2, Linear>(0.0);
+    check::<3, QuadraticBspline>(0.0);
+    for lp in [0.125, 0.25, 0.5] {
+        check::<3, Gimp>(lp);
+    }
+}
