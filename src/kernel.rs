@@ -92,27 +92,20 @@ mod simd {
             unsafe { v128_store(to.as_mut_ptr().cast::<v128>(), self.0) }
         }
     }
-    impl Add for F4 {
-        type Output = F4;
-        #[inline(always)]
-        fn add(self, o: F4) -> F4 {
-            F4(f32x4_add(self.0, o.0))
-        }
+    macro_rules! binop {
+        ($tr:ident, $f:ident, $op:ident) => {
+            impl $tr for F4 {
+                type Output = F4;
+                #[inline(always)]
+                fn $f(self, o: F4) -> F4 {
+                    F4($op(self.0, o.0))
+                }
+            }
+        };
     }
-    impl Sub for F4 {
-        type Output = F4;
-        #[inline(always)]
-        fn sub(self, o: F4) -> F4 {
-            F4(f32x4_sub(self.0, o.0))
-        }
-    }
-    impl Mul for F4 {
-        type Output = F4;
-        #[inline(always)]
-        fn mul(self, o: F4) -> F4 {
-            F4(f32x4_mul(self.0, o.0))
-        }
-    }
+    binop!(Add, add, f32x4_add);
+    binop!(Sub, sub, f32x4_sub);
+    binop!(Mul, mul, f32x4_mul);
     impl Lanes for F4 {
         type Int = [i32; 4];
         #[inline(always)]
