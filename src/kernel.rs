@@ -213,19 +213,7 @@ pub trait Kernel<const S: usize>: Copy + Send + Sync + 'static {
     fn stencil(xg: [Real; 3], dim: usize, inv_h: Real, lp: Real) -> Stencil<S> {
         let last = xg[dim - 1];
         let x = [xg[0], xg[1], if dim == 3 { xg[2] } else { last }, last];
-        #[cfg(all(
-            target_arch = "wasm32",
-            target_feature = "simd128",
-            not(feature = "f64")
-        ))]
-        let st = stencil_simd::<S, Self>(x, inv_h, lp);
-        #[cfg(not(all(
-            target_arch = "wasm32",
-            target_feature = "simd128",
-            not(feature = "f64")
-        )))]
-        let st = stencil_lanes::<S, Self>(x, inv_h, lp);
-        st
+        stencil_lanes::<S, Self>(x, inv_h, lp)
     }
 }
 
@@ -244,12 +232,7 @@ fn stencil_lanes<const S: usize, K: Kernel<S>>(x: [Real; 4], inv_h: Real, lp: Re
         (base[a], first) = K::first(x[a], lp);
         f[a] = x[a] - first;
     }
-    let mut st = Stencil {
-        base: [base[0], base[1], base[2]],
-        w: [[0.0; 4]; S],
-        dw: [[0.0; 4]; S],
-        d: [[0.0; 4]; S],
-    };
+    let mut st = Stencil::at([base[0], base[1], base[2]]);
     for k in 0..S {
         for a in 0..4 {
             let (w, dw) = K::node(f[a], k, lp);
@@ -269,16 +252,11 @@ fn stencil_lanes<const S: usize, K: Kernel<S>>(x: [Real; 4], inv_h: Real, lp: Re
     not(feature = "f64")
 ))]
 #[inline(always)]
-fn stencil_simd<const S: usize, K: Kernel<S>>(x: [Real; 4], inv_h: Real, lp: Real) -> Stencil<S> {
+fn stencil_lanes<const S: usize, K: Kernel<S>>(x: [Real; 4], inv_h: Real, lp: Real) -> Stencil<S> {
     let x = F4::new(x);
     let (base, first) = K::first(x, lp);
     let f = x - first;
-    let mut st = Stencil {
-        base: [base[0], base[1], base[2]],
-        w: [[0.0; 4]; S],
-        dw: [[0.0; 4]; S],
-        d: [[0.0; 4]; S],
-    };
+    let mut st = Stencil::at([base[0], base[1], base[2]]);
     for k in 0..S {
         let (w, dw) = K::node(f, k, lp);
         w.store(&mut st.w[k]);

@@ -382,6 +382,19 @@ pub struct Stencil<const S: usize> {
     pub d: [[Real; 4]; S],
 }
 
+impl<const S: usize> Stencil<S> {
+    /// A stencil with first node `base` and all weights zero, for a kernel to fill in.
+    #[inline(always)]
+    pub fn at(base: [i32; 3]) -> Self {
+        Stencil {
+            base,
+            w: [[0.0; 4]; S],
+            dw: [[0.0; 4]; S],
+            d: [[0.0; 4]; S],
+        }
+    }
+}
+
 /// The dimension of a simulation: its vector, gradient and stress types and its stencil loop.
 /// Implemented by the marker types [`D2`] and [`D3`]; `Simulation<D>` is written once.
 pub trait Dim: Copy + Default + Debug + Send + Sync + 'static {
@@ -551,6 +564,7 @@ impl Dim for D2 {
     ) {
         let nodes = &mut nodes[..stencil_span(2, p, S)];
         let pm = mv.with_mass(m);
+        let ax = affine.map(|a| a.x_axis.with_mass(0.0)).unwrap_or_default();
         for j in 0..S {
             let row = &mut nodes[j * p..j * p + S];
             match affine {
@@ -561,7 +575,6 @@ impl Dim for D2 {
                 }
                 Some(a) => {
                     let r = (mv + a.y_axis * st.d[j][1]).with_mass(m);
-                    let ax = a.x_axis.with_mass(0.0);
                     for i in 0..S {
                         row[i].vm += (r + ax * st.d[i][0]) * (st.w[i][0] * st.w[j][1]);
                     }
@@ -696,6 +709,7 @@ impl Dim for D3 {
     ) {
         let nodes = &mut nodes[..stencil_span(3, p, S)];
         let pm = mv.with_mass(m);
+        let ax = affine.map(|a| a.x_axis.with_mass(0.0)).unwrap_or_default();
         for k in 0..S {
             for j in 0..S {
                 let base = j * p + k * p * p;
@@ -709,7 +723,6 @@ impl Dim for D3 {
                     }
                     Some(a) => {
                         let r = (mv + a.y_axis * st.d[j][1] + a.z_axis * st.d[k][2]).with_mass(m);
-                        let ax = a.x_axis.with_mass(0.0);
                         for i in 0..S {
                             row[i].vm += (r + ax * st.d[i][0]) * (st.w[i][0] * wjk);
                         }
