@@ -412,8 +412,10 @@ pub struct Grid<D: Dim> {
     pub nodes: Vec<Node<D::Vector>>,
     /// Σ_p m_p ∇w_ip, filled only for bodies that may touch another body.
     pub mass_grad: Vec<D::Vector>,
-    /// For each particle of the body: the slot of the block holding its first stencil node.
-    pub particle_slot: Vec<u32>,
+    /// For each particle of the body: the storage index (in `nodes`) of its first stencil
+    /// node, in the block that holds that node. The passes read a particle's stencil from
+    /// there, and the block is this divided by [`BlockLayout::padded_nodes`].
+    pub particle_node: Vec<u32>,
     /// Scratch: each particle's first stencil node.
     bases: Vec<[i32; 3]>,
 }
@@ -425,7 +427,7 @@ impl<D: Dim> Default for Grid<D> {
             layout: BlockLayout::new(2),
             nodes: Vec::new(),
             mass_grad: Vec::new(),
-            particle_slot: Vec::new(),
+            particle_node: Vec::new(),
             bases: Vec::new(),
         }
     }
@@ -445,12 +447,18 @@ impl<D: Dim> Grid<D> {
         self.bases.clear();
         self.bases.extend((0..count).map(base_of));
         self.index
-            .rebuild(&self.bases, support, &mut self.particle_slot);
-        self.nodes.clear();
-        self.nodes.resize(
-            self.index.block_count() * self.layout.padded_nodes(),
-            Node::default(),
+            .rebuild(&self.bases, support, &mut self.particle_node);
+        let node_count = self.index.block_count() * self.layout.padded_nodes();
+        // Node indices are kept in 32 bits: 2³² nodes would take 128 GiB.
+        assert!(
+            node_count <= u32::MAX as usize,
+            "grid of {node_count} nodes: more than 2^32"
         );
+        for (n, b) in self.particle_node.iter_mut().zip(&self.bases) {
+            *n = self.layout.stencil_origin(*n, *b) as u32;
+        }
+        self.nodes.clear();
+        self.nodes.resize(node_count, Node::default());
         self.mass_grad.clear();
     }
 
@@ -465,7 +473,7 @@ impl<D: Dim> Grid<D> {
         self.index.memory_bytes()
             + self.nodes.capacity() * std::mem::size_of::<Node<D::Vector>>()
             + self.mass_grad.capacity() * std::mem::size_of::<D::Vector>()
-            + self.particle_slot.capacity() * 4
+            + self.particle_node.capacity() * 4
     }
 
     /// Adds halo node values into their owners with `add(owner, halo)`.
@@ -516,7 +524,7 @@ mod tests {
             }
         }
         assert!(g.node_index([100, 100, 10]).is_none());
-        assert_eq!(g.particle_slot.len(), 3);
+        assert_eq!(g.particle_node.len(), 3);
     }
 
     /// Scattering through padded blocks and reducing the halos gives the same node sums as
@@ -536,9 +544,9 @@ mod tests {
         g.rebuild(bases.len(), support, |p| bases[p]);
         for (p, b) in bases.iter().enumerate() {
             assert_eq!(
-                Some(g.particle_slot[p] as usize),
-                g.index.slot_of(*b),
-                "particle {p}: slot of the block of its first stencil node"
+                Some(g.particle_node[p] as usize),
+                g.node_index(*b),
+                "particle {p}: its first stencil node, in the block that owns it"
             );
         }
         let st = g.layout.strides();
@@ -557,7 +565,7 @@ mod tests {
         let mut direct = std::collections::HashMap::new();
         let mut data = vec![0.0f64; g.nodes.len()];
         for (p, b) in bases.iter().enumerate() {
-            let origin = g.layout.stencil_origin(g.particle_slot[p], *b);
+            let origin = g.particle_node[p] as usize;
             for ((i, j, k), n) in stencil(origin) {
                 let w = (p + 1) as f64;
                 data[n] += w;
@@ -580,7 +588,7 @@ mod tests {
         }
         g.layout.fill_halo(&g.index, &mut data, |h, o| *h = *o);
         for (p, b) in bases.iter().enumerate() {
-            let origin = g.layout.stencil_origin(g.particle_slot[p], *b);
+            let origin = g.particle_node[p] as usize;
             for ((i, j, k), n) in stencil(origin) {
                 let key = [
                     b[0] + i as i32,

@@ -507,11 +507,16 @@ impl<D: Dim> Simulation<D> {
             with_kernel!(kernel, K, S => body.grid.rebuild(x.len(), S, |p| {
                 K::base(passes::grid_coords::<D>(x[p], inv_h), D::DIM, lp)
             }));
-            let slots = &mut body.grid.particle_slot;
-            if sort && slots.windows(2).any(|w| w[0] > w[1]) {
-                let order = counting_sort(slots, body.grid.index.block_count());
-                self.particles.permute(body.range.clone(), &order);
-                *slots = order.iter().map(|&o| slots[o as usize]).collect();
+            if sort {
+                let grid = &mut body.grid;
+                let padded = grid.layout.padded_nodes() as u32;
+                let blocks: Vec<u32> = grid.particle_node.iter().map(|&n| n / padded).collect();
+                if blocks.windows(2).any(|w| w[0] > w[1]) {
+                    let order = counting_sort(&blocks, grid.index.block_count());
+                    self.particles.permute(body.range.clone(), &order);
+                    let nodes = &grid.particle_node;
+                    grid.particle_node = order.iter().map(|&o| nodes[o as usize]).collect();
+                }
             }
         }
         let indices: Vec<&GridIndex<D>> = self.bodies.iter().map(|b| &b.grid.index).collect();
