@@ -190,6 +190,11 @@ pub trait SymTensor:
     }
 }
 
+/// The start of a stencil sum: −0, not +0. `x + (−0) = x` for every `x` (−0 included), so
+/// the compiler folds the first `acc += term` into `acc = term`; `x + (+0)` turns −0 into +0,
+/// so with a +0 start that add is kept, on the dependency chain of every sum.
+const SUM_START: Real = -0.0;
+
 /// A plane-strain symmetric tensor: in-plane xx, yy, xy and the out-of-plane normal zz.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C)]
@@ -591,10 +596,10 @@ impl Dim for D2 {
     #[inline(always)]
     fn velocity_gradient<const S: usize>(nodes: &[Node<Vec2>], p: usize, st: &Stencil<S>) -> Mat2 {
         let nodes = &nodes[..stencil_span(2, p, S)];
-        let (mut c0, mut c1) = (Vec2::ZERO, Vec2::ZERO);
+        let (mut c0, mut c1) = (Vec2::splat(SUM_START), Vec2::splat(SUM_START));
         for j in 0..S {
             let row = &nodes[j * p..j * p + S];
-            let (mut a, mut b) = (Vec2::ZERO, Vec2::ZERO);
+            let (mut a, mut b) = (Vec2::splat(SUM_START), Vec2::splat(SUM_START));
             for i in 0..S {
                 a += row[i].vel() * st.dw[i][0];
                 b += row[i].vel() * st.w[i][0];
@@ -623,10 +628,10 @@ impl Dim for D2 {
         st: &Stencil<S>,
     ) -> (Vec2, Vec2) {
         let nodes = &nodes[..stencil_span(2, p, S)];
-        let (mut new, mut old) = (Vec2::ZERO, Vec2::ZERO);
+        let (mut new, mut old) = (Vec2::splat(SUM_START), Vec2::splat(SUM_START));
         for j in 0..S {
             let row = &nodes[j * p..j * p + S];
-            let (mut rn, mut ro) = (Vec2::ZERO, Vec2::ZERO);
+            let (mut rn, mut ro) = (Vec2::splat(SUM_START), Vec2::splat(SUM_START));
             for i in 0..S {
                 rn += row[i].new_vel * st.w[i][0];
                 ro += row[i].vel() * st.w[i][0];
@@ -639,10 +644,10 @@ impl Dim for D2 {
     #[inline(always)]
     fn gather_affine<const S: usize>(nodes: &[Node<Vec2>], p: usize, st: &Stencil<S>) -> Mat2 {
         let nodes = &nodes[..stencil_span(2, p, S)];
-        let (mut c0, mut c1) = (Vec2::ZERO, Vec2::ZERO);
+        let (mut c0, mut c1) = (Vec2::splat(SUM_START), Vec2::splat(SUM_START));
         for j in 0..S {
             let row = &nodes[j * p..j * p + S];
-            let (mut rn, mut rx) = (Vec2::ZERO, Vec2::ZERO);
+            let (mut rn, mut rx) = (Vec2::splat(SUM_START), Vec2::splat(SUM_START));
             for i in 0..S {
                 let v = row[i].new_vel * st.w[i][0];
                 rn += v;
@@ -745,12 +750,16 @@ impl Dim for D3 {
         st: &Stencil<S>,
     ) -> Mat3A {
         let nodes = &nodes[..stencil_span(3, p, S)];
-        let (mut c0, mut c1, mut c2) = (Vec3A::ZERO, Vec3A::ZERO, Vec3A::ZERO);
+        let (mut c0, mut c1, mut c2) = (
+            Vec3A::splat(SUM_START),
+            Vec3A::splat(SUM_START),
+            Vec3A::splat(SUM_START),
+        );
         for k in 0..S {
             for j in 0..S {
                 let base = j * p + k * p * p;
                 let row = &nodes[base..base + S];
-                let (mut a, mut b) = (Vec3A::ZERO, Vec3A::ZERO);
+                let (mut a, mut b) = (Vec3A::splat(SUM_START), Vec3A::splat(SUM_START));
                 for i in 0..S {
                     a += row[i].vel() * st.dw[i][0];
                     b += row[i].vel() * st.w[i][0];
@@ -792,12 +801,12 @@ impl Dim for D3 {
         st: &Stencil<S>,
     ) -> (Vec3A, Vec3A) {
         let nodes = &nodes[..stencil_span(3, p, S)];
-        let (mut new, mut old) = (Vec3A::ZERO, Vec3A::ZERO);
+        let (mut new, mut old) = (Vec3A::splat(SUM_START), Vec3A::splat(SUM_START));
         for k in 0..S {
             for j in 0..S {
                 let base = j * p + k * p * p;
                 let row = &nodes[base..base + S];
-                let (mut rn, mut ro) = (Vec3A::ZERO, Vec3A::ZERO);
+                let (mut rn, mut ro) = (Vec3A::splat(SUM_START), Vec3A::splat(SUM_START));
                 for i in 0..S {
                     rn += row[i].new_vel * st.w[i][0];
                     ro += row[i].vel() * st.w[i][0];
@@ -812,12 +821,16 @@ impl Dim for D3 {
     #[inline(always)]
     fn gather_affine<const S: usize>(nodes: &[Node<Vec3A>], p: usize, st: &Stencil<S>) -> Mat3A {
         let nodes = &nodes[..stencil_span(3, p, S)];
-        let (mut c0, mut c1, mut c2) = (Vec3A::ZERO, Vec3A::ZERO, Vec3A::ZERO);
+        let (mut c0, mut c1, mut c2) = (
+            Vec3A::splat(SUM_START),
+            Vec3A::splat(SUM_START),
+            Vec3A::splat(SUM_START),
+        );
         for k in 0..S {
             for j in 0..S {
                 let base = j * p + k * p * p;
                 let row = &nodes[base..base + S];
-                let (mut rn, mut rx) = (Vec3A::ZERO, Vec3A::ZERO);
+                let (mut rn, mut rx) = (Vec3A::splat(SUM_START), Vec3A::splat(SUM_START));
                 for i in 0..S {
                     let v = row[i].new_vel * st.w[i][0];
                     rn += v;
