@@ -190,15 +190,14 @@ pub trait SymTensor:
     }
 }
 
-/// Below this |a|² (a = ½ Δt ω, the rotation of one step) the 2D stress rotation leaves out
-/// its second-order terms (of size 4|a|² |σ|, under 1e-4 of the float resolution, 2.4e-12 in
+/// Below this |a|² (a = ½ Δt ω, the rotation of one step) the stress rotation leaves out its
+/// second-order terms (of size 4|a|² |σ|, under 1e-4 of the float resolution, 2.4e-12 in
 /// f32). They change nothing a float holds, and kept, they multiply the stress by products
 /// of two small numbers that underflow into subnormals whenever the spin is small, as it is
 /// in bodies at rest; x86 cores take a slow path for each subnormal result (measured: 2D
-/// steps 15 % slower for it). The 3D rotation has the same underflow (a 3D resting block's
-/// steps are 12-17 % slower for it, natively), but the same cure with branches made the wasm
-/// build 6 % slower on the browser's 3D scenes, which have few resting particles: left for a
-/// branch-free form (docs/performance.md).
+/// steps 15 % slower for it, 3D 5 %). In 3D, |a|² itself still underflows when one spin
+/// component is below 1e-19 (1-2 % of a resting block's particles; flushing those cost more
+/// than it saved).
 const SECOND_ORDER: Real = Real::EPSILON * 2.0e-5;
 
 /// A rotation increment below 1e-18 set to zero, so that its square and products stay
@@ -370,14 +369,20 @@ impl SymTensor for Sym3 {
         );
         // With B = Q − I (small), Q S Qᵀ = S + (B S + S Bᵀ + B S Bᵀ): forming the increment
         // from B keeps f32 rounding from biasing the norm.
-        let b = (skew + skew * skew) * (2.0 / (1.0 + a.length_squared()));
+        // The second-order terms (A² in B, and B S Bᵀ) are kept only above `SECOND_ORDER`:
+        // `k` is 1 or 0 and multiplies one factor of each before the product, so that below
+        // it the products are exact zeros (no branch: wasm engines compile selects as
+        // branches, which cost more than the multiplications).
+        let a2 = a.length_squared();
+        let k = (a2 > SECOND_ORDER) as u32 as Real;
+        let b = (skew + (skew * k) * skew) * (2.0 / (1.0 + a2));
         let s = Mat3::from_cols(
             Vec3::new(self.xx, self.xy, self.xz),
             Vec3::new(self.xy, self.yy, self.yz),
             Vec3::new(self.xz, self.yz, self.zz),
         );
         let bs = b * s;
-        let d = bs + bs.transpose() + bs * b.transpose();
+        let d = bs + bs.transpose() + bs * (b * k).transpose();
         Sym3 {
             xx: self.xx + d.x_axis.x,
             yy: self.yy + d.y_axis.y,
@@ -978,10 +983,10 @@ mod tests {
         }
     }
 
-    /// The 2D rotation of a body at rest (a tiny spin, small stresses) runs without producing
-    /// a subnormal number: x86 takes a slow path for each one, which once cost 15 % of a 2D
-    /// step. The MXCSR underflow flag is cleared before and read after a call. (The 3D
-    /// rotation still underflows at rest: see `SECOND_ORDER`.)
+    /// The rotation of a body at rest (a tiny spin, small stresses) runs without producing a
+    /// subnormal number: x86 takes a slow path for each one, which once cost 15 % of a 2D
+    /// step. The MXCSR underflow flag is cleared before and read after a call. (In 3D a spin
+    /// component below 1e-19 still underflows in |a|²: see `SECOND_ORDER`.)
     #[cfg(all(target_arch = "x86_64", not(feature = "f64")))]
     #[test]
     fn rotations_at_rest_do_not_underflow() {
@@ -1004,7 +1009,20 @@ mod tests {
         fn rotate2(s: Sym2, w: Real, dt: Real) -> Sym2 {
             s.rotate(w, dt)
         }
+        #[inline(never)]
+        fn rotate3(s: Sym3, w: Vec3, dt: Real) -> Sym3 {
+            s.rotate(w, dt)
+        }
         const UNDERFLOW: u32 = 0x10;
+        // the state of a sand particle near the free surface, found by probing a settling run
+        let s3 = Sym3 {
+            xx: -2.08e-6,
+            yy: -4.59e-6,
+            zz: -2.08e-6,
+            xy: 6.5e-7,
+            xz: -3.4e-10,
+            yz: -1.0e-9,
+        };
         // the state of a sand particle near the free surface, found by probing a settling run
         let s2 = Sym2 {
             xx: -3.29e-7,
@@ -1016,6 +1034,10 @@ mod tests {
             clear_flags();
             black_box(rotate2(black_box(s2), black_box(w), black_box(7e-5)));
             assert_eq!(mxcsr() & UNDERFLOW, 0, "2D rotation by w = {w} underflowed");
+            clear_flags();
+            let spin = Vec3::new(w, 0.3 * w, -0.5 * w);
+            black_box(rotate3(black_box(s3), black_box(spin), black_box(4e-4)));
+            assert_eq!(mxcsr() & UNDERFLOW, 0, "3D rotation by {spin} underflowed");
         }
     }
 
