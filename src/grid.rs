@@ -99,9 +99,16 @@ impl<D: Dim> GridIndex<D> {
 
     /// Allocates the blocks touched by the stencils of particles whose first stencil nodes are
     /// `bases`; `support` is the number of stencil nodes per axis. Slots are assigned in table
-    /// order, so blocks are laid out in space-filling order. `slots` receives, for each
-    /// particle, the slot of the block holding its first stencil node.
-    pub fn rebuild(&mut self, bases: &[[i32; 3]], support: usize, slots: &mut Vec<u32>) {
+    /// order, so blocks are laid out in space-filling order. `out` receives, for each
+    /// particle `p`, `locate(slot, p)` with `slot` the block holding its first stencil node.
+    pub fn rebuild(
+        &mut self,
+        bases: &[[i32; 3]],
+        support: usize,
+        out: &mut Vec<u32>,
+        locate: impl Fn(u32, usize) -> u32,
+    ) {
+        let slots = out;
         self.blocks.clear();
         self.table.clear();
         self.dims = [0; 3];
@@ -178,8 +185,8 @@ impl<D: Dim> GridIndex<D> {
                 ]);
             }
         }
-        for s in slots.iter_mut() {
-            *s = self.table[*s as usize];
+        for (p, s) in slots.iter_mut().enumerate() {
+            *s = locate(self.table[*s as usize], p);
         }
     }
 
@@ -446,17 +453,17 @@ impl<D: Dim> Grid<D> {
         }
         self.bases.clear();
         self.bases.extend((0..count).map(base_of));
+        let (layout, bases) = (&self.layout, &self.bases);
         self.index
-            .rebuild(&self.bases, support, &mut self.particle_node);
+            .rebuild(bases, support, &mut self.particle_node, |slot, p| {
+                layout.stencil_origin(slot, bases[p]) as u32
+            });
         let node_count = self.index.block_count() * self.layout.padded_nodes();
         // Node indices are kept in 32 bits: 2³² nodes would take 128 GiB.
         assert!(
             node_count <= u32::MAX as usize,
             "grid of {node_count} nodes: more than 2^32"
         );
-        for (n, b) in self.particle_node.iter_mut().zip(&self.bases) {
-            *n = self.layout.stencil_origin(*n, *b) as u32;
-        }
         self.nodes.clear();
         self.nodes.resize(node_count, Node::default());
         self.mass_grad.clear();

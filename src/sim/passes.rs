@@ -20,12 +20,11 @@ fn layout<D: Dim, const S: usize>(grid: &Grid<D>) -> (usize, usize) {
 /// The storage index of a particle's first stencil node, found when the grid was allocated
 /// (`node`); debug builds check it against the stencil's own first node.
 #[inline(always)]
-fn stencil_origin<D: Dim, const S: usize>(
+fn first_node<D: Dim, const S: usize>(
     layout: &crate::grid::BlockLayout<D>,
     node: u32,
     st: &crate::math::Stencil<S>,
 ) -> usize {
-    let _ = (layout, st);
     debug_assert_eq!(
         node as usize % layout.padded_nodes(),
         layout.stencil_origin(0, st.base),
@@ -68,7 +67,7 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
     let h = 1.0 / inv_h;
     for q in 0..x.len() {
         let st = K::stencil(grid_coords::<D>(x[q], inv_h), D::DIM, inv_h, lp);
-        let origin = stencil_origin(layout, particle_node[q], &st);
+        let origin = first_node(layout, particle_node[q], &st);
         let grad = if with_gradient {
             Some(&mut mass_grad[origin..origin + span])
         } else {
@@ -146,7 +145,7 @@ pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
     let mut report = StressReport::default();
     for q in 0..ps.x.len() {
         let st = K::stencil(grid_coords::<D>(ps.x[q], inv_h), D::DIM, inv_h, lp);
-        let origin = stencil_origin(layout, particle_node[q], &st);
+        let origin = first_node(layout, particle_node[q], &st);
         let cell = &mut nodes[origin..origin + span];
         let (rate, spin) = D::rate_and_spin(D::velocity_gradient(cell, p, &st));
         let update = model.update(&mut ps.stress[q], rate, spin, dt);
@@ -366,7 +365,7 @@ pub fn gather_and_advect<D: Dim, K: Kernel<S>, const S: usize>(
     for q in 0..ps.x.len() {
         let x = ps.x[q];
         let st = K::stencil(grid_coords::<D>(x, inv_h), D::DIM, inv_h, radius * inv_h);
-        let origin = stencil_origin(layout, particle_node[q], &st);
+        let origin = first_node(layout, particle_node[q], &st);
         let cell = &nodes[origin..origin + span];
         let (v_pic, v_old) = D::gather_velocity(cell, p, &st);
         if let Some(c) = affine.as_deref_mut() {
