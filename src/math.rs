@@ -374,10 +374,10 @@ impl SymTensor for Sym3 {
         // A = ½ dt W is skew with A_xy = a.x, A_xz = a.y, A_yz = a.z;
         // Q = (I − A)⁻¹(I + A) = I + 2 (A + A²) / (1 + |a|²).
         let a = w * (0.5 * dt);
-        let skew = Mat3::from_cols(
-            Vec3::new(0.0, -a.x, -a.y),
-            Vec3::new(a.x, 0.0, -a.z),
-            Vec3::new(a.y, a.z, 0.0),
+        let skew = Mat3A::from_cols(
+            Vec3A::new(0.0, -a.x, -a.y),
+            Vec3A::new(a.x, 0.0, -a.z),
+            Vec3A::new(a.y, a.z, 0.0),
         );
         // With B = Q − I (small), Q S Qᵀ = S + (B S + S Bᵀ + B S Bᵀ): forming the increment
         // from B keeps f32 rounding from biasing the norm.
@@ -385,10 +385,10 @@ impl SymTensor for Sym3 {
         let a2 = a.length_squared();
         let k = second_order(a2);
         let b = (skew + (skew * k) * skew) * (2.0 / (1.0 + a2));
-        let s = Mat3::from_cols(
-            Vec3::new(self.xx, self.xy, self.xz),
-            Vec3::new(self.xy, self.yy, self.yz),
-            Vec3::new(self.xz, self.yz, self.zz),
+        let s = Mat3A::from_cols(
+            Vec3A::new(self.xx, self.xy, self.xz),
+            Vec3A::new(self.xy, self.yy, self.yz),
+            Vec3A::new(self.xz, self.yz, self.zz),
         );
         let bs = b * s;
         let d = bs + bs.transpose() + bs * (b * k).transpose();

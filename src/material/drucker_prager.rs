@@ -141,6 +141,12 @@ impl Constitutive for DruckerPrager {
             *stress = trial;
             return StressUpdate::elastic(energy_trial);
         }
+        // 1/√J2 is formed while the correction below is (the division is off the critical path).
+        let inv_sqrt_j2_trial = if sqrt_j2_trial > 0.0 {
+            1.0 / sqrt_j2_trial
+        } else {
+            0.0
+        };
         // Plastic correction of Eq. 14 with the multiplier Δλ (radial in the deviatoric plane).
         let (mut i1, mut sqrt_j2) = (i1_trial, sqrt_j2_trial);
         if f > 0.0 {
@@ -153,11 +159,7 @@ impl Constitutive for DruckerPrager {
         i1 = min(i1, self.apex);
         // Safeguard 2: scale the deviatoric stress back onto the cone.
         sqrt_j2 = min(sqrt_j2, self.k_c - self.alpha_phi * i1);
-        let ratio = if sqrt_j2_trial > 0.0 {
-            sqrt_j2 / sqrt_j2_trial
-        } else {
-            0.0
-        };
+        let ratio = sqrt_j2 * inv_sqrt_j2_trial;
         *stress = s_trial * ratio + S::IDENTITY * (i1 * (1.0 / 3.0));
         // The deviator is scaled to ratio·√J2_trial (zero when the trial deviator is zero).
         let sqrt_j2 = ratio * sqrt_j2_trial;
