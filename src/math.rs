@@ -21,6 +21,8 @@ mod precision {
     pub type Mat2 = glam::Mat2;
     pub type Mat3 = glam::Mat3;
     pub type Mat3A = glam::Mat3A;
+    /// Four values side by side in SIMD lanes (four particles' constitutive updates at once).
+    pub type Lanes = glam::Vec4;
 }
 #[cfg(feature = "f64")]
 mod precision {
@@ -33,6 +35,7 @@ mod precision {
     pub type Mat2 = glam::DMat2;
     pub type Mat3 = glam::DMat3;
     pub type Mat3A = glam::DMat3;
+    pub type Lanes = glam::DVec4;
 }
 pub use precision::*;
 
@@ -163,30 +166,147 @@ pub trait SymTensor:
     + Mul<Real, Output = Self>
     + AddAssign
 {
+    /// The number type of the components: [`Real`], or [`Lanes`] for four tensors at once.
+    type Scalar: Lane;
     /// The material spin W = ½(∇v − ∇vᵀ): one component in 2D, three in 3D.
-    type Spin: Copy + Debug;
+    type Spin: Copy + Debug + Default;
     const ZERO: Self;
     const IDENTITY: Self;
-    fn trace(self) -> Real;
+    fn trace(self) -> Self::Scalar;
     /// A : B = Σ_ij A_ij B_ij.
-    fn ddot(self, other: Self) -> Real;
+    fn ddot(self, other: Self) -> Self::Scalar;
     fn is_finite(self) -> bool;
     /// Q A Qᵀ with Q the Cayley transform of the spin increment ½ dt W, i.e. the rotation of
     /// the Hughes–Winget integration of the Jaumann rate: orthogonal, so a pure rotation
     /// rotates the stress without changing its invariants.
     fn rotate(self, spin: Self::Spin, dt: Real) -> Self;
     /// The components as a flat slice (2D: xx, yy, zz, xy; 3D: xx, yy, zz, xy, xz, yz).
-    fn components(&self) -> &[Real];
+    fn components(&self) -> &[Self::Scalar];
+    /// The tensor times a number of the component type.
+    fn scaled(self, k: Self::Scalar) -> Self;
+    /// p I.
+    fn iso(p: Self::Scalar) -> Self;
 
     #[inline(always)]
     fn deviator(self) -> Self {
-        self - Self::IDENTITY * (self.trace() / 3.0)
+        self - Self::iso(self.trace() * (1.0 / 3.0))
     }
     /// J2 = ½ s : s of the deviator s.
     #[inline(always)]
-    fn j2(self) -> Real {
+    fn j2(self) -> Self::Scalar {
         let s = self.deviator();
-        0.5 * s.ddot(s)
+        s.ddot(s) * 0.5
+    }
+}
+
+/// A number the constitutive models compute with: one [`Real`], or [`Lanes`], four particles'
+/// values side by side, so that one model update advances four particles in SIMD lanes. Only
+/// what the models need; comparisons are selects, never branches, so that every lane takes the
+/// same path.
+pub trait Lane:
+    Copy
+    + Debug
+    + Default
+    + PartialEq
+    + Send
+    + Sync
+    + 'static
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + Add<Real, Output = Self>
+    + Sub<Real, Output = Self>
+    + Mul<Real, Output = Self>
+    + AddAssign
+{
+    const ZERO: Self;
+    const ONE: Self;
+    fn splat(x: Real) -> Self;
+    fn sqrt(self) -> Self;
+    fn abs(self) -> Self;
+    /// The smaller of the two (lane by lane), as a compare and select (see [`min`]).
+    fn min(self, other: Self) -> Self;
+    fn max(self, other: Self) -> Self;
+    /// `if a > b { x } else { y }`, lane by lane.
+    fn select_gt(a: Self, b: Self, x: Self, y: Self) -> Self;
+    /// 1 where `a > b`, else 0, lane by lane (a factor, not a select).
+    fn step_gt(a: Self, b: Self) -> Self;
+    fn all_finite(self) -> bool;
+}
+
+impl Lane for Real {
+    const ZERO: Self = 0.0;
+    const ONE: Self = 1.0;
+    #[inline(always)]
+    fn splat(x: Real) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        Real::sqrt(self)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        Real::abs(self)
+    }
+    #[inline(always)]
+    fn min(self, other: Self) -> Self {
+        min(self, other)
+    }
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        max(self, other)
+    }
+    #[inline(always)]
+    fn select_gt(a: Self, b: Self, x: Self, y: Self) -> Self {
+        if a > b { x } else { y }
+    }
+    #[inline(always)]
+    fn step_gt(a: Self, b: Self) -> Self {
+        (a > b) as u32 as Real
+    }
+    #[inline(always)]
+    fn all_finite(self) -> bool {
+        self.is_finite()
+    }
+}
+
+impl Lane for Lanes {
+    const ZERO: Self = Lanes::ZERO;
+    const ONE: Self = Lanes::ONE;
+    #[inline(always)]
+    fn splat(x: Real) -> Self {
+        Lanes::splat(x)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        Lanes::sqrt(self)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        Lanes::abs(self)
+    }
+    #[inline(always)]
+    fn min(self, other: Self) -> Self {
+        Lanes::select(self.cmplt(other), self, other)
+    }
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        Lanes::select(self.cmpgt(other), self, other)
+    }
+    #[inline(always)]
+    fn select_gt(a: Self, b: Self, x: Self, y: Self) -> Self {
+        Lanes::select(a.cmpgt(b), x, y)
+    }
+    #[inline(always)]
+    fn step_gt(a: Self, b: Self) -> Self {
+        Lanes::select(a.cmpgt(b), Lanes::ONE, Lanes::ZERO)
+    }
+    #[inline(always)]
+    fn all_finite(self) -> bool {
+        self.is_finite()
     }
 }
 
@@ -200,68 +320,68 @@ pub trait SymTensor:
 /// than it saved).
 const SECOND_ORDER: Real = Real::EPSILON * 2.0e-5;
 
-/// 1 if a rotation's second-order terms are kept (|a|² = `a2` above [`SECOND_ORDER`]), else
-/// 0. It multiplies one factor of each second-order product before the product is formed, so
-/// that below the threshold the products are exact zeros; no branch or select, which wasm
-/// engines compile as branches that cost more than the multiplications.
-#[inline(always)]
-fn second_order(a2: Real) -> Real {
-    (a2 > SECOND_ORDER) as u32 as Real
-}
-
-/// A rotation increment below 1e-18 set to zero, so that its square and products stay
-/// normal numbers (it rotates a stress by less than 1e-18 of its size: nothing a float holds).
-#[inline(always)]
-fn flush_tiny(a: Real) -> Real {
-    if a.abs() < 1e-18 { 0.0 } else { a }
-}
-
 /// A plane-strain symmetric tensor: in-plane xx, yy, xy and the out-of-plane normal zz.
+/// `Sym2<Lanes>` holds four of them, component by component.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C)]
-pub struct Sym2 {
-    pub xx: Real,
-    pub yy: Real,
-    pub zz: Real,
-    pub xy: Real,
+pub struct Sym2<T = Real> {
+    pub xx: T,
+    pub yy: T,
+    pub zz: T,
+    pub xy: T,
 }
 
-/// A 3D symmetric tensor.
+/// A 3D symmetric tensor (`Sym3<Lanes>`: four of them).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C)]
-pub struct Sym3 {
-    pub xx: Real,
-    pub yy: Real,
-    pub zz: Real,
-    pub xy: Real,
-    pub xz: Real,
-    pub yz: Real,
+pub struct Sym3<T = Real> {
+    pub xx: T,
+    pub yy: T,
+    pub zz: T,
+    pub xy: T,
+    pub xz: T,
+    pub yz: T,
 }
 
 macro_rules! impl_sym_arith {
     ($t:ident { $($f:ident),* }) => {
-        impl Add for $t {
+        impl<T: Lane> Add for $t<T> {
             type Output = Self;
             #[inline(always)]
             fn add(self, o: Self) -> Self { $t { $($f: self.$f + o.$f),* } }
         }
-        impl Sub for $t {
+        impl<T: Lane> Sub for $t<T> {
             type Output = Self;
             #[inline(always)]
             fn sub(self, o: Self) -> Self { $t { $($f: self.$f - o.$f),* } }
         }
-        impl Mul<Real> for $t {
+        impl<T: Lane> Mul<Real> for $t<T> {
             type Output = Self;
             #[inline(always)]
             fn mul(self, k: Real) -> Self { $t { $($f: self.$f * k),* } }
         }
-        impl AddAssign for $t {
+        impl<T: Lane> AddAssign for $t<T> {
             #[inline(always)]
             fn add_assign(&mut self, o: Self) { $(self.$f += o.$f;)* }
         }
-        impl $t {
+        impl<T: Lane> $t<T> {
             #[inline(always)]
-            fn all_finite(&self) -> bool { true $(&& self.$f.is_finite())* }
+            fn all_finite(&self) -> bool { true $(&& self.$f.all_finite())* }
+            #[inline(always)]
+            fn scale_by(self, k: T) -> Self { $t { $($f: self.$f * k),* } }
+        }
+        impl $t<Real> {
+            /// Four tensors as one of [`Lanes`].
+            #[inline(always)]
+            pub fn pack(s: &[Self; LANES]) -> $t<Lanes> {
+                $t { $($f: Lanes::new(s[0].$f, s[1].$f, s[2].$f, s[3].$f)),* }
+            }
+            /// The four tensors of one of [`Lanes`].
+            #[inline(always)]
+            pub fn unpack(l: $t<Lanes>) -> [Self; LANES] {
+                $(let $f = l.$f.to_array();)*
+                std::array::from_fn(|i| $t { $($f: $f[i]),* })
+            }
         }
     };
 }
@@ -275,136 +395,224 @@ impl_sym_arith!(Sym3 {
     yz
 });
 
-impl SymTensor for Sym2 {
-    type Spin = Real;
+/// Particles per SIMD group of the constitutive update.
+pub const LANES: usize = 4;
+
+/// A tensor of `Real`s that four at a time make a tensor of [`Lanes`] (component by
+/// component): the stress pass packs four particles' stresses and rates, updates them in one
+/// model call, and unpacks the results.
+pub trait Batch: SymTensor<Scalar = Real> {
+    type Lanes: SymTensor<Scalar = Lanes>;
+    fn pack(s: &[Self; LANES]) -> Self::Lanes;
+    fn unpack(l: Self::Lanes) -> [Self; LANES];
+    fn pack_spin(w: &[Self::Spin; LANES]) -> <Self::Lanes as SymTensor>::Spin;
+}
+
+impl Batch for Sym2 {
+    type Lanes = Sym2<Lanes>;
+    #[inline(always)]
+    fn pack(s: &[Self; LANES]) -> Sym2<Lanes> {
+        Sym2::pack(s)
+    }
+    #[inline(always)]
+    fn unpack(l: Sym2<Lanes>) -> [Self; LANES] {
+        Sym2::unpack(l)
+    }
+    #[inline(always)]
+    fn pack_spin(w: &[Real; LANES]) -> Lanes {
+        Lanes::from_array(*w)
+    }
+}
+
+impl Batch for Sym3 {
+    type Lanes = Sym3<Lanes>;
+    #[inline(always)]
+    fn pack(s: &[Self; LANES]) -> Sym3<Lanes> {
+        Sym3::pack(s)
+    }
+    #[inline(always)]
+    fn unpack(l: Sym3<Lanes>) -> [Self; LANES] {
+        Sym3::unpack(l)
+    }
+    #[inline(always)]
+    fn pack_spin(w: &[[Real; 3]; LANES]) -> [Lanes; 3] {
+        std::array::from_fn(|c| Lanes::new(w[0][c], w[1][c], w[2][c], w[3][c]))
+    }
+}
+
+impl<T: Lane> SymTensor for Sym2<T> {
+    type Scalar = T;
+    type Spin = T;
     const ZERO: Self = Sym2 {
-        xx: 0.0,
-        yy: 0.0,
-        zz: 0.0,
-        xy: 0.0,
+        xx: T::ZERO,
+        yy: T::ZERO,
+        zz: T::ZERO,
+        xy: T::ZERO,
     };
     const IDENTITY: Self = Sym2 {
-        xx: 1.0,
-        yy: 1.0,
-        zz: 1.0,
-        xy: 0.0,
+        xx: T::ONE,
+        yy: T::ONE,
+        zz: T::ONE,
+        xy: T::ZERO,
     };
     #[inline(always)]
-    fn trace(self) -> Real {
+    fn trace(self) -> T {
         self.xx + self.yy + self.zz
     }
     #[inline(always)]
-    fn ddot(self, o: Self) -> Real {
-        self.xx * o.xx + self.yy * o.yy + self.zz * o.zz + 2.0 * self.xy * o.xy
+    fn ddot(self, o: Self) -> T {
+        self.xx * o.xx + self.yy * o.yy + self.zz * o.zz + self.xy * o.xy * 2.0
     }
     #[inline(always)]
     fn is_finite(self) -> bool {
         self.all_finite()
     }
     #[inline(always)]
-    fn rotate(self, w: Real, dt: Real) -> Self {
+    fn rotate(self, w: T, dt: Real) -> Self {
         // Q = [[c, −s], [s, c]]; the increment Q A Qᵀ − A is formed from the small
         // quantities c − 1 and s so that f32 rounding does not bias the norm.
-        let a = flush_tiny(0.5 * dt * w);
+        let a = w * (0.5 * dt);
+        // An increment below 1e-18 is set to zero, so that its square and products stay
+        // normal numbers (it rotates a stress by less than 1e-18 of its size).
+        let a = T::select_gt(a.abs(), T::splat(1e-18), a, T::ZERO);
         let a2 = a * a;
-        let inv = 1.0 / (1.0 + a2);
-        let s = 2.0 * a * inv;
+        let inv = T::ONE / (a2 + 1.0);
+        let s = a * inv * 2.0;
         // The second-order quantities c − 1 = −2a²/(1 + a²) and s², kept only above
-        // `SECOND_ORDER`. A select here, not the 3D rotation's 0/1 factor (`second_order`):
-        // with two scalars the select is 3 % faster natively, and the 2D wasm build is not
-        // slowed by it (measured).
-        let (cm, ss) = if a2 > SECOND_ORDER {
-            (-2.0 * a2 * inv, s * s)
-        } else {
-            (0.0, 0.0)
-        };
-        let c = 1.0 + cm;
-        let dcc = cm * (2.0 + cm); // c² − 1
+        // `SECOND_ORDER`. A select here, not the 3D rotation's 0/1 factor: with two scalars
+        // the select is 3 % faster natively, and the 2D wasm build is not slowed by it
+        // (measured).
+        let big = T::splat(SECOND_ORDER);
+        let cm = T::select_gt(a2, big, -(a2 * inv * 2.0), T::ZERO);
+        let ss = T::select_gt(a2, big, s * s, T::ZERO);
+        let c = cm + 1.0;
+        let dcc = cm * (cm + 2.0); // c² − 1
         let cs = c * s;
         Sym2 {
-            xx: self.xx + (dcc * self.xx - 2.0 * cs * self.xy + ss * self.yy),
-            yy: self.yy + (ss * self.xx + 2.0 * cs * self.xy + dcc * self.yy),
+            xx: self.xx + (dcc * self.xx - cs * self.xy * 2.0 + ss * self.yy),
+            yy: self.yy + (ss * self.xx + cs * self.xy * 2.0 + dcc * self.yy),
             zz: self.zz,
             xy: self.xy + (cs * (self.xx - self.yy) + (dcc - ss) * self.xy),
         }
     }
-    fn components(&self) -> &[Real] {
-        // SAFETY: Sym2 is #[repr(C)] with exactly four `Real` fields and no padding (all
-        // fields have the same type and alignment), so it has the layout of [Real; 4].
-        unsafe { std::slice::from_raw_parts(self as *const Self as *const Real, 4) }
+    fn components(&self) -> &[T] {
+        // SAFETY: Sym2 is #[repr(C)] with exactly four fields of type T and no padding (all
+        // fields have the same type and alignment), so it has the layout of [T; 4].
+        unsafe { std::slice::from_raw_parts(self as *const Self as *const T, 4) }
+    }
+    #[inline(always)]
+    fn scaled(self, k: T) -> Self {
+        self.scale_by(k)
+    }
+    #[inline(always)]
+    fn iso(p: T) -> Self {
+        Sym2 {
+            xx: p,
+            yy: p,
+            zz: p,
+            xy: T::ZERO,
+        }
     }
 }
 
-impl SymTensor for Sym3 {
+impl<T: Lane> SymTensor for Sym3<T> {
+    type Scalar = T;
     /// (W_xy, W_xz, W_yz).
-    type Spin = Vec3;
+    type Spin = [T; 3];
     const ZERO: Self = Sym3 {
-        xx: 0.0,
-        yy: 0.0,
-        zz: 0.0,
-        xy: 0.0,
-        xz: 0.0,
-        yz: 0.0,
+        xx: T::ZERO,
+        yy: T::ZERO,
+        zz: T::ZERO,
+        xy: T::ZERO,
+        xz: T::ZERO,
+        yz: T::ZERO,
     };
     const IDENTITY: Self = Sym3 {
-        xx: 1.0,
-        yy: 1.0,
-        zz: 1.0,
-        xy: 0.0,
-        xz: 0.0,
-        yz: 0.0,
+        xx: T::ONE,
+        yy: T::ONE,
+        zz: T::ONE,
+        xy: T::ZERO,
+        xz: T::ZERO,
+        yz: T::ZERO,
     };
     #[inline(always)]
-    fn trace(self) -> Real {
+    fn trace(self) -> T {
         self.xx + self.yy + self.zz
     }
     #[inline(always)]
-    fn ddot(self, o: Self) -> Real {
+    fn ddot(self, o: Self) -> T {
         self.xx * o.xx
             + self.yy * o.yy
             + self.zz * o.zz
-            + 2.0 * (self.xy * o.xy + self.xz * o.xz + self.yz * o.yz)
+            + (self.xy * o.xy + self.xz * o.xz + self.yz * o.yz) * 2.0
     }
     #[inline(always)]
     fn is_finite(self) -> bool {
         self.all_finite()
     }
     #[inline(always)]
-    fn rotate(self, w: Vec3, dt: Real) -> Self {
-        // A = ½ dt W is skew with A_xy = a.x, A_xz = a.y, A_yz = a.z;
-        // Q = (I − A)⁻¹(I + A) = I + 2 (A + A²) / (1 + |a|²).
-        let a = w * (0.5 * dt);
-        let skew = Mat3A::from_cols(
-            Vec3A::new(0.0, -a.x, -a.y),
-            Vec3A::new(a.x, 0.0, -a.z),
-            Vec3A::new(a.y, a.z, 0.0),
-        );
-        // With B = Q − I (small), Q S Qᵀ = S + (B S + S Bᵀ + B S Bᵀ): forming the increment
-        // from B keeps f32 rounding from biasing the norm.
-        // The second-order terms (A² in B, and B S Bᵀ) are kept only above `SECOND_ORDER`.
-        let a2 = a.length_squared();
-        let k = second_order(a2);
-        let b = (skew + (skew * k) * skew) * (2.0 / (1.0 + a2));
-        let s = Mat3A::from_cols(
-            Vec3A::new(self.xx, self.xy, self.xz),
-            Vec3A::new(self.xy, self.yy, self.yz),
-            Vec3A::new(self.xz, self.yz, self.zz),
-        );
-        let bs = b * s;
-        let d = bs + bs.transpose() + bs * (b * k).transpose();
+    fn rotate(self, w: [T; 3], dt: Real) -> Self {
+        // A = ½ dt W is skew with A_xy = p, A_xz = q, A_yz = r; A v = u × v with
+        // u = (−r, q, −p), so A² = u uᵀ − |a|² I, and the Cayley transform is
+        // Q = (I − A)⁻¹(I + A) = I + B with B = 2 (A + A²) / (1 + |a|²).
+        let [p, q, r] = w.map(|c| c * (0.5 * dt));
+        let a2 = p * p + q * q + r * r;
+        // The second-order terms (A² in B, and B S Bᵀ) are kept only above `SECOND_ORDER`:
+        // one factor of each product is multiplied by k (1 or 0, no branch or select, which
+        // wasm engines compile as branches that cost more than the multiplications).
+        let k = T::step_gt(a2, T::splat(SECOND_ORDER));
+        let c = T::ONE / (a2 + 1.0) * 2.0;
+        let (ux, uy, uz) = (-r * k, q * k, -p * k);
+        let (kxy, kxz, kyz) = (ux * q, ux * -p, uy * -p); // k u_i u_j
+        let ka2 = a2 * k;
+        let b = [
+            [(ux * -r - ka2) * c, (p + kxy) * c, (q + kxz) * c],
+            [(kxy - p) * c, (uy * q - ka2) * c, (r + kyz) * c],
+            [(kxz - q) * c, (kyz - r) * c, (uz * -p - ka2) * c],
+        ];
+        // With B small, Q S Qᵀ = S + (B S + S Bᵀ + B S Bᵀ): forming the increment from B
+        // keeps f32 rounding from biasing the norm. P = B S; D_ij = P_ij + P_ji + (P Bᵀ)_ij.
+        let s = [
+            [self.xx, self.xy, self.xz],
+            [self.xy, self.yy, self.yz],
+            [self.xz, self.yz, self.zz],
+        ];
+        let pm: [[T; 3]; 3] = std::array::from_fn(|i| {
+            std::array::from_fn(|j| b[i][0] * s[0][j] + b[i][1] * s[1][j] + b[i][2] * s[2][j])
+        });
+        // (P (k B)ᵀ)_ij: k multiplies B before the products, so that they are exact zeros
+        // below the threshold instead of underflowing.
+        let bk = b.map(|row| row.map(|x| x * k));
+        let pb =
+            |i: usize, j: usize| pm[i][0] * bk[j][0] + pm[i][1] * bk[j][1] + pm[i][2] * bk[j][2];
         Sym3 {
-            xx: self.xx + d.x_axis.x,
-            yy: self.yy + d.y_axis.y,
-            zz: self.zz + d.z_axis.z,
-            xy: self.xy + 0.5 * (d.y_axis.x + d.x_axis.y),
-            xz: self.xz + 0.5 * (d.z_axis.x + d.x_axis.z),
-            yz: self.yz + 0.5 * (d.z_axis.y + d.y_axis.z),
+            xx: self.xx + (pm[0][0] * 2.0 + pb(0, 0)),
+            yy: self.yy + (pm[1][1] * 2.0 + pb(1, 1)),
+            zz: self.zz + (pm[2][2] * 2.0 + pb(2, 2)),
+            xy: self.xy + (pm[0][1] + pm[1][0] + pb(0, 1)),
+            xz: self.xz + (pm[0][2] + pm[2][0] + pb(0, 2)),
+            yz: self.yz + (pm[1][2] + pm[2][1] + pb(1, 2)),
         }
     }
-    fn components(&self) -> &[Real] {
-        // SAFETY: Sym3 is #[repr(C)] with exactly six `Real` fields and no padding (all
-        // fields have the same type and alignment), so it has the layout of [Real; 6].
-        unsafe { std::slice::from_raw_parts(self as *const Self as *const Real, 6) }
+    fn components(&self) -> &[T] {
+        // SAFETY: Sym3 is #[repr(C)] with exactly six fields of type T and no padding (all
+        // fields have the same type and alignment), so it has the layout of [T; 6].
+        unsafe { std::slice::from_raw_parts(self as *const Self as *const T, 6) }
+    }
+    #[inline(always)]
+    fn scaled(self, k: T) -> Self {
+        self.scale_by(k)
+    }
+    #[inline(always)]
+    fn iso(p: T) -> Self {
+        Sym3 {
+            xx: p,
+            yy: p,
+            zz: p,
+            xy: T::ZERO,
+            xz: T::ZERO,
+            yz: T::ZERO,
+        }
     }
 }
 
@@ -451,7 +659,7 @@ pub trait Dim: Copy + Default + Debug + Send + Sync + 'static {
         + Sync
         + 'static;
     const GRAD_ZERO: Self::Grad;
-    type Sym: SymTensor;
+    type Sym: Batch;
 
     /// Entry (row, col) of a gradient.
     fn grad_entry(g: &Self::Grad, row: usize, col: usize) -> Real;
@@ -714,7 +922,7 @@ impl Dim for D3 {
         Mat3A::from_cols(v * g.x, v * g.y, v * g.z)
     }
     #[inline(always)]
-    fn rate_and_spin(l: Mat3A) -> (Sym3, Vec3) {
+    fn rate_and_spin(l: Mat3A) -> (Sym3, [Real; 3]) {
         // Column j of `l` holds ∂v/∂x_j, so L_ij = l.col(j)[i].
         let (c0, c1, c2) = (l.x_axis, l.y_axis, l.z_axis);
         let rate = Sym3 {
@@ -725,11 +933,11 @@ impl Dim for D3 {
             xz: 0.5 * (c2.x + c0.z),
             yz: 0.5 * (c2.y + c1.z),
         };
-        let spin = Vec3::new(
+        let spin = [
             0.5 * (c1.x - c0.y),
             0.5 * (c2.x - c0.z),
             0.5 * (c2.y - c1.z),
-        );
+        ];
         (rate, spin)
     }
     #[inline(always)]
@@ -908,7 +1116,7 @@ mod tests {
         // spin about z with rate w: W_xy = -w (v = w × x gives ∂v_x/∂y = -w).
         let w = 0.8;
         let dt = 0.01;
-        let r = s.rotate(Vec3::new(-w, 0.0, 0.0), dt);
+        let r = s.rotate([-w, 0.0, 0.0], dt);
         // Cayley angle for an increment a = w dt / 2.
         let a = 0.5 * w * dt;
         let theta = 2.0 * (a as f64).atan();
@@ -966,7 +1174,7 @@ mod tests {
             let a = (10.0 as Real).powi(e / 2) * if e % 2 == 0 { 1.0 } else { 3.0 };
             // a dominant axis and two much smaller ones, as in a body at rest
             let spin = Vec3::new(a, -1e-7 * a, 3e-3 * a) * (2.0 / dt);
-            let r = s.rotate(spin, dt);
+            let r = s.rotate(spin.into(), dt);
             let exact = exact_rotation(s, [a as f64, -1e-7 * a as f64, 3e-3 * a as f64]);
             for (k, (got, want)) in r.components().iter().zip(exact).enumerate() {
                 assert!(
@@ -1020,7 +1228,7 @@ mod tests {
         }
         #[inline(never)]
         fn rotate3(s: Sym3, w: Vec3, dt: Real) -> Sym3 {
-            s.rotate(w, dt)
+            s.rotate(w.into(), dt)
         }
         const UNDERFLOW: u32 = 0x10;
         // the state of a sand particle near the free surface, found by probing a settling run
@@ -1068,7 +1276,7 @@ mod tests {
         };
         let w = 1.3; // W_yx
         let r2 = s2.rotate(w, 0.05);
-        let r3 = s3.rotate(Vec3::new(-w, 0.0, 0.0), 0.05);
+        let r3 = s3.rotate([-w, 0.0, 0.0], 0.05);
         assert!((r2.xx - r3.xx).abs() < 1e-6);
         assert!((r2.yy - r3.yy).abs() < 1e-6);
         assert!((r2.xy - r3.xy).abs() < 1e-6);
@@ -1107,6 +1315,6 @@ mod tests {
         let l3 = D3::outer(Vec3A::new(1.0, 0.0, 0.0), Vec3A::new(0.0, 2.0, 0.0));
         let (d3, w3) = D3::rate_and_spin(l3);
         assert_eq!(d3.xy, 1.0);
-        assert_eq!(w3, Vec3::new(1.0, 0.0, 0.0));
+        assert_eq!(w3, [1.0, 0.0, 0.0]);
     }
 }

@@ -948,7 +948,7 @@ impl Surface {
     }
 
     /// Whether a stress lies on (within 2 % of) the yield surface.
-    fn on_surface<S: SymTensor>(&self, stress: S) -> bool {
+    fn on_surface<S: SymTensor<Scalar = Real>>(&self, stress: S) -> bool {
         if self.kind == "none" {
             return false;
         }

@@ -15,7 +15,7 @@
 
 use super::{Constitutive, Elastic, ElasticParams, StressUpdate};
 use crate::error::{Error, Result, check_non_negative, check_range};
-use crate::math::{Real, SymTensor, max, min};
+use crate::math::{Lane, Real, SymTensor};
 
 const SQRT_3: Real = 1.732_050_8;
 use serde::{Deserialize, Serialize};
@@ -113,8 +113,8 @@ pub struct DruckerPrager {
 
 impl DruckerPrager {
     /// f(I1, J2) of Eq. 11.
-    pub fn yield_function<S: SymTensor>(&self, stress: S) -> Real {
-        stress.j2().sqrt() + self.alpha_phi * stress.trace() - self.k_c
+    pub fn yield_function<S: SymTensor>(&self, stress: S) -> S::Scalar {
+        stress.j2().sqrt() + stress.trace() * self.alpha_phi - self.k_c
     }
 }
 
@@ -127,45 +127,39 @@ impl Constitutive for DruckerPrager {
         rate: S,
         spin: S::Spin,
         dt: Real,
-    ) -> StressUpdate {
-        let g = self.elastic.g;
-        let trial = self.elastic.trial(*stress, rate, spin, dt);
-        let i1_trial = trial.trace();
-        let s_trial = trial - S::IDENTITY * (i1_trial * (1.0 / 3.0));
-        let j2_trial = 0.5 * s_trial.ddot(s_trial);
-        let sqrt_j2_trial = j2_trial.sqrt();
-        let f = sqrt_j2_trial + self.alpha_phi * i1_trial - self.k_c;
+    ) -> StressUpdate<S::Scalar> {
+        let zero = S::Scalar::ZERO;
         let e = &self.elastic;
+        let g = e.g;
+        let trial = e.trial(*stress, rate, spin, dt);
+        let i1_trial = trial.trace();
+        let s_trial = trial - S::iso(i1_trial * (1.0 / 3.0));
+        let j2_trial = s_trial.ddot(s_trial) * 0.5;
+        let sqrt_j2_trial = j2_trial.sqrt();
+        let f = sqrt_j2_trial + i1_trial * self.alpha_phi - self.k_c;
         let energy_trial = e.energy_from_invariants(j2_trial, i1_trial * (1.0 / 3.0));
-        if f <= 0.0 && i1_trial <= self.apex {
-            *stress = trial;
-            return StressUpdate::elastic(energy_trial);
-        }
-        // 1/√J2 is formed while the correction below is (the division is off the critical path).
-        let inv_sqrt_j2_trial = if sqrt_j2_trial > 0.0 {
-            1.0 / sqrt_j2_trial
-        } else {
-            0.0
-        };
-        // Plastic correction of Eq. 14 with the multiplier Δλ (radial in the deviatoric plane).
-        let (mut i1, mut sqrt_j2) = (i1_trial, sqrt_j2_trial);
-        if f > 0.0 {
-            let dl = f * self.inv_hardening;
-            i1 -= 9.0 * self.elastic.k * self.alpha_psi * dl;
-            // Below zero the return passes the cone's axis: only possible beyond the apex.
-            sqrt_j2 = max(sqrt_j2_trial - g * dl, 0.0);
-        }
+        // 1/√J2 is formed while the correction below is (the division is off the critical
+        // path: at steady state every particle of a flowing sand body is plastic).
+        let inv_sqrt_j2_trial =
+            S::Scalar::select_gt(sqrt_j2_trial, zero, S::Scalar::ONE / sqrt_j2_trial, zero);
+        // Plastic correction of Eq. 14 with the multiplier Δλ (radial in the deviatoric
+        // plane), zero inside the cone. No branch: every lane does the same arithmetic.
+        let dl = f.max(zero) * self.inv_hardening;
         // Safeguard 1 (tension cracking): shift the hydrostatic part back to the apex.
-        i1 = min(i1, self.apex);
+        let i1 = (i1_trial - dl * (9.0 * e.k * self.alpha_psi)).min(S::Scalar::splat(self.apex));
+        // Below zero the return passes the cone's axis: only possible beyond the apex.
         // Safeguard 2: scale the deviatoric stress back onto the cone.
-        sqrt_j2 = min(sqrt_j2, self.k_c - self.alpha_phi * i1);
+        let sqrt_j2 = (sqrt_j2_trial - dl * g)
+            .max(zero)
+            .min(-(i1 * self.alpha_phi) + self.k_c);
         let ratio = sqrt_j2 * inv_sqrt_j2_trial;
-        *stress = s_trial * ratio + S::IDENTITY * (i1 * (1.0 / 3.0));
+        // As corrections of the trial stress, so that an elastic step (ratio 1, I1 unchanged)
+        // leaves it exactly.
+        *stress = trial + s_trial.scaled(ratio - 1.0) + S::iso((i1 - i1_trial) * (1.0 / 3.0));
         // The deviator is scaled to ratio·√J2_trial (zero when the trial deviator is zero).
-        let sqrt_j2 = ratio * sqrt_j2_trial;
-        let energy = e.energy_from_invariants(sqrt_j2 * sqrt_j2, i1 * (1.0 / 3.0));
+        let energy = e.energy_from_invariants(j2_trial * (ratio * ratio), i1 * (1.0 / 3.0));
         StressUpdate {
-            plastic_strain: (sqrt_j2_trial - sqrt_j2) * (1.0 / (SQRT_3 * g)),
+            plastic_strain: (sqrt_j2_trial - sqrt_j2_trial * ratio) * (1.0 / (SQRT_3 * g)),
             dissipation: energy_trial - energy,
             energy,
         }

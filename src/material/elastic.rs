@@ -8,7 +8,7 @@
 
 use super::{Constitutive, StressUpdate};
 use crate::error::{Result, check_positive, check_range};
-use crate::math::{Real, SymTensor};
+use crate::math::{Lane, Real, SymTensor};
 use serde::{Deserialize, Serialize};
 
 /// Elastic parameters: Young's modulus E (Pa), Poisson ratio ν ∈ [0, 0.5), density (kg/m³).
@@ -71,16 +71,16 @@ impl Elastic {
 
     /// The stored elastic energy per unit volume of a stress: s:s/(4G) + P²/(2K).
     #[inline(always)]
-    pub fn energy_density<S: SymTensor>(&self, stress: S) -> Real {
+    pub fn energy_density<S: SymTensor>(&self, stress: S) -> S::Scalar {
         let mean = stress.trace() * (1.0 / 3.0);
-        let s = stress - S::IDENTITY * mean;
-        self.energy_from_invariants(0.5 * s.ddot(s), mean)
+        let s = stress - S::iso(mean);
+        self.energy_from_invariants(s.ddot(s) * 0.5, mean)
     }
 
     /// The same energy density from the invariants J2 = ½ s:s and the mean stress tr(σ)/3:
     /// J2/(2G) + mean²/(2K).
     #[inline(always)]
-    pub fn energy_from_invariants(&self, j2: Real, mean: Real) -> Real {
+    pub fn energy_from_invariants<T: Lane>(&self, j2: T, mean: T) -> T {
         j2 * (2.0 * self.inv_4g) + mean * mean * self.inv_2k
     }
 
@@ -89,8 +89,8 @@ impl Elastic {
     #[inline(always)]
     pub fn trial<S: SymTensor>(&self, stress: S, rate: S, spin: S::Spin, dt: Real) -> S {
         let tr = rate.trace();
-        let dev = rate - S::IDENTITY * (tr / 3.0);
-        stress.rotate(spin, dt) + dev * (2.0 * self.g * dt) + S::IDENTITY * (self.k * tr * dt)
+        let dev = rate - S::iso(tr * (1.0 / 3.0));
+        stress.rotate(spin, dt) + dev * (2.0 * self.g * dt) + S::iso(tr * (self.k * dt))
     }
 }
 
@@ -103,7 +103,7 @@ impl Constitutive for Elastic {
         rate: S,
         spin: S::Spin,
         dt: Real,
-    ) -> StressUpdate {
+    ) -> StressUpdate<S::Scalar> {
         *stress = self.trial(*stress, rate, spin, dt);
         StressUpdate::elastic(self.energy_density(*stress))
     }

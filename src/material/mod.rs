@@ -14,36 +14,40 @@ pub use elastic::{Elastic, ElasticParams};
 pub use von_mises::{VonMises, VonMisesParams};
 
 use crate::error::Result;
-use crate::math::{Real, SymTensor};
+use crate::math::{Lane, Real, SymTensor};
 use serde::{Deserialize, Serialize};
 
-/// What a stress update did besides changing the stress.
+/// What a stress update did besides changing the stress (`T`: [`Real`], or [`Lanes`] for
+/// four particles at once).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct StressUpdate {
+pub struct StressUpdate<T = Real> {
     /// Increment of the equivalent plastic strain √(2/3 e_p : e_p).
-    pub plastic_strain: Real,
+    pub plastic_strain: T,
     /// Energy removed by the plastic correction, per unit volume (J/m³): the stored elastic
     /// energy of the elastic trial stress minus that of the corrected stress.
-    pub dissipation: Real,
+    pub dissipation: T,
     /// The stored elastic energy per unit volume of the updated stress (J/m³), as
     /// [`Elastic::energy_density`] gives it, from the invariants the model already formed.
-    pub energy: Real,
+    pub energy: T,
 }
 
-impl StressUpdate {
+impl<T: Lane> StressUpdate<T> {
     /// An elastic update that leaves the energy density `energy`.
     #[inline(always)]
-    pub fn elastic(energy: Real) -> Self {
+    pub fn elastic(energy: T) -> Self {
         StressUpdate {
-            plastic_strain: 0.0,
-            dissipation: 0.0,
+            plastic_strain: T::ZERO,
+            dissipation: T::ZERO,
             energy,
         }
     }
 }
 
 /// A constitutive model: advances a particle's Cauchy stress (tension positive) over one
-/// time step, given the strain rate ε̇ = ½(∇v + ∇vᵀ) and spin ω = ½(∇v − ∇vᵀ).
+/// time step, given the strain rate ε̇ = ½(∇v + ∇vᵀ) and spin ω = ½(∇v − ∇vᵀ). Generic over
+/// the tensor type, whose components may be [`Lanes`]: the solver updates four particles per
+/// call, so a model is written without branches (selects, `min`, `max`), the same arithmetic
+/// in every lane.
 pub trait Constitutive: Copy + Send + Sync + 'static {
     /// Whether the model can yield (elastic bodies skip all plastic work).
     const PLASTIC: bool;
@@ -53,7 +57,7 @@ pub trait Constitutive: Copy + Send + Sync + 'static {
         rate: S,
         spin: S::Spin,
         dt: Real,
-    ) -> StressUpdate;
+    ) -> StressUpdate<S::Scalar>;
     /// The elastic part of the model (moduli and stored energy).
     fn elastic(&self) -> &Elastic;
 }
@@ -194,10 +198,10 @@ impl Model {
 pub(crate) mod test_util {
     //! Drives a model through a prescribed, homogeneous velocity gradient.
     use super::*;
-    use crate::math::{Mat3A as Mat3, Sym3, Vec3, Vec3A};
+    use crate::math::{Mat3A as Mat3, Sym3, Vec3A};
 
     /// The strain rate and spin of a 3D velocity gradient given by rows.
-    pub fn rate_spin(l: [[Real; 3]; 3]) -> (Sym3, Vec3) {
+    pub fn rate_spin(l: [[Real; 3]; 3]) -> (Sym3, [Real; 3]) {
         let m = Mat3::from_cols(
             Vec3A::new(l[0][0], l[1][0], l[2][0]),
             Vec3A::new(l[0][1], l[1][1], l[2][1]),

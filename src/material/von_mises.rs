@@ -7,7 +7,7 @@
 
 use super::{Constitutive, Elastic, ElasticParams, StressUpdate};
 use crate::error::{Result, check_positive};
-use crate::math::{Real, SymTensor};
+use crate::math::{Lane, Real, SymTensor};
 
 const SQRT_3: Real = 1.732_050_8;
 use serde::{Deserialize, Serialize};
@@ -58,24 +58,28 @@ impl Constitutive for VonMises {
         rate: S,
         spin: S::Spin,
         dt: Real,
-    ) -> StressUpdate {
+    ) -> StressUpdate<S::Scalar> {
         let trial = self.elastic.trial(*stress, rate, spin, dt); // Eq. 6
-        let mean = trial.trace() / 3.0;
-        let s_tr = trial - S::IDENTITY * mean; // Eq. 8
-        let j2 = 0.5 * s_tr.ddot(s_tr);
-        if j2 <= self.y * self.y {
-            *stress = trial;
-            return StressUpdate::elastic(self.elastic.energy_from_invariants(j2, mean));
-        }
+        let mean = trial.trace() * (1.0 / 3.0);
+        let s_tr = trial - S::iso(mean); // Eq. 8
+        let j2 = s_tr.ddot(s_tr) * 0.5;
         let sqrt_j2 = j2.sqrt();
-        let ratio = self.y / sqrt_j2;
-        *stress = s_tr * ratio + S::IDENTITY * mean; // Eq. 9 (corrected), Eq. 10
+        let y = S::Scalar::splat(self.y);
+        // Outside the surface (√J2 > Y) the deviator is scaled by Y/√J2 (Eq. 9 corrected,
+        // Eq. 10), inside by 1: written as a correction of the trial stress, so that an elastic
+        // step leaves it exactly, and as selects, so that all lanes take the same path.
+        let yielding =
+            |then: S::Scalar, other: S::Scalar| S::Scalar::select_gt(sqrt_j2, y, then, other);
+        let ratio = yielding(y / sqrt_j2, S::Scalar::ONE);
+        *stress = trial + s_tr.scaled(ratio - 1.0);
         let g = self.elastic.g;
         StressUpdate {
-            plastic_strain: (sqrt_j2 - self.y) * (1.0 / (SQRT_3 * g)),
+            plastic_strain: yielding((sqrt_j2 - y) * (1.0 / (SQRT_3 * g)), S::Scalar::ZERO),
             // the deviatoric energy s:s/(4G) = J2/(2G) drops from J2 to Y²
-            dissipation: (j2 - self.y * self.y) * (0.5 / g),
-            energy: self.elastic.energy_from_invariants(self.y * self.y, mean),
+            dissipation: yielding((j2 - y * y) * (0.5 / g), S::Scalar::ZERO),
+            energy: self
+                .elastic
+                .energy_from_invariants(yielding(y * y, j2), mean),
         }
     }
     fn elastic(&self) -> &Elastic {

@@ -5,8 +5,8 @@
 use crate::boundary::Walls;
 use crate::grid::{GHOST, Grid};
 use crate::kernel::Kernel;
-use crate::material::Constitutive;
-use crate::math::{Dim, Real, SymTensor, VectorOps, exp_small, max, stencil_span};
+use crate::material::{Constitutive, StressUpdate};
+use crate::math::{Batch, Dim, LANES, Real, SymTensor, VectorOps, exp_small, max, stencil_span};
 
 /// Nodes per row of a padded block for a kernel of `S` nodes per axis, and the number of
 /// consecutive nodes a stencil spans (compile-time constants after monomorphisation).
@@ -101,6 +101,9 @@ pub fn grid_velocities<D: Dim>(grid: &mut Grid<D>) {
     grid.fill_nodes(|h, o| h.vm = o.vm);
 }
 
+/// Particles per chunk of the stress pass (a multiple of `LANES`).
+const CHUNK: usize = 2 * LANES;
+
 /// The mutable particle state the stress pass touches.
 pub struct StressState<'a, D: Dim> {
     pub x: &'a [D::Vector],
@@ -143,38 +146,91 @@ pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
         ..
     } = &mut *grid;
     let mut report = StressReport::default();
-    for q in 0..ps.x.len() {
-        let st = K::stencil(grid_coords::<D>(ps.x[q], inv_h), D::DIM, inv_h, lp);
-        let origin = first_node(layout, particle_node[q], &st);
-        let cell = &mut nodes[origin..origin + span];
-        let (rate, spin) = D::rate_and_spin(D::velocity_gradient(cell, p, &st));
-        let update = model.update(&mut ps.stress[q], rate, spin, dt);
-        if M::PLASTIC {
-            ps.plastic_strain[q] += update.plastic_strain;
-            report.dissipated += (update.dissipation * ps.volume[q]) as f64;
+    let n = ps.x.len();
+    // In chunks: the velocity gradients of a few particles, then their constitutive updates,
+    // LANES particles per model call in SIMD lanes, then their forces. (The update is a long
+    // dependency chain; in lanes four chains go at once.) A short last chunk is padded with
+    // zero stress and rate, whose update is harmless and discarded.
+    let mut st = [crate::math::Stencil::<S>::at([0; 3]); CHUNK];
+    let mut origin = [0usize; CHUNK];
+    let mut stress = [D::Sym::ZERO; CHUNK];
+    let mut rate = [D::Sym::ZERO; CHUNK];
+    let mut spin = [<D::Sym as SymTensor>::Spin::default(); CHUNK];
+    let mut done = [StressUpdate::<Real>::default(); CHUNK];
+    for first in (0..n).step_by(CHUNK) {
+        let len = CHUNK.min(n - first);
+        if len < CHUNK {
+            stress = [D::Sym::ZERO; CHUNK];
+            rate = [D::Sym::ZERO; CHUNK];
+            spin = [Default::default(); CHUNK];
         }
-        // V̇ = V tr(ε̇), integrated exactly for the step's rate: first-order the same as
-        // V (1 + Δt tr ε̇), but never zero or negative however violent the compression.
-        let volume = ps.volume[q] * exp_small(dt * rate.trace());
-        ps.volume[q] = volume;
-        let sigma = ps.stress[q];
-        // One finiteness test for all components: a sum of finite numbers this size is finite.
-        let sum: Real = sigma.components().iter().sum();
-        if !((sum + volume).is_finite() && volume > 0.0) {
-            report.bad += 1;
-            report.first_bad.get_or_insert((
-                q,
-                if sigma.is_finite() {
-                    "volume"
-                } else {
-                    "stress"
-                },
-            ));
-            continue;
+        for i in 0..len {
+            let q = first + i;
+            st[i] = K::stencil(grid_coords::<D>(ps.x[q], inv_h), D::DIM, inv_h, lp);
+            origin[i] = first_node(layout, particle_node[q], &st[i]);
+            let cell = &nodes[origin[i]..origin[i] + span];
+            (rate[i], spin[i]) = D::rate_and_spin(D::velocity_gradient(cell, p, &st[i]));
+            stress[i] = ps.stress[q];
         }
-        report.elastic += (update.energy * volume) as f64;
-        report.max_volume = max(report.max_volume, volume);
-        D::scatter_force(cell, p, &st, sigma * -volume);
+        for g in (0..CHUNK).step_by(LANES) {
+            let group = |a: &[D::Sym]| -> [D::Sym; LANES] { a[g..g + LANES].try_into().unwrap() };
+            let mut lanes = D::Sym::pack(&group(&stress));
+            let spins: [_; LANES] = spin[g..g + LANES].try_into().unwrap();
+            let u = model.update(
+                &mut lanes,
+                D::Sym::pack(&group(&rate)),
+                D::Sym::pack_spin(&spins),
+                dt,
+            );
+            stress[g..g + LANES].copy_from_slice(&D::Sym::unpack(lanes));
+            let (e, ep, d) = (
+                u.energy.to_array(),
+                u.plastic_strain.to_array(),
+                u.dissipation.to_array(),
+            );
+            for l in 0..LANES {
+                done[g + l] = StressUpdate {
+                    plastic_strain: ep[l],
+                    dissipation: d[l],
+                    energy: e[l],
+                };
+            }
+        }
+        for i in 0..len {
+            let q = first + i;
+            let (sigma, update) = (stress[i], done[i]);
+            ps.stress[q] = sigma;
+            if M::PLASTIC {
+                ps.plastic_strain[q] += update.plastic_strain;
+                report.dissipated += (update.dissipation * ps.volume[q]) as f64;
+            }
+            // V̇ = V tr(ε̇), integrated exactly for the step's rate: first-order the same as
+            // V (1 + Δt tr ε̇), but never zero or negative however violent the compression.
+            let volume = ps.volume[q] * exp_small(dt * rate[i].trace());
+            ps.volume[q] = volume;
+            // One finiteness test for all components: a sum of finite numbers this size is finite.
+            let sum: Real = sigma.components().iter().sum();
+            if !((sum + volume).is_finite() && volume > 0.0) {
+                report.bad += 1;
+                report.first_bad.get_or_insert((
+                    q,
+                    if sigma.is_finite() {
+                        "volume"
+                    } else {
+                        "stress"
+                    },
+                ));
+                continue;
+            }
+            report.elastic += (update.energy * volume) as f64;
+            report.max_volume = max(report.max_volume, volume);
+            D::scatter_force(
+                &mut nodes[origin[i]..origin[i] + span],
+                p,
+                &st[i],
+                sigma * -volume,
+            );
+        }
     }
     grid.reduce_nodes(|o, h| o.new_vel += h.new_vel);
     report
