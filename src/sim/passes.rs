@@ -182,7 +182,7 @@ pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
             stress[i] = ps.stress[q];
         }
         if !use_lanes::<D>() {
-            for i in 0..CHUNK {
+            for i in 0..len {
                 done[i] = model.update(&mut stress[i], rate[i], spin[i], dt);
             }
         } else {
