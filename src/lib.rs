@@ -20,6 +20,10 @@
 //! Units are SI throughout; angles are in degrees. In 2D, masses, volumes and energies are
 //! per metre of depth.
 
+// `Real` is f32 by default and f64 with the `f64` feature; conversions between `Real` and f64
+// (diagnostics, parameters) are needed in the first and are no-ops in the second.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
+
 pub mod boundary;
 pub mod config;
 pub mod contact;

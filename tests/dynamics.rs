@@ -2,6 +2,9 @@
 //! coming to rest on the ground, Coulomb friction on the ground, and a free–free vibrating
 //! bar, in 2D (plane strain) and 3D.
 
+// Real is f32 by default, f64 with the `f64` feature: the casts to f64 are no-ops there.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
+
 mod common;
 
 use common::*;

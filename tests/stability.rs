@@ -4,6 +4,9 @@
 //! The case counts and run lengths are modest by default; `MPM_LONG=1` runs the long sweep
 //! (`cargo xtask stress`). See docs/stability.md for the figures of the long sweep.
 
+// Real is f32 by default, f64 with the `f64` feature: the casts to f64 are no-ops there.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
+
 use mpm::math::{Dim, VectorOps};
 use mpm::{
     AnySimulation, BodyConfig, D2, D3, Diagnostics, Material, SceneConfig, Shape, Simulation,

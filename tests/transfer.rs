@@ -1,5 +1,8 @@
 //! Particle–grid transfers: APIC keeps the angular momentum that PIC smears away.
 
+// Real is f32 by default, f64 with the `f64` feature: the casts to f64 are no-ops there.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
+
 mod common;
 
 use common::*;

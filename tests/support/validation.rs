@@ -3,6 +3,9 @@
 //! form or a published measurement. Shared by the fast tests (`tests/validation.rs`), the long
 //! validation run (`cargo bench --bench validate`) and the work–precision study
 //! (`cargo bench --bench work_precision`).
+
+// Real is f32 by default, f64 with the `f64` feature: the casts to f64 are no-ops there.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
 #![allow(dead_code)]
 
 use mpm::math::{Dim, SymTensor, VectorOps};
