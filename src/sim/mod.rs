@@ -727,9 +727,9 @@ impl<D: Dim> Simulation<D> {
                 s.elastic += (elastic.energy_density(p.stress[i]) * p.volume[i]) as f64;
                 s.max_volume = s.max_volume.max(p.volume[i]);
                 body.min_mass = body.min_mass.min(p.mass[i]);
-                acc.record(p.mass[i], p.x[i], p.v[i], w.gravity, p.plastic_strain[i]);
+                acc.record(p.mass[i], p.x[i], p.v[i], p.plastic_strain[i]);
             }
-            acc.max_speed = acc.max_speed.sqrt();
+            acc.finish(w.gravity);
             body.max_volume = s.max_volume;
             stress.push(s);
             gathered.push(acc);

@@ -359,9 +359,9 @@ pub fn advect_kinematic<D: Dim>(
     for q in 0..ps.x.len() {
         let x = walls.clamp(ps.x[q] + ps.v[q] * dt, radius);
         ps.x[q] = x;
-        r.record(ps.mass[q], x, ps.v[q], gravity, ps.plastic_strain[q]);
+        r.record(ps.mass[q], x, ps.v[q], ps.plastic_strain[q]);
     }
-    r.max_speed = r.max_speed.sqrt();
+    r.finish(gravity);
     r
 }
 
@@ -384,20 +384,22 @@ impl<D: Dim> GatherReport<D> {
         }
     }
 
-    /// Adds one particle (`max_speed` holds the squared speed until the caller takes the root).
+    /// After the last particle: the speed from its square, and the gravitational energy
+    /// −Σ m g·x = −g·Σ m x from the first moment (one accumulator fewer per particle).
     #[inline(always)]
-    pub fn record(
-        &mut self,
-        m: Real,
-        x: D::Vector,
-        v: D::Vector,
-        gravity: D::Vector,
-        plastic_strain: Real,
-    ) {
+    pub fn finish(&mut self, gravity: D::Vector) {
+        self.max_speed = self.max_speed.sqrt();
+        self.gravitational = -(0..D::DIM)
+            .map(|a| gravity[a] as f64 * self.first_moment[a])
+            .sum::<f64>();
+    }
+
+    /// Adds one particle (`max_speed` holds the squared speed until [`Self::finish`]).
+    #[inline(always)]
+    pub fn record(&mut self, m: Real, x: D::Vector, v: D::Vector, plastic_strain: Real) {
         let (md, v2) = (m as f64, v.length_squared());
         self.mass += md;
         self.kinetic += 0.5 * md * v2 as f64;
-        self.gravitational -= md * gravity.dot(x) as f64;
         for a in 0..D::DIM {
             self.momentum[a] += md * v[a] as f64;
             self.first_moment[a] += md * x[a] as f64;
@@ -457,8 +459,8 @@ pub fn gather_and_advect<D: Dim, K: Kernel<S>, const S: usize>(
         }
         ps.v[q] = v;
         ps.x[q] = x;
-        r.record(m, x, v, gravity, ps.plastic_strain[q]);
+        r.record(m, x, v, ps.plastic_strain[q]);
     }
-    r.max_speed = r.max_speed.sqrt();
+    r.finish(gravity);
     r
 }
