@@ -837,29 +837,31 @@ impl Dim for D2 {
     }
     #[inline(always)]
     fn velocity_gradient<const S: usize>(nodes: &[Node<Vec2>], p: usize, st: &Stencil<S>) -> Mat2 {
+        // Both columns at once: (L_xx, L_yx, L_xy, L_yy) = Σ_i (v_i, v_i) ∘ (∂_x w_i ×2, ∂_y w_i ×2).
         let nodes = &nodes[..stencil_span(2, p, S)];
-        let (mut c0, mut c1) = (Vec2::ZERO, Vec2::ZERO);
+        let mut l = Vec4::ZERO;
         for j in 0..S {
             let row = &nodes[j * p..j * p + S];
-            let (mut a, mut b) = (Vec2::ZERO, Vec2::ZERO);
+            let wj = Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
             for i in 0..S {
-                a += row[i].vel() * st.dw[i][0];
-                b += row[i].vel() * st.w[i][0];
+                let g = Vec4::new(st.dw[i][0], st.dw[i][0], st.w[i][0], st.w[i][0]) * wj;
+                let v = row[i].vel();
+                l += Vec4::new(v.x, v.y, v.x, v.y) * g;
             }
-            c0 += a * st.w[j][1];
-            c1 += b * st.dw[j][1];
         }
-        Mat2::from_cols(c0, c1)
+        Mat2::from_cols(Vec2::new(l.x, l.y), Vec2::new(l.z, l.w))
     }
     #[inline(always)]
     fn scatter_force<const S: usize>(nodes: &mut [Node<Vec2>], p: usize, st: &Stencil<S>, a: Sym2) {
+        // f_i += a ∇w_i = (a_xx, a_xy) ∂_x w_i + (a_xy, a_yy) ∂_y w_i, both terms in one Vec4.
         let nodes = &mut nodes[..stencil_span(2, p, S)];
-        let (a0, a1) = (Vec2::new(a.xx, a.xy), Vec2::new(a.xy, a.yy));
+        let a = Vec4::new(a.xx, a.xy, a.xy, a.yy);
         for j in 0..S {
-            let (pj, qj) = (a0 * st.w[j][1], a1 * st.dw[j][1]);
+            let wj = a * Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
             let row = &mut nodes[j * p..j * p + S];
             for i in 0..S {
-                row[i].new_vel += pj * st.dw[i][0] + qj * st.w[i][0];
+                let t = wj * Vec4::new(st.dw[i][0], st.dw[i][0], st.w[i][0], st.w[i][0]);
+                row[i].new_vel += Vec2::new(t.x + t.z, t.y + t.w);
             }
         }
     }
@@ -869,19 +871,19 @@ impl Dim for D2 {
         p: usize,
         st: &Stencil<S>,
     ) -> (Vec2, Vec2) {
+        // (v^{n+1}, v^n) side by side.
         let nodes = &nodes[..stencil_span(2, p, S)];
-        let (mut new, mut old) = (Vec2::ZERO, Vec2::ZERO);
+        let mut acc = Vec4::ZERO;
         for j in 0..S {
             let row = &nodes[j * p..j * p + S];
-            let (mut rn, mut ro) = (Vec2::ZERO, Vec2::ZERO);
+            let mut r = Vec4::ZERO;
             for i in 0..S {
-                rn += row[i].new_vel * st.w[i][0];
-                ro += row[i].vel() * st.w[i][0];
+                let (n, o) = (row[i].new_vel, row[i].vel());
+                r += Vec4::new(n.x, n.y, o.x, o.y) * st.w[i][0];
             }
-            new += rn * st.w[j][1];
-            old += ro * st.w[j][1];
+            acc += r * st.w[j][1];
         }
-        (new, old)
+        (Vec2::new(acc.x, acc.y), Vec2::new(acc.z, acc.w))
     }
     #[inline(always)]
     fn gather_affine<const S: usize>(nodes: &[Node<Vec2>], p: usize, st: &Stencil<S>) -> Mat2 {
