@@ -98,12 +98,14 @@ impl<D: Dim> GridIndex<D> {
     }
 
     /// Allocates the blocks touched by the stencils of particles whose first stencil nodes are
-    /// `bases`; `support` is the number of stencil nodes per axis. Slots are assigned in table
-    /// order, so blocks are laid out in space-filling order. `out` receives, for each
-    /// particle `p`, `locate(slot, p)` with `slot` the block holding its first stencil node.
+    /// `bases`, all within `[lo, hi]`; `support` is the number of stencil nodes per axis.
+    /// Slots are assigned in table order, so blocks are laid out in space-filling order. `out`
+    /// receives, for each particle `p`, `locate(slot, p)` with `slot` the block holding its
+    /// first stencil node.
     pub fn rebuild(
         &mut self,
         bases: &[[i32; 3]],
+        (mut lo, mut hi): ([i32; 3], [i32; 3]),
         support: usize,
         out: &mut Vec<u32>,
         locate: impl Fn(u32, usize) -> u32,
@@ -121,15 +123,8 @@ impl<D: Dim> GridIndex<D> {
             reach < Self::BLOCK as i32,
             "a stencil spans at most two blocks"
         );
-        let (mut lo, mut hi) = ([0; 3], [0; 3]);
-        for a in 0..D::DIM {
-            (lo[a], hi[a]) = (i32::MAX, i32::MIN);
-        }
-        for b in bases {
-            for a in 0..D::DIM {
-                lo[a] = lo[a].min(b[a]);
-                hi[a] = hi[a].max(b[a] + reach);
-            }
+        for h in hi.iter_mut().take(D::DIM) {
+            *h += reach;
         }
         let mut dims = [1usize; 3];
         for a in 0..D::DIM {
@@ -146,29 +141,28 @@ impl<D: Dim> GridIndex<D> {
         // first node `t`, and its upper neighbours along the axes where the stencil spills
         // over. Consecutive particles mostly share both, so a repeat is skipped.
         let mut last = u64::MAX;
-        slots.reserve(bases.len());
-        for b in bases {
+        let table = &mut self.table;
+        slots.extend(bases.iter().map(|b| {
             let (mut t, mut spill) = (0usize, 0u64);
             for a in 0..D::DIM {
                 t += ((b[a] >> D::LOG_BLOCK) - lo[a]) as usize * stride[a];
                 spill |= ((((b[a] & Self::MASK) + reach) >> D::LOG_BLOCK) as u64) << a;
             }
-            slots.push(t as u32);
             let key = (t as u64) << 3 | spill;
-            if key == last {
-                continue;
-            }
-            last = key;
-            for corner in 0..1u64 << D::DIM {
-                if corner & !spill == 0 {
-                    let mut n = t;
-                    for (a, s) in stride.iter().enumerate().take(D::DIM) {
-                        n += (corner >> a & 1) as usize * s;
+            if key != last {
+                last = key;
+                for corner in 0..1u64 << D::DIM {
+                    if corner & !spill == 0 {
+                        let mut n = t;
+                        for (a, s) in stride.iter().enumerate().take(D::DIM) {
+                            n += (corner >> a & 1) as usize * s;
+                        }
+                        table[n] = 0;
                     }
-                    self.table[n] = 0;
                 }
             }
-        }
+            t as u32
+        }));
         // Number the marked blocks in table order.
         for (t, entry) in self.table.iter_mut().enumerate() {
             if *entry == 0 {
@@ -451,11 +445,23 @@ impl<D: Dim> Grid<D> {
         if support - 1 != self.layout.halo {
             self.layout = BlockLayout::new(support);
         }
+        // The bases and their bounds in one sweep.
+        let (mut lo, mut hi) = ([0; 3], [0; 3]);
+        for a in 0..D::DIM {
+            (lo[a], hi[a]) = (i32::MAX, i32::MIN);
+        }
         self.bases.clear();
-        self.bases.extend((0..count).map(base_of));
+        self.bases.extend((0..count).map(|p| {
+            let b = base_of(p);
+            for a in 0..D::DIM {
+                lo[a] = lo[a].min(b[a]);
+                hi[a] = hi[a].max(b[a]);
+            }
+            b
+        }));
         let (layout, bases) = (&self.layout, &self.bases);
         self.index
-            .rebuild(bases, support, &mut self.particle_node, |slot, p| {
+            .rebuild(bases, (lo, hi), support, &mut self.particle_node, |slot, p| {
                 layout.stencil_origin(slot, bases[p]) as u32
             });
         let node_count = self.index.block_count() * self.layout.padded_nodes();
