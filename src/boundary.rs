@@ -116,11 +116,7 @@ impl<D: Dim> Walls<D> {
         radius: Real,
     ) -> D::Vector {
         let next = x + v * dt;
-        let (lo, hi) = (
-            D::Vector::splat(radius),
-            self.size - D::Vector::splat(radius),
-        );
-        if next.max(lo).min(hi) == next {
+        if self.inside(next, radius) {
             return v; // stays inside: the common case
         }
         for a in 0..D::DIM {
@@ -132,6 +128,13 @@ impl<D: Dim> Walls<D> {
             }
         }
         v
+    }
+
+    /// Whether a particle of half-width `radius` at `x` is clear of every wall.
+    #[inline(always)]
+    pub fn inside(&self, x: D::Vector, radius: Real) -> bool {
+        let r = D::Vector::splat(radius);
+        x.max(r).min(self.size - r) == x
     }
 
     /// Keeps a particle of half-width `radius` inside the domain (a last resort after step 7).

@@ -446,13 +446,17 @@ pub fn gather_and_advect<D: Dim, K: Kernel<S>, const S: usize>(
             c[q] = D::affine_velocity(D::gather_affine(cell, p, &st), &st, h);
         }
         let blended = v_pic * (1.0 - alpha) + (ps.v[q] + v_pic - v_old) * alpha;
-        let v = walls.particle_velocity(x, blended, dt, radius);
         let m = ps.mass[q];
-        if v != blended {
+        let next = x + blended * dt;
+        let (v, x) = if walls.inside(next, radius) {
+            (blended, next) // the common case: clear of the walls
+        } else {
+            let v = walls.particle_velocity(x, blended, dt, radius);
             r.dissipated_walls += constraint_dissipation(m, ps.v[q], blended, v);
-        }
-        let x = walls.clamp(x + v * dt, radius);
-        if !(v.is_finite() && x.is_finite()) {
+            (v, walls.clamp(x + v * dt, radius))
+        };
+        // Finite values times zero are (signed) zeros; a NaN or an infinity gives NaN.
+        if v * 0.0 + x * 0.0 != D::Vector::ZERO {
             r.bad += 1;
             r.first_bad.get_or_insert(q);
             continue;
