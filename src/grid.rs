@@ -460,10 +460,13 @@ impl<D: Dim> Grid<D> {
             b
         }));
         let (layout, bases) = (&self.layout, &self.bases);
-        self.index
-            .rebuild(bases, (lo, hi), support, &mut self.particle_node, |slot, p| {
-                layout.stencil_origin(slot, bases[p]) as u32
-            });
+        self.index.rebuild(
+            bases,
+            (lo, hi),
+            support,
+            &mut self.particle_node,
+            |slot, p| layout.stencil_origin(slot, bases[p]) as u32,
+        );
         let node_count = self.index.block_count() * self.layout.padded_nodes();
         // Node indices are kept in 32 bits: 2³² nodes would take 128 GiB.
         assert!(

@@ -234,6 +234,12 @@ pub trait Lane:
     /// 1 where `a > b`, else 0, lane by lane (a factor, not a select).
     fn step_gt(a: Self, b: Self) -> Self;
     fn all_finite(self) -> bool;
+    /// eˣ, lane by lane.
+    fn exp(self) -> Self;
+    /// The sum, the smallest and the largest of the lanes.
+    fn sum(self) -> Real;
+    fn min_element(self) -> Real;
+    fn max_element(self) -> Real;
 }
 
 impl Lane for Real {
@@ -271,6 +277,22 @@ impl Lane for Real {
     fn all_finite(self) -> bool {
         self.is_finite()
     }
+    #[inline(always)]
+    fn exp(self) -> Self {
+        Real::exp(self)
+    }
+    #[inline(always)]
+    fn sum(self) -> Real {
+        self
+    }
+    #[inline(always)]
+    fn min_element(self) -> Real {
+        self
+    }
+    #[inline(always)]
+    fn max_element(self) -> Real {
+        self
+    }
 }
 
 impl Lane for Lanes {
@@ -307,6 +329,22 @@ impl Lane for Lanes {
     #[inline(always)]
     fn all_finite(self) -> bool {
         self.is_finite()
+    }
+    #[inline(always)]
+    fn exp(self) -> Self {
+        Lanes::from_array(self.to_array().map(Real::exp))
+    }
+    #[inline(always)]
+    fn sum(self) -> Real {
+        self.element_sum()
+    }
+    #[inline(always)]
+    fn min_element(self) -> Real {
+        Lanes::min_element(self)
+    }
+    #[inline(always)]
+    fn max_element(self) -> Real {
+        Lanes::max_element(self)
     }
 }
 
@@ -744,10 +782,11 @@ pub fn min(a: Real, b: Real) -> Real {
 /// relative error below x⁵/120 ≈ 2·10⁻¹⁰, under f32 rounding), and by `exp` otherwise. `exp` is
 /// a library call natively and a software routine in WebAssembly. The f64 build (for
 /// validation) always calls `exp`: the series is not exact to f64 rounding.
+/// Lane by lane for [`Lanes`] (the series when every lane is small).
 #[inline(always)]
-pub fn exp_small(x: Real) -> Real {
-    if !cfg!(feature = "f64") && x.abs() <= 1.0 / 32.0 {
-        1.0 + x * (1.0 + x * (0.5 + x * (1.0 / 6.0 + x * (1.0 / 24.0))))
+pub fn exp_small<T: Lane>(x: T) -> T {
+    if !cfg!(feature = "f64") && x.abs().max_element() <= 1.0 / 32.0 {
+        x * (x * (x * (x * (1.0 / 24.0) + 1.0 / 6.0) + 0.5) + 1.0) + 1.0
     } else {
         x.exp()
     }
@@ -1297,6 +1336,27 @@ mod tests {
         }
         assert!(exp_small(Real::NAN).is_nan());
         assert!(exp_small(-800.0) == 0.0 && exp_small(-1.0) == (-1.0 as Real).exp());
+    }
+
+    #[test]
+    fn exp_small_in_lanes_is_exp_small_in_each_lane() {
+        // all lanes small: the series, bit for bit as one lane at a time
+        let small = [-0.03, -1e-7, 0.0, 0.031];
+        let l = exp_small(Lanes::from_array(small)).to_array();
+        for (x, e) in small.iter().zip(l) {
+            assert_eq!(e.to_bits(), exp_small(*x).to_bits(), "{x}");
+        }
+        // one lane large: every lane still within two roundings of eˣ, a NaN stays NaN
+        let mixed = [-0.02, 0.5, -3.0, Real::NAN];
+        let l = exp_small(Lanes::from_array(mixed)).to_array();
+        for (x, e) in mixed.iter().zip(l).take(3) {
+            let exact = (*x as f64).exp();
+            assert!(
+                ((e as f64 - exact) / exact).abs() < 2.0 * Real::EPSILON as f64,
+                "{x}: {e}"
+            );
+        }
+        assert!(l[3].is_nan());
     }
 
     #[test]

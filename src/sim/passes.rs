@@ -5,8 +5,10 @@
 use crate::boundary::Walls;
 use crate::grid::{GHOST, Grid};
 use crate::kernel::Kernel;
-use crate::material::{Constitutive, StressUpdate};
-use crate::math::{Batch, Dim, LANES, Real, SymTensor, VectorOps, exp_small, max, stencil_span};
+use crate::material::Constitutive;
+use crate::math::{
+    Batch, Dim, LANES, Lane, Lanes, Real, SymTensor, VectorOps, exp_small, max, stencil_span,
+};
 
 /// Nodes per row of a padded block for a kernel of `S` nodes per axis, and the number of
 /// consecutive nodes a stencil spans (compile-time constants after monomorphisation).
@@ -101,15 +103,6 @@ pub fn grid_velocities<D: Dim>(grid: &mut Grid<D>) {
     grid.fill_nodes(|h, o| h.vm = o.vm);
 }
 
-/// Whether the stress pass updates four particles per model call in SIMD lanes: everywhere
-/// but in the 2D wasm build, where packing the small 2D tensors into lanes costs more than the
-/// lanes save (measured in Node, one process, interleaved: lanes 7 % slower than the scalar
-/// update on the notched 2D sand block; in 3D lanes are 18 % faster).
-#[inline(always)]
-fn use_lanes<D: Dim>() -> bool {
-    !(cfg!(target_arch = "wasm32") && D::DIM == 2)
-}
-
 /// Particles per chunk of the stress pass (a multiple of `LANES`).
 const CHUNK: usize = 2 * LANES;
 
@@ -136,9 +129,52 @@ pub struct StressReport {
     pub first_bad: Option<(usize, &'static str)>,
 }
 
+/// What one constitutive call (for `LANES` particles in SIMD lanes) adds to the report.
+struct Group {
+    /// Σ V W(σ) after the update, and Σ V D (energy the plastic correction removed).
+    elastic: f64,
+    dissipated: f64,
+    max_volume: Real,
+    finite: bool,
+}
+
+/// The stress update of one group of particles by the model (returning their plastic strain
+/// increments), and V̇ = V tr(ε̇) integrated exactly for the step's rate: first-order the same
+/// as V (1 + Δt tr ε̇), but never zero or negative however violent the compression.
+#[inline(always)]
+fn update_group<S: SymTensor, M: Constitutive>(
+    model: &M,
+    stress: &mut S,
+    rate: S,
+    spin: S::Spin,
+    volume: &mut S::Scalar,
+    dt: Real,
+) -> (S::Scalar, Group) {
+    let u = model.update(stress, rate, spin, dt);
+    let before = *volume;
+    let v = before * exp_small(rate.trace() * dt);
+    *volume = v;
+    let group = Group {
+        elastic: (u.energy * v).sum() as f64,
+        dissipated: if M::PLASTIC {
+            (u.dissipation * before).sum() as f64
+        } else {
+            0.0
+        },
+        max_volume: v.max_element(),
+        finite: stress.is_finite() && v.all_finite() && v.min_element() > 0.0,
+    };
+    (u.plastic_strain, group)
+}
+
 /// Steps 2–4, particle side: the velocity gradient ∇v_p = Σ_i v_i ⊗ ∇w_ip, the stress update
-/// by the body's model, the volume update V_p ← V_p (1 + Δt tr ε̇), and the internal forces
+/// by the body's model, the volume update V_p ← V_p exp(Δt tr ε̇), and the internal forces
 /// f_i = −Σ_p V_p σ_p ∇w_ip (accumulated in the nodes' `new_vel`).
+///
+/// Never inlined: each (dimension, kernel, model) instance stays a function of its own. Inlined
+/// into the caller's dispatch, the 2D instances became one 50 KB WebAssembly function that V8
+/// ran 25-28 % slower (notched 2D sand block, one Node process, builds interleaved).
+#[inline(never)]
 pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
     grid: &mut Grid<D>,
     ps: StressState<'_, D>,
@@ -159,19 +195,22 @@ pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
     // In chunks: the velocity gradients of a few particles, then their constitutive updates,
     // LANES particles per model call in SIMD lanes, then their forces. (The update is a long
     // dependency chain; in lanes four chains go at once.) A short last chunk is padded with
-    // zero stress and rate, whose update is harmless and discarded.
+    // zero stress and rate and a real particle's volume, whose update adds nothing.
     let mut st = [crate::math::Stencil::<S>::at([0; 3]); CHUNK];
     let mut origin = [0usize; CHUNK];
     let mut stress = [D::Sym::ZERO; CHUNK];
     let mut rate = [D::Sym::ZERO; CHUNK];
     let mut spin = [<D::Sym as SymTensor>::Spin::default(); CHUNK];
-    let mut done = [StressUpdate::<Real>::default(); CHUNK];
+    let mut volume = [0.0; CHUNK];
+    let mut plastic = [0.0; CHUNK];
+    let mut finite = [true; CHUNK];
     for first in (0..n).step_by(CHUNK) {
         let len = CHUNK.min(n - first);
         if len < CHUNK {
             stress = [D::Sym::ZERO; CHUNK];
             rate = [D::Sym::ZERO; CHUNK];
             spin = [Default::default(); CHUNK];
+            volume = [ps.volume[first]; CHUNK];
         }
         for i in 0..len {
             let q = first + i;
@@ -180,53 +219,42 @@ pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
             let cell = &nodes[origin[i]..origin[i] + span];
             (rate[i], spin[i]) = D::rate_and_spin(D::velocity_gradient(cell, p, &st[i]));
             stress[i] = ps.stress[q];
+            volume[i] = ps.volume[q];
         }
-        if !use_lanes::<D>() {
-            for i in 0..len {
-                done[i] = model.update(&mut stress[i], rate[i], spin[i], dt);
-            }
-        } else {
-            for g in (0..CHUNK).step_by(LANES) {
-                let group =
-                    |a: &[D::Sym]| -> [D::Sym; LANES] { a[g..g + LANES].try_into().unwrap() };
-                let mut lanes = D::Sym::pack(&group(&stress));
-                let spins: [_; LANES] = spin[g..g + LANES].try_into().unwrap();
-                let u = model.update(
-                    &mut lanes,
-                    D::Sym::pack(&group(&rate)),
-                    D::Sym::pack_spin(&spins),
-                    dt,
-                );
-                stress[g..g + LANES].copy_from_slice(&D::Sym::unpack(lanes));
-                let (e, ep, d) = (
-                    u.energy.to_array(),
-                    u.plastic_strain.to_array(),
-                    u.dissipation.to_array(),
-                );
-                for l in 0..LANES {
-                    done[g + l] = StressUpdate {
-                        plastic_strain: ep[l],
-                        dissipation: d[l],
-                        energy: e[l],
-                    };
-                }
+        for g in (0..len).step_by(LANES) {
+            let group = |a: &[D::Sym]| -> [D::Sym; LANES] { a[g..g + LANES].try_into().unwrap() };
+            let spins: [_; LANES] = spin[g..g + LANES].try_into().unwrap();
+            let mut lanes = D::Sym::pack(&group(&stress));
+            let mut v = Lanes::from_slice(&volume[g..g + LANES]);
+            let (ep, u) = update_group(
+                model,
+                &mut lanes,
+                D::Sym::pack(&group(&rate)),
+                D::Sym::pack_spin(&spins),
+                &mut v,
+                dt,
+            );
+            stress[g..g + LANES].copy_from_slice(&D::Sym::unpack(lanes));
+            v.write_to_slice(&mut volume[g..g + LANES]);
+            ep.write_to_slice(&mut plastic[g..g + LANES]);
+            finite[g..g + LANES].fill(u.finite);
+            if u.finite {
+                report.elastic += u.elastic;
+                report.dissipated += u.dissipated;
+                report.max_volume = max(report.max_volume, u.max_volume);
             }
         }
         for i in 0..len {
             let q = first + i;
-            let (sigma, update) = (stress[i], done[i]);
+            let sigma = stress[i];
             ps.stress[q] = sigma;
+            ps.volume[q] = volume[i];
             if M::PLASTIC {
-                ps.plastic_strain[q] += update.plastic_strain;
-                report.dissipated += (update.dissipation * ps.volume[q]) as f64;
+                ps.plastic_strain[q] += plastic[i];
             }
-            // V̇ = V tr(ε̇), integrated exactly for the step's rate: first-order the same as
-            // V (1 + Δt tr ε̇), but never zero or negative however violent the compression.
-            let volume = ps.volume[q] * exp_small(dt * rate[i].trace());
-            ps.volume[q] = volume;
-            // One finiteness test for all components: a sum of finite numbers this size is finite.
-            let sum: Real = sigma.components().iter().sum();
-            if !((sum + volume).is_finite() && volume > 0.0) {
+            // Only a group that was not all finite is looked at particle by particle.
+            let ok = finite[i] || sigma.is_finite() && volume[i].is_finite() && volume[i] > 0.0;
+            if !ok {
                 report.bad += 1;
                 report.first_bad.get_or_insert((
                     q,
@@ -238,13 +266,11 @@ pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
                 ));
                 continue;
             }
-            report.elastic += (update.energy * volume) as f64;
-            report.max_volume = max(report.max_volume, volume);
             D::scatter_force(
                 &mut nodes[origin[i]..origin[i] + span],
                 p,
                 &st[i],
-                sigma * -volume,
+                sigma * -volume[i],
             );
         }
     }
