@@ -792,6 +792,13 @@ pub fn exp_small<T: Lane>(x: T) -> T {
     }
 }
 
+/// Σ_{k < n} f(k) for n ≥ 1, started from the first term: a sum started from zero costs an
+/// addition of +0.0 that the compiler must keep (−0 + 0 = +0).
+#[inline(always)]
+fn sum_from_first<T: Add<Output = T>>(n: usize, f: impl Fn(usize) -> T) -> T {
+    (1..n).fold(f(0), |s, k| s + f(k))
+}
+
 /// How many consecutive nodes a stencil of `s` nodes per axis spans in a padded block whose
 /// rows are `p` nodes long.
 #[inline(always)]
@@ -878,16 +885,15 @@ impl Dim for D2 {
     fn velocity_gradient<const S: usize>(nodes: &[Node<Vec2>], p: usize, st: &Stencil<S>) -> Mat2 {
         // Both columns at once: (L_xx, L_yx, L_xy, L_yy) = Σ_i (v_i, v_i) ∘ (∂_x w_i ×2, ∂_y w_i ×2).
         let nodes = &nodes[..stencil_span(2, p, S)];
-        let mut l = Vec4::ZERO;
-        for j in 0..S {
+        let l = sum_from_first(S, |j| {
             let row = &nodes[j * p..j * p + S];
             let wj = Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
-            for i in 0..S {
+            sum_from_first(S, |i| {
                 let g = Vec4::new(st.dw[i][0], st.dw[i][0], st.w[i][0], st.w[i][0]) * wj;
                 let v = row[i].vel();
-                l += Vec4::new(v.x, v.y, v.x, v.y) * g;
-            }
-        }
+                Vec4::new(v.x, v.y, v.x, v.y) * g
+            })
+        });
         Mat2::from_cols(Vec2::new(l.x, l.y), Vec2::new(l.z, l.w))
     }
     #[inline(always)]
@@ -912,16 +918,13 @@ impl Dim for D2 {
     ) -> (Vec2, Vec2) {
         // (v^{n+1}, v^n) side by side.
         let nodes = &nodes[..stencil_span(2, p, S)];
-        let mut acc = Vec4::ZERO;
-        for j in 0..S {
+        let acc = sum_from_first(S, |j| {
             let row = &nodes[j * p..j * p + S];
-            let mut r = Vec4::ZERO;
-            for i in 0..S {
+            sum_from_first(S, |i| {
                 let (n, o) = (row[i].new_vel, row[i].vel());
-                r += Vec4::new(n.x, n.y, o.x, o.y) * st.w[i][0];
-            }
-            acc += r * st.w[j][1];
-        }
+                Vec4::new(n.x, n.y, o.x, o.y) * st.w[i][0]
+            }) * st.w[j][1]
+        });
         (Vec2::new(acc.x, acc.y), Vec2::new(acc.z, acc.w))
     }
     #[inline(always)]

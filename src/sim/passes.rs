@@ -482,7 +482,8 @@ pub fn gather_and_advect<D: Dim, K: Kernel<S>, const S: usize>(
             (v, walls.clamp(x + v * dt, radius))
         };
         // Finite values times zero are (signed) zeros; a NaN or an infinity gives NaN.
-        if v * 0.0 + x * 0.0 != D::Vector::ZERO {
+        let zeros = v * 0.0 + x * 0.0;
+        if zeros.dot(zeros) != 0.0 {
             r.bad += 1;
             r.first_bad.get_or_insert(q);
             continue;
