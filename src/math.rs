@@ -91,13 +91,13 @@ pub trait VectorOps:
 }
 
 macro_rules! impl_vector_ops {
-    ($t:ty, $n:expr, $wm:ty, $drop:expr) => {
+    ($t:ty, $n:expr, $wm:ty, $add:expr, $drop:expr) => {
         impl VectorOps for $t {
             const ZERO: Self = <$t>::ZERO;
             type WithMass = $wm;
             #[inline(always)]
             fn with_mass(self, m: Real) -> $wm {
-                self.extend(m)
+                $add(self, m)
             }
             #[inline(always)]
             fn without_mass(p: $wm) -> Self {
@@ -142,12 +142,20 @@ macro_rules! impl_vector_ops {
         }
     };
 }
-impl_vector_ops!(Vec2, 2, Vec3, Vec3::truncate);
-impl_vector_ops!(Vec3, 3, Vec4, Vec4::truncate);
+// In 2D the fourth lane is padding: one SIMD multiply-add per node instead of a 2-lane and a
+// 1-lane one.
+impl_vector_ops!(
+    Vec2,
+    2,
+    Vec4,
+    |v: Vec2, m| Vec4::new(v.x, v.y, m, 0.0),
+    |p: Vec4| p.truncate().truncate()
+);
+impl_vector_ops!(Vec3, 3, Vec4, Vec3::extend, Vec4::truncate);
 // The lane after z of a `Vec3A` is padding that glam ignores, so the conversion from `Vec4`
 // is free and the mass riding along in it never shows.
 #[cfg(not(feature = "f64"))]
-impl_vector_ops!(Vec3A, 3, Vec4, Vec3A::from_vec4);
+impl_vector_ops!(Vec3A, 3, Vec4, Vec3A::extend, Vec3A::from_vec4);
 
 /// A symmetric second-order tensor holding a (plane-strain or 3D) stress or strain rate.
 ///
