@@ -70,7 +70,7 @@ pub trait VectorOps:
     fn from_fn(f: impl FnMut(usize) -> Real) -> Self;
     /// The vector with a mass in the lane after its last component: a grid node keeps its
     /// momentum (then velocity) and mass in one register, so that one SIMD multiply-add
-    /// scatters both (in 3D, `Vec3A` plus mass is one `Vec4`).
+    /// scatters both (one `Vec4` in both dimensions; in 2D its fourth lane is padding).
     type WithMass: Copy
         + Default
         + Debug
