@@ -18,6 +18,14 @@ pub const GHOST: i32 = 2;
 
 const EMPTY: u32 = u32::MAX;
 
+/// How many consecutive nodes a stencil of `s` nodes per axis spans in a padded block whose
+/// rows are `p` nodes long.
+#[inline(always)]
+pub fn stencil_span(dim: usize, p: usize, s: usize) -> usize {
+    let far = if dim == 3 { 1 + p + p * p } else { 1 + p };
+    (s - 1) * far + 1
+}
+
 /// One grid node of one body.
 #[derive(Clone, Copy, Debug, Default)]
 #[repr(C)]

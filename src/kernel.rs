@@ -5,14 +5,14 @@
 //! Coordinates are in grid units: a particle at `xg = x/h + GHOST` lies between nodes
 //! `floor(xg)` and `floor(xg) + 1`; node `n` sits at `x = (n − GHOST) h`.
 
-use crate::math::{Real, Stencil};
+use crate::math::Real;
 use serde::{Deserialize, Serialize};
 use std::ops::{Add, Mul, Sub};
 
 /// ⌊x⌋ for 0 ≤ x ≤ 2^22 (other values, NaN included, are clamped into that range first), as a
 /// truncating cast (grid coordinates are never negative: the domain starts
-/// [`crate::grid::GHOST`] nodes in). On baseline x86-64 `f32::floor` is a libm call that cost a
-/// sixth of the whole step, and a plain `as i32` adds saturation checks worth 4 % of it.
+/// [`crate::grid::GHOST`] nodes in). On baseline x86-64 `f32::floor` is a library call, and a
+/// plain `as i32` adds saturation checks (docs/performance.md).
 #[inline(always)]
 pub fn floor_nonneg(x: Real) -> i32 {
     debug_assert!(x >= 0.0 || x.is_nan(), "negative grid coordinate {x}");
@@ -148,6 +148,32 @@ mod simd {
     }
 }
 
+/// The kernel weights of one particle along each axis: `w[k][a]` and `dw[k][a]` (the
+/// derivative, already divided by the cell size) for the k-th node of the stencil along axis a,
+/// whose first node has grid index `base[a]`; `d[k][a]` is that node's offset from the particle
+/// along the axis, in cells (x_i − x_p = d h). Node-major with four lanes, so that a kernel
+/// computes all axes of one node at once in SIMD registers (lane 3, and lane 2 in 2D, unused).
+#[derive(Clone, Copy, Debug)]
+pub struct Stencil<const S: usize> {
+    pub base: [i32; 3],
+    pub w: [[Real; 4]; S],
+    pub dw: [[Real; 4]; S],
+    pub d: [[Real; 4]; S],
+}
+
+impl<const S: usize> Stencil<S> {
+    /// A stencil with first node `base` and all weights zero, for a kernel to fill in.
+    #[inline(always)]
+    pub fn at(base: [i32; 3]) -> Self {
+        Stencil {
+            base,
+            w: [[0.0; 4]; S],
+            dw: [[0.0; 4]; S],
+            d: [[0.0; 4]; S],
+        }
+    }
+}
+
 /// The shape function of a simulation.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -244,8 +270,9 @@ fn stencil_lanes<const S: usize, K: Kernel<S>>(x: [Real; 4], inv_h: Real, lp: Re
     st
 }
 
-/// [`Kernel::stencil`] in four SIMD lanes, the same arithmetic lane by lane (LLVM does not
-/// vectorise the lane loop for wasm32; this is 15 % of the wasm step).
+/// [`Kernel::stencil`] in four SIMD lanes — SIMD specialisation of the scalar lane loop above,
+/// the same arithmetic lane by lane (LLVM does not vectorise that loop for wasm32). The wasm
+/// test `simd_stencils_equal_the_scalar_kernel_bit_for_bit` compares the two.
 #[cfg(all(
     target_arch = "wasm32",
     target_feature = "simd128",

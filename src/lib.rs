@@ -26,7 +26,6 @@
 
 pub mod boundary;
 pub mod config;
-pub mod contact;
 pub mod error;
 pub mod geometry;
 pub mod grid;
@@ -37,6 +36,7 @@ pub mod material;
 pub mod math;
 pub mod playground;
 pub mod sim;
+pub mod step;
 #[cfg(target_arch = "wasm32")]
 pub mod wasm;
 

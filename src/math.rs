@@ -6,7 +6,6 @@
 //! yield criteria use are those of the real 3D stress state. Masses, volumes and energies in
 //! 2D are per unit depth (kg/m, m², J/m).
 
-use crate::grid::Node;
 use std::fmt::Debug;
 use std::ops::{Add, AddAssign, Div, Index, IndexMut, Mul, MulAssign, Neg, Sub, SubAssign};
 
@@ -360,10 +359,9 @@ impl Lane for Lanes {
 /// second-order terms (of size 4|a|² |σ|, under 1e-4 of the float resolution, 2.4e-12 in
 /// f32). They change nothing a float holds, and kept, they multiply the stress by products
 /// of two small numbers that underflow into subnormals whenever the spin is small, as it is
-/// in bodies at rest; x86 cores take a slow path for each subnormal result (measured: 2D
-/// steps 15 % slower for it, 3D 5 %). In 3D, |a|² itself still underflows when one spin
-/// component is below 1e-19 (1-2 % of a resting block's particles; flushing those cost more
-/// than it saved).
+/// in bodies at rest, and x86 cores take a slow path for each subnormal result
+/// (docs/performance.md). In 3D, |a|² itself still underflows when one spin component is
+/// below 1e-19 (a few particles of a resting block; flushing those cost more than it saved).
 const SECOND_ORDER: Real = Real::EPSILON * 2.0e-5;
 
 /// A plane-strain symmetric tensor: in-plane xx, yy, xy and the out-of-plane normal zz.
@@ -526,8 +524,7 @@ impl<T: Lane> SymTensor for Sym2<T> {
         let s = a * inv * 2.0;
         // The second-order quantities c − 1 = −2a²/(1 + a²) and s², kept only above
         // `SECOND_ORDER`. A select here, not the 3D rotation's 0/1 factor: with two scalars
-        // the select is 3 % faster natively, and the 2D wasm build is not slowed by it
-        // (measured).
+        // the select was the faster of the two (docs/performance.md).
         let big = T::splat(SECOND_ORDER);
         let cm = T::select_gt(a2, big, -(a2 * inv * 2.0), T::ZERO);
         let ss = T::select_gt(a2, big, s * s, T::ZERO);
@@ -662,33 +659,7 @@ impl<T: Lane> SymTensor for Sym3<T> {
     }
 }
 
-/// The kernel weights of one particle along each axis: `w[k][a]` and `dw[k][a]` (the
-/// derivative, already divided by the cell size) for the k-th node of the stencil along axis a,
-/// whose first node has grid index `base[a]`; `d[k][a]` is that node's offset from the particle
-/// along the axis, in cells (x_i − x_p = d h). Node-major with four lanes, so that a kernel
-/// computes all axes of one node at once in SIMD registers (lane 3, and lane 2 in 2D, unused).
-#[derive(Clone, Copy, Debug)]
-pub struct Stencil<const S: usize> {
-    pub base: [i32; 3],
-    pub w: [[Real; 4]; S],
-    pub dw: [[Real; 4]; S],
-    pub d: [[Real; 4]; S],
-}
-
-impl<const S: usize> Stencil<S> {
-    /// A stencil with first node `base` and all weights zero, for a kernel to fill in.
-    #[inline(always)]
-    pub fn at(base: [i32; 3]) -> Self {
-        Stencil {
-            base,
-            w: [[0.0; 4]; S],
-            dw: [[0.0; 4]; S],
-            d: [[0.0; 4]; S],
-        }
-    }
-}
-
-/// The dimension of a simulation: its vector, gradient and stress types and its stencil loop.
+/// The dimension of a simulation: its vector, gradient and stress types.
 /// Implemented by the marker types [`D2`] and [`D3`]; `Simulation<D>` is written once.
 pub trait Dim: Copy + Default + Debug + Send + Sync + 'static {
     const DIM: usize;
@@ -716,60 +687,14 @@ pub trait Dim: Copy + Default + Debug + Send + Sync + 'static {
     /// Builds a vector from the first `DIM` entries of `xyz`.
     fn vector(xyz: [Real; 3]) -> Self::Vector;
 
-    // The transfers between one particle and its stencil. `nodes` starts at the stencil's
-    // first node and holds at least `stencil_span(p, S)` nodes; node (i, j, k) of the stencil
-    // is `nodes[i + j p + k p²]`. The loops follow the tensor-product structure of the weights
-    // (w_ijk = w_i w_j w_k), so that each node costs a few multiply-adds.
-
-    /// Step 1: m_i += w m and (mv)_i += w (mv + A d_i) with the APIC term A = m C h (zero
-    /// without APIC); with `grad`, also ∇m_i += m ∇w.
-    fn scatter_mass<const S: usize>(
-        nodes: &mut [Node<Self::Vector>],
-        grad: Option<&mut [Self::Vector]>,
-        p: usize,
-        st: &Stencil<S>,
-        m: Real,
-        mv: Self::Vector,
-        affine: Option<Self::Grad>,
-    );
-    /// Step 2: ∇v_p = Σ_i v_i ⊗ ∇w_ip, from the nodes' `vel`.
-    fn velocity_gradient<const S: usize>(
-        nodes: &[Node<Self::Vector>],
-        p: usize,
-        st: &Stencil<S>,
-    ) -> Self::Grad;
-    /// Step 4: f_i += A ∇w_ip for the symmetric A = −V_p σ_p, into the nodes' `new_vel`.
-    fn scatter_force<const S: usize>(
-        nodes: &mut [Node<Self::Vector>],
-        p: usize,
-        st: &Stencil<S>,
-        a: Self::Sym,
-    );
-    /// Step 6: (Σ_i w_ip v_i^{n+1}, Σ_i w_ip v_i^n).
-    fn gather_velocity<const S: usize>(
-        nodes: &[Node<Self::Vector>],
-        p: usize,
-        st: &Stencil<S>,
-    ) -> (Self::Vector, Self::Vector);
-    /// Step 6 of APIC: B = Σ_i w_ip v_i^{n+1} ⊗ d_i (offsets in cells).
-    fn gather_affine<const S: usize>(
-        nodes: &[Node<Self::Vector>],
-        p: usize,
-        st: &Stencil<S>,
-    ) -> Self::Grad;
-    /// C = B D⁻¹ for APIC, with the diagonal D_aa = h Σ_k w_a[k] d_a[k]² of the stencil
-    /// (B from [`Dim::gather_affine`]; C in 1/s).
-    fn affine_velocity<const S: usize>(b: Self::Grad, st: &Stencil<S>, h: Real) -> Self::Grad;
-}
-
-/// h Σ_k w[k] d[k]² along one axis (the APIC inertia D_aa divided by h).
-#[inline(always)]
-fn inertia<const S: usize>(st: &Stencil<S>, a: usize, h: Real) -> Real {
-    let mut sum = 0.0;
-    for k in 0..S {
-        sum += st.w[k][a] * st.d[k][a] * st.d[k][a];
-    }
-    sum * h
+    /// Column `c` of a gradient, ∂v/∂x_c (zero for c ≥ DIM).
+    fn column(g: &Self::Grad, c: usize) -> Self::Vector;
+    /// The gradient whose columns are the first `DIM` of `c`.
+    fn from_columns(c: [Self::Vector; 3]) -> Self::Grad;
+    /// The in-plane columns of a symmetric tensor (the first `DIM` used): the vectors A e_c
+    /// that the tensor maps the axes to. A plane-strain tensor's zz acts on no in-plane
+    /// direction and stays out.
+    fn sym_columns(s: Self::Sym) -> [Self::Vector; 3];
 }
 
 /// The larger of `a` and `b` as one compare and select (`b` when `a` is NaN, as `f32::max`
@@ -803,16 +728,8 @@ pub fn exp_small<T: Lane>(x: T) -> T {
 /// Σ_{k < n} f(k) for n ≥ 1, started from the first term: a sum started from zero costs an
 /// addition of +0.0 that the compiler must keep (−0 + 0 = +0).
 #[inline(always)]
-fn sum_from_first<T: Add<Output = T>>(n: usize, f: impl Fn(usize) -> T) -> T {
+pub fn sum_from_first<T: Add<Output = T>>(n: usize, f: impl Fn(usize) -> T) -> T {
     (1..n).fold(f(0), |s, k| s + f(k))
-}
-
-/// How many consecutive nodes a stencil of `s` nodes per axis spans in a padded block whose
-/// rows are `p` nodes long.
-#[inline(always)]
-pub fn stencil_span(dim: usize, p: usize, s: usize) -> usize {
-    let far = if dim == 3 { 1 + p + p * p } else { 1 + p };
-    (s - 1) * far + 1
 }
 
 /// Plane strain.
@@ -854,107 +771,16 @@ impl Dim for D2 {
         Vec2::new(xyz[0], xyz[1])
     }
     #[inline(always)]
-    fn scatter_mass<const S: usize>(
-        nodes: &mut [Node<Vec2>],
-        mut grad: Option<&mut [Vec2]>,
-        p: usize,
-        st: &Stencil<S>,
-        m: Real,
-        mv: Vec2,
-        affine: Option<Mat2>,
-    ) {
-        let nodes = &mut nodes[..stencil_span(2, p, S)];
-        let pm = mv.with_mass(m);
-        let ax = affine.map(|a| a.x_axis.with_mass(0.0)).unwrap_or_default();
-        for j in 0..S {
-            let row = &mut nodes[j * p..j * p + S];
-            match affine {
-                None => {
-                    for i in 0..S {
-                        row[i].vm += pm * (st.w[i][0] * st.w[j][1]);
-                    }
-                }
-                Some(a) => {
-                    let r = (mv + a.y_axis * st.d[j][1]).with_mass(m);
-                    for i in 0..S {
-                        row[i].vm += (r + ax * st.d[i][0]) * (st.w[i][0] * st.w[j][1]);
-                    }
-                }
-            }
-            if let Some(g) = grad.as_deref_mut() {
-                for i in 0..S {
-                    g[j * p + i] +=
-                        Vec2::new(st.dw[i][0] * st.w[j][1], st.w[i][0] * st.dw[j][1]) * m;
-                }
-            }
-        }
+    fn column(g: &Mat2, c: usize) -> Vec2 {
+        if c < 2 { g.col(c) } else { Vec2::ZERO }
     }
     #[inline(always)]
-    fn velocity_gradient<const S: usize>(nodes: &[Node<Vec2>], p: usize, st: &Stencil<S>) -> Mat2 {
-        // Both columns at once: (L_xx, L_yx, L_xy, L_yy) = Σ_i (v_i, v_i) ∘ (∂_x w_i ×2, ∂_y w_i ×2).
-        let nodes = &nodes[..stencil_span(2, p, S)];
-        let l = sum_from_first(S, |j| {
-            let row = &nodes[j * p..j * p + S];
-            let wj = Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
-            sum_from_first(S, |i| {
-                let g = Vec4::new(st.dw[i][0], st.dw[i][0], st.w[i][0], st.w[i][0]) * wj;
-                let v = row[i].vel();
-                Vec4::new(v.x, v.y, v.x, v.y) * g
-            })
-        });
-        Mat2::from_cols(Vec2::new(l.x, l.y), Vec2::new(l.z, l.w))
+    fn from_columns(c: [Vec2; 3]) -> Mat2 {
+        Mat2::from_cols(c[0], c[1])
     }
     #[inline(always)]
-    fn scatter_force<const S: usize>(nodes: &mut [Node<Vec2>], p: usize, st: &Stencil<S>, a: Sym2) {
-        // f_i += a ∇w_i = (a_xx, a_xy) ∂_x w_i + (a_xy, a_yy) ∂_y w_i, both terms in one Vec4.
-        let nodes = &mut nodes[..stencil_span(2, p, S)];
-        let a = Vec4::new(a.xx, a.xy, a.xy, a.yy);
-        for j in 0..S {
-            let wj = a * Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
-            let row = &mut nodes[j * p..j * p + S];
-            for i in 0..S {
-                let t = wj * Vec4::new(st.dw[i][0], st.dw[i][0], st.w[i][0], st.w[i][0]);
-                row[i].new_vel += Vec2::new(t.x + t.z, t.y + t.w);
-            }
-        }
-    }
-    #[inline(always)]
-    fn gather_velocity<const S: usize>(
-        nodes: &[Node<Vec2>],
-        p: usize,
-        st: &Stencil<S>,
-    ) -> (Vec2, Vec2) {
-        // (v^{n+1}, v^n) side by side.
-        let nodes = &nodes[..stencil_span(2, p, S)];
-        let acc = sum_from_first(S, |j| {
-            let row = &nodes[j * p..j * p + S];
-            sum_from_first(S, |i| {
-                let (n, o) = (row[i].new_vel, row[i].vel());
-                Vec4::new(n.x, n.y, o.x, o.y) * st.w[i][0]
-            }) * st.w[j][1]
-        });
-        (Vec2::new(acc.x, acc.y), Vec2::new(acc.z, acc.w))
-    }
-    #[inline(always)]
-    fn gather_affine<const S: usize>(nodes: &[Node<Vec2>], p: usize, st: &Stencil<S>) -> Mat2 {
-        let nodes = &nodes[..stencil_span(2, p, S)];
-        let (mut c0, mut c1) = (Vec2::ZERO, Vec2::ZERO);
-        for j in 0..S {
-            let row = &nodes[j * p..j * p + S];
-            let (mut rn, mut rx) = (Vec2::ZERO, Vec2::ZERO);
-            for i in 0..S {
-                let v = row[i].new_vel * st.w[i][0];
-                rn += v;
-                rx += v * st.d[i][0];
-            }
-            c0 += rx * st.w[j][1];
-            c1 += rn * (st.w[j][1] * st.d[j][1]);
-        }
-        Mat2::from_cols(c0, c1)
-    }
-    #[inline(always)]
-    fn affine_velocity<const S: usize>(b: Mat2, st: &Stencil<S>, h: Real) -> Mat2 {
-        Mat2::from_cols(b.x_axis / inertia(st, 0, h), b.y_axis / inertia(st, 1, h))
+    fn sym_columns(s: Sym2) -> [Vec2; 3] {
+        [Vec2::new(s.xx, s.xy), Vec2::new(s.xy, s.yy), Vec2::ZERO]
     }
 }
 
@@ -997,146 +823,20 @@ impl Dim for D3 {
         Vec3A::new(xyz[0], xyz[1], xyz[2])
     }
     #[inline(always)]
-    fn scatter_mass<const S: usize>(
-        nodes: &mut [Node<Vec3A>],
-        mut grad: Option<&mut [Vec3A]>,
-        p: usize,
-        st: &Stencil<S>,
-        m: Real,
-        mv: Vec3A,
-        affine: Option<Mat3A>,
-    ) {
-        let nodes = &mut nodes[..stencil_span(3, p, S)];
-        let pm = mv.with_mass(m);
-        let ax = affine.map(|a| a.x_axis.with_mass(0.0)).unwrap_or_default();
-        for k in 0..S {
-            for j in 0..S {
-                let base = j * p + k * p * p;
-                let wjk = st.w[j][1] * st.w[k][2];
-                let row = &mut nodes[base..base + S];
-                match affine {
-                    None => {
-                        for i in 0..S {
-                            row[i].vm += pm * (st.w[i][0] * wjk);
-                        }
-                    }
-                    Some(a) => {
-                        let r = (mv + a.y_axis * st.d[j][1] + a.z_axis * st.d[k][2]).with_mass(m);
-                        for i in 0..S {
-                            row[i].vm += (r + ax * st.d[i][0]) * (st.w[i][0] * wjk);
-                        }
-                    }
-                }
-                if let Some(g) = grad.as_deref_mut() {
-                    let (djk, wdjk) = (st.dw[j][1] * st.w[k][2], st.w[j][1] * st.dw[k][2]);
-                    for i in 0..S {
-                        g[base + i] +=
-                            Vec3A::new(st.dw[i][0] * wjk, st.w[i][0] * djk, st.w[i][0] * wdjk) * m;
-                    }
-                }
-            }
-        }
+    fn column(g: &Mat3A, c: usize) -> Vec3A {
+        g.col(c)
     }
     #[inline(always)]
-    fn velocity_gradient<const S: usize>(
-        nodes: &[Node<Vec3A>],
-        p: usize,
-        st: &Stencil<S>,
-    ) -> Mat3A {
-        let nodes = &nodes[..stencil_span(3, p, S)];
-        let (mut c0, mut c1, mut c2) = (Vec3A::ZERO, Vec3A::ZERO, Vec3A::ZERO);
-        for k in 0..S {
-            for j in 0..S {
-                let base = j * p + k * p * p;
-                let row = &nodes[base..base + S];
-                let (mut a, mut b) = (Vec3A::ZERO, Vec3A::ZERO);
-                for i in 0..S {
-                    a += row[i].vel() * st.dw[i][0];
-                    b += row[i].vel() * st.w[i][0];
-                }
-                c0 += a * (st.w[j][1] * st.w[k][2]);
-                c1 += b * (st.dw[j][1] * st.w[k][2]);
-                c2 += b * (st.w[j][1] * st.dw[k][2]);
-            }
-        }
-        Mat3A::from_cols(c0, c1, c2)
+    fn from_columns(c: [Vec3A; 3]) -> Mat3A {
+        Mat3A::from_cols(c[0], c[1], c[2])
     }
     #[inline(always)]
-    fn scatter_force<const S: usize>(
-        nodes: &mut [Node<Vec3A>],
-        p: usize,
-        st: &Stencil<S>,
-        a: Sym3,
-    ) {
-        let nodes = &mut nodes[..stencil_span(3, p, S)];
-        let a0 = Vec3A::new(a.xx, a.xy, a.xz);
-        let a1 = Vec3A::new(a.xy, a.yy, a.yz);
-        let a2 = Vec3A::new(a.xz, a.yz, a.zz);
-        for k in 0..S {
-            for j in 0..S {
-                let base = j * p + k * p * p;
-                let pjk = a0 * (st.w[j][1] * st.w[k][2]);
-                let qjk = a1 * (st.dw[j][1] * st.w[k][2]) + a2 * (st.w[j][1] * st.dw[k][2]);
-                let row = &mut nodes[base..base + S];
-                for i in 0..S {
-                    row[i].new_vel += pjk * st.dw[i][0] + qjk * st.w[i][0];
-                }
-            }
-        }
-    }
-    #[inline(always)]
-    fn gather_velocity<const S: usize>(
-        nodes: &[Node<Vec3A>],
-        p: usize,
-        st: &Stencil<S>,
-    ) -> (Vec3A, Vec3A) {
-        let nodes = &nodes[..stencil_span(3, p, S)];
-        let (mut new, mut old) = (Vec3A::ZERO, Vec3A::ZERO);
-        for k in 0..S {
-            for j in 0..S {
-                let base = j * p + k * p * p;
-                let row = &nodes[base..base + S];
-                let (mut rn, mut ro) = (Vec3A::ZERO, Vec3A::ZERO);
-                for i in 0..S {
-                    rn += row[i].new_vel * st.w[i][0];
-                    ro += row[i].vel() * st.w[i][0];
-                }
-                let wjk = st.w[j][1] * st.w[k][2];
-                new += rn * wjk;
-                old += ro * wjk;
-            }
-        }
-        (new, old)
-    }
-    #[inline(always)]
-    fn gather_affine<const S: usize>(nodes: &[Node<Vec3A>], p: usize, st: &Stencil<S>) -> Mat3A {
-        let nodes = &nodes[..stencil_span(3, p, S)];
-        let (mut c0, mut c1, mut c2) = (Vec3A::ZERO, Vec3A::ZERO, Vec3A::ZERO);
-        for k in 0..S {
-            for j in 0..S {
-                let base = j * p + k * p * p;
-                let row = &nodes[base..base + S];
-                let (mut rn, mut rx) = (Vec3A::ZERO, Vec3A::ZERO);
-                for i in 0..S {
-                    let v = row[i].new_vel * st.w[i][0];
-                    rn += v;
-                    rx += v * st.d[i][0];
-                }
-                let wjk = st.w[j][1] * st.w[k][2];
-                c0 += rx * wjk;
-                c1 += rn * (wjk * st.d[j][1]);
-                c2 += rn * (wjk * st.d[k][2]);
-            }
-        }
-        Mat3A::from_cols(c0, c1, c2)
-    }
-    #[inline(always)]
-    fn affine_velocity<const S: usize>(b: Mat3A, st: &Stencil<S>, h: Real) -> Mat3A {
-        Mat3A::from_cols(
-            b.x_axis / inertia(st, 0, h),
-            b.y_axis / inertia(st, 1, h),
-            b.z_axis / inertia(st, 2, h),
-        )
+    fn sym_columns(s: Sym3) -> [Vec3A; 3] {
+        [
+            Vec3A::new(s.xx, s.xy, s.xz),
+            Vec3A::new(s.xy, s.yy, s.yz),
+            Vec3A::new(s.xz, s.yz, s.zz),
+        ]
     }
 }
 
@@ -1253,8 +953,8 @@ mod tests {
     }
 
     /// The rotation of a body at rest (a tiny spin, small stresses) runs without producing a
-    /// subnormal number: x86 takes a slow path for each one, which once cost 15 % of a 2D
-    /// step. The MXCSR underflow flag is cleared before and read after a call. (In 3D a spin
+    /// subnormal number: x86 takes a slow path for each one (docs/performance.md). The MXCSR
+    /// underflow flag is cleared before and read after a call. (In 3D a spin
     /// component below 1e-19 still underflows in |a|²: see `SECOND_ORDER`.)
     #[cfg(all(target_arch = "x86_64", not(feature = "f64")))]
     #[test]

@@ -1,7 +1,6 @@
 //! The simulation: particles, bodies with their grids, and the time step of Sec. 4.2.
 
 mod particles;
-pub mod passes;
 mod stats;
 
 pub use particles::Particles;
@@ -9,49 +8,28 @@ pub use stats::{BodyStats, Diagnostics};
 
 use crate::boundary::{WallRule, Walls};
 use crate::config::{BodyConfig, MAX_PARTICLES, SceneConfig};
-use crate::contact::{self, ContactPair, ContactRule};
 use crate::error::{Error, Result};
-use crate::grid::{Grid, GridIndex};
-use crate::kernel::{Gimp, Kernel, KernelKind, Linear, QuadraticBspline};
-use crate::material::{Constitutive, Model};
+use crate::grid::Grid;
+use crate::kernel::KernelKind;
+use crate::material::Model;
 use crate::math::{D2, D3, Dim, Real, VectorOps};
-use passes::{GatherReport, GatherState, StressReport, StressState};
+use crate::step::contact::{ContactPair, ContactRule};
+use crate::step::gather::GatherReport;
+use crate::step::stress::StressReport;
+use crate::step::transfer::Transfer;
 use std::ops::Range;
-
-/// Runs `$body` with the type `$k` and const `$s` set to the kernel `$kind` and its support.
-macro_rules! with_kernel {
-    ($kind:expr, $k:ident, $s:ident => $body:expr) => {
-        match $kind {
-            KernelKind::Linear => {
-                type $k = Linear;
-                const $s: usize = 2;
-                $body
-            }
-            KernelKind::QuadraticBspline => {
-                type $k = QuadraticBspline;
-                const $s: usize = 3;
-                $body
-            }
-            KernelKind::Gimp => {
-                type $k = Gimp;
-                const $s: usize = 3;
-                $body
-            }
-        }
-    };
-}
 
 /// Runtime constants derived from the scene's world settings.
 #[derive(Clone, Copy, Debug)]
-struct World<D: Dim> {
-    h: Real,
-    inv_h: Real,
-    gravity: D::Vector,
-    cfl: f64,
-    max_dt: f64,
-    walls: Walls<D>,
-    kernel: KernelKind,
-    contact: ContactRule,
+pub(crate) struct World<D: Dim> {
+    pub(crate) h: Real,
+    pub(crate) inv_h: Real,
+    pub(crate) gravity: D::Vector,
+    pub(crate) cfl: f64,
+    pub(crate) max_dt: f64,
+    pub(crate) walls: Walls<D>,
+    pub(crate) kernel: KernelKind,
+    pub(crate) contact: ContactRule,
 }
 
 impl<D: Dim> World<D> {
@@ -78,23 +56,22 @@ impl<D: Dim> World<D> {
 /// One body: a contiguous range of particles, its material and its own grid.
 #[derive(Clone, Debug)]
 pub struct Body<D: Dim> {
-    model: Model,
-    flip: Real,
-    range: Range<usize>,
-    grid: Grid<D>,
-    stats: BodyStats,
+    pub(crate) model: Model,
+    /// How velocities travel between particles and grid (PIC/FLIP α, APIC).
+    pub(crate) transfer: Transfer,
+    pub(crate) range: Range<usize>,
+    pub(crate) grid: Grid<D>,
+    pub(crate) stats: BodyStats,
     /// The largest particle volume and the smallest particle mass, which bound the lowest
     /// density (for the wave speed).
-    max_volume: Real,
-    min_mass: Real,
+    pub(crate) max_volume: Real,
+    pub(crate) min_mass: Real,
     /// Half the particle spacing: how far a particle's material reaches (for the walls).
-    radius: Real,
+    pub(crate) radius: Real,
     /// Moves at its initial velocity whatever acts on it (see [`BodyConfig::kinematic`]).
-    kinematic: bool,
-    /// Transfers velocities with APIC (see [`BodyConfig::apic`]).
-    apic: bool,
+    pub(crate) kinematic: bool,
     /// Momentum received through contact in the current step.
-    contact_impulse: [f64; 3],
+    pub(crate) contact_impulse: [f64; 3],
 }
 
 impl<D: Dim> Body<D> {
@@ -124,16 +101,16 @@ impl<D: Dim> Body<D> {
 /// An MPM simulation in dimension `D` ([`D2`] plane strain or [`D3`]).
 #[derive(Clone, Debug)]
 pub struct Simulation<D: Dim> {
-    scene: SceneConfig,
-    world: World<D>,
-    particles: Particles<D>,
-    bodies: Vec<Body<D>>,
-    contacts: Vec<ContactPair>,
-    time: f64,
-    steps: u64,
-    diagnostics: Diagnostics,
-    failed: Option<Error>,
-    next_id: u32,
+    pub(crate) scene: SceneConfig,
+    pub(crate) world: World<D>,
+    pub(crate) particles: Particles<D>,
+    pub(crate) bodies: Vec<Body<D>>,
+    pub(crate) contacts: Vec<ContactPair>,
+    pub(crate) time: f64,
+    pub(crate) steps: u64,
+    pub(crate) diagnostics: Diagnostics,
+    pub(crate) failed: Option<Error>,
+    pub(crate) next_id: u32,
     /// Particles are reordered by grid block every this many steps (0: never), for locality.
     pub sort_interval: u64,
     /// Wall-clock time per pass, accumulated while `Some` (native builds only).
@@ -159,26 +136,6 @@ pub struct PassTimings {
     pub walls: f64,
     /// Steps 6–8: PIC/FLIP gather, particle collisions, advection, diagnostics.
     pub gather: f64,
-}
-
-#[cfg(not(target_arch = "wasm32"))]
-fn clock(on: bool) -> Option<std::time::Instant> {
-    on.then(std::time::Instant::now)
-}
-#[cfg(target_arch = "wasm32")]
-fn clock(_on: bool) -> Option<()> {
-    None
-}
-#[cfg(not(target_arch = "wasm32"))]
-fn seconds(t: &[Option<std::time::Instant>], i: usize) -> f64 {
-    match (t[i], t[i + 1]) {
-        (Some(a), Some(b)) => (b - a).as_secs_f64(),
-        _ => 0.0,
-    }
-}
-#[cfg(target_arch = "wasm32")]
-fn seconds(_t: &[Option<()>], _i: usize) -> f64 {
-    0.0
 }
 
 impl<D: Dim> Simulation<D> {
@@ -267,7 +224,10 @@ impl<D: Dim> Simulation<D> {
         }
         self.bodies.push(Body {
             model: config.material.model(),
-            flip: config.flip_ratio() as Real,
+            transfer: Transfer {
+                flip: config.flip_ratio() as Real,
+                apic: config.apic,
+            },
             range: start..self.particles.len(),
             grid: Grid::default(),
             stats: BodyStats::default(),
@@ -275,7 +235,6 @@ impl<D: Dim> Simulation<D> {
             min_mass: mass,
             radius,
             kinematic: config.kinematic,
-            apic: config.apic,
             contact_impulse: [0.0; 3],
         });
         self.scene.bodies.push(config);
@@ -363,8 +322,10 @@ impl<D: Dim> Simulation<D> {
         self.world = World::new(&next);
         for (body, cfg) in self.bodies.iter_mut().zip(&next.bodies) {
             body.model = cfg.material.model();
-            body.flip = cfg.flip_ratio() as Real;
-            body.apic = cfg.apic;
+            body.transfer = Transfer {
+                flip: cfg.flip_ratio() as Real,
+                apic: cfg.apic,
+            };
         }
         if next.bodies.iter().any(|b| b.apic) {
             self.particles.enable_affine();
@@ -448,206 +409,8 @@ impl<D: Dim> Simulation<D> {
         self.step_at_most(f64::INFINITY)
     }
 
-    /// One time step, no longer than `limit` seconds: the eight steps of Sec. 4.2.
-    pub fn step_at_most(&mut self, limit: f64) -> Result<&Diagnostics> {
-        if let Some(e) = &self.failed {
-            return Err(e.clone());
-        }
-        if limit.is_nan() || limit <= 0.0 {
-            return Err(Error::invalid("step limit", limit, "must be > 0 (s)"));
-        }
-        let dt = self.stable_dt().min(limit);
-        let on = self.timings.is_some();
-        let mut t = [clock(on); 8];
-        self.allocate_grids();
-        t[1] = clock(on);
-        self.scatter_to_grid(); // 1
-        t[2] = clock(on);
-        let stress = self.update_stress(dt as Real); // 2, 3, 4 (particle side)
-        t[3] = clock(on);
-        self.grid_forces(dt as Real); // 4
-        t[4] = clock(on);
-        self.resolve_contacts(); // 5, between bodies
-        t[5] = clock(on);
-        self.apply_walls(); // 5, walls
-        t[6] = clock(on);
-        let gathered = self.gather_and_advect(dt as Real); // 6, 7, 8
-        t[7] = clock(on);
-        if let Some(tm) = &mut self.timings {
-            tm.steps += 1;
-            for (i, slot) in [
-                &mut tm.allocate,
-                &mut tm.scatter,
-                &mut tm.stress,
-                &mut tm.grid,
-                &mut tm.contact,
-                &mut tm.walls,
-                &mut tm.gather,
-            ]
-            .into_iter()
-            .enumerate()
-            {
-                *slot += seconds(&t, i);
-            }
-        }
-        self.time += dt;
-        self.steps += 1;
-        self.finish_step(dt, &stress, &gathered)?;
-        Ok(&self.diagnostics)
-    }
-
-    /// Allocates each body's grid blocks where its particles are, reorders particles by block
-    /// now and then, and finds the bodies whose grids overlap.
-    fn allocate_grids(&mut self) {
-        let (kernel, inv_h) = (self.world.kernel, self.world.inv_h);
-        let sort = self.sort_interval > 0 && self.steps.is_multiple_of(self.sort_interval);
-        for body in &mut self.bodies {
-            let x = &self.particles.x[body.range.clone()];
-            let lp = body.radius * inv_h;
-            with_kernel!(kernel, K, S => body.grid.rebuild(x.len(), S, |p| {
-                K::base(passes::grid_coords::<D>(x[p], inv_h), D::DIM, lp)
-            }));
-            if sort {
-                let grid = &mut body.grid;
-                let padded = grid.layout.padded_nodes() as u32;
-                let blocks: Vec<u32> = grid.particle_node.iter().map(|&n| n / padded).collect();
-                if blocks.windows(2).any(|w| w[0] > w[1]) {
-                    let order = counting_sort(&blocks, grid.index.block_count());
-                    self.particles.permute(body.range.clone(), &order);
-                    let nodes = &grid.particle_node;
-                    grid.particle_node = order.iter().map(|&o| nodes[o as usize]).collect();
-                }
-            }
-        }
-        let indices: Vec<&GridIndex<D>> = self.bodies.iter().map(|b| &b.grid.index).collect();
-        contact::find_pairs(&indices, &mut self.contacts);
-        for pair in &self.contacts {
-            for i in [pair.a, pair.b] {
-                if self.bodies[i].grid.mass_grad.is_empty() {
-                    self.bodies[i].grid.enable_mass_gradient();
-                }
-            }
-        }
-    }
-
-    /// Step 1: mass and momentum to each body's grid; then grid velocities.
-    fn scatter_to_grid(&mut self) {
-        let p = &self.particles;
-        let inv_h = self.world.inv_h;
-        for body in &mut self.bodies {
-            let r = body.range.clone();
-            let affine = body.apic.then(|| &p.affine[r.clone()]);
-            let (x, v, m) = (&p.x[r.clone()], &p.v[r.clone()], &p.mass[r]);
-            let lp = body.radius * inv_h;
-            with_kernel!(self.world.kernel, K, S => passes::scatter::<D, K, S>(&mut body.grid, x, v, m, affine, inv_h, lp));
-            passes::grid_velocities(&mut body.grid);
-        }
-    }
-
-    /// Steps 2–3 and the particle side of step 4, per body.
-    fn update_stress(&mut self, dt: Real) -> Vec<StressReport> {
-        let inv_h = self.world.inv_h;
-        let kernel = self.world.kernel;
-        let p = &mut self.particles;
-        let mut reports = Vec::with_capacity(self.bodies.len());
-        for body in &mut self.bodies {
-            if body.kinematic {
-                reports.push(StressReport::default());
-                continue;
-            }
-            let r = body.range.clone();
-            let state = StressState {
-                x: &p.x[r.clone()],
-                stress: &mut p.stress[r.clone()],
-                volume: &mut p.volume[r.clone()],
-                plastic_strain: &mut p.plastic_strain[r],
-            };
-            let lp = body.radius * inv_h;
-            let report = with_kernel!(kernel, K, S => stress_pass::<D, K, S>(&mut body.grid, state, &body.model, dt, inv_h, lp));
-            if report.bad == 0 {
-                body.max_volume = report.max_volume;
-            }
-            reports.push(report);
-        }
-        reports
-    }
-
-    /// Step 4 on the grid: forces and gravity.
-    fn grid_forces(&mut self, dt: Real) {
-        for body in &mut self.bodies {
-            if body.kinematic {
-                passes::hold_velocities(&mut body.grid);
-            } else {
-                passes::grid_forces(&mut body.grid, self.world.gravity, dt);
-            }
-        }
-    }
-
-    /// Step 5 between bodies: Eq. 20–21 at the nodes they share.
-    fn resolve_contacts(&mut self) {
-        for body in &mut self.bodies {
-            body.contact_impulse = [0.0; 3];
-        }
-        for pair in &self.contacts {
-            let (left, right) = self.bodies.split_at_mut(pair.b);
-            let (a, b) = (&mut left[pair.a], &mut right[0]);
-            let r = contact::resolve(
-                &mut a.grid,
-                &mut b.grid,
-                &pair.blocks,
-                self.world.contact,
-                (a.kinematic, b.kinematic),
-            );
-            self.diagnostics.dissipated_contact += r.dissipated;
-            for k in 0..3 {
-                a.contact_impulse[k] += r.impulse_on_a[k];
-                b.contact_impulse[k] -= r.impulse_on_a[k];
-            }
-        }
-    }
-
-    /// Step 5 at the walls; then the halos take the final grid velocities.
-    fn apply_walls(&mut self) {
-        for body in &mut self.bodies {
-            if !body.kinematic {
-                self.diagnostics.dissipated_boundary +=
-                    passes::grid_walls(&mut body.grid, &self.world.walls);
-            }
-            passes::fill_new_velocities(&mut body.grid);
-        }
-    }
-
-    /// Steps 6–8, per body.
-    fn gather_and_advect(&mut self, dt: Real) -> Vec<GatherReport<D>> {
-        let w = self.world;
-        let p = &mut self.particles;
-        let mut reports = Vec::with_capacity(self.bodies.len());
-        for body in &self.bodies {
-            let r = body.range.clone();
-            let state = GatherState {
-                x: &mut p.x[r.clone()],
-                v: &mut p.v[r.clone()],
-                affine: if body.apic {
-                    Some(&mut p.affine[r.clone()])
-                } else {
-                    None
-                },
-                mass: &p.mass[r.clone()],
-                plastic_strain: &p.plastic_strain[r],
-            };
-            reports.push(if body.kinematic {
-                passes::advect_kinematic(state, dt, &w.walls, body.radius, w.gravity)
-            } else {
-                with_kernel!(w.kernel, K, S => passes::gather_and_advect::<D, K, S>(
-                    &body.grid, state, body.flip, dt, w.inv_h, &w.walls, body.radius, w.gravity,
-                ))
-            });
-        }
-        reports
-    }
-
     /// Sums the reports into the diagnostics; fails on the first non-finite particle.
-    fn finish_step(
+    pub(crate) fn finish_step(
         &mut self,
         dt: f64,
         stress: &[StressReport],
@@ -721,7 +484,7 @@ impl<D: Dim> Simulation<D> {
             let r = body.range.clone();
             let elastic = *body.model.elastic();
             let mut s = StressReport::default();
-            let mut acc = passes::GatherReport::<D>::empty();
+            let mut acc = GatherReport::<D>::empty();
             body.min_mass = Real::INFINITY;
             for i in r {
                 s.elastic += (elastic.energy_density(p.stress[i]) * p.volume[i]) as f64;
@@ -745,32 +508,6 @@ impl<D: Dim> Simulation<D> {
         self.diagnostics.dissipated_plastic = kept_plastic;
         self.diagnostics.dissipated_boundary = kept_boundary;
         self.diagnostics.dissipated_contact = kept_contact;
-    }
-}
-
-/// The stress pass of one body, dispatched on its model.
-fn stress_pass<D: Dim, K: Kernel<S>, const S: usize>(
-    grid: &mut Grid<D>,
-    state: StressState<'_, D>,
-    model: &Model,
-    dt: Real,
-    inv_h: Real,
-    lp: Real,
-) -> StressReport {
-    fn run<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
-        grid: &mut Grid<D>,
-        state: StressState<'_, D>,
-        model: &M,
-        dt: Real,
-        inv_h: Real,
-        lp: Real,
-    ) -> StressReport {
-        passes::update_stress::<D, K, M, S>(grid, state, model, dt, inv_h, lp)
-    }
-    match model {
-        Model::Elastic(m) => run::<D, K, _, S>(grid, state, m, dt, inv_h, lp),
-        Model::VonMises(m) => run::<D, K, _, S>(grid, state, m, dt, inv_h, lp),
-        Model::DruckerPrager(m) => run::<D, K, _, S>(grid, state, m, dt, inv_h, lp),
     }
 }
 
@@ -799,23 +536,6 @@ fn set_body_stats<D: Dim>(stats: &mut BodyStats, g: &GatherReport<D>, particles:
             0.0
         };
     }
-}
-
-/// The permutation that sorts `keys` (all below `n`) stably.
-fn counting_sort(keys: &[u32], n: usize) -> Vec<u32> {
-    let mut start = vec![0u32; n + 1];
-    for &k in keys {
-        start[k as usize + 1] += 1;
-    }
-    for i in 0..n {
-        start[i + 1] += start[i];
-    }
-    let mut order = vec![0u32; keys.len()];
-    for (p, &k) in keys.iter().enumerate() {
-        order[start[k as usize] as usize] = p as u32;
-        start[k as usize] += 1;
-    }
-    order
 }
 
 /// Sets up a scene in Rust; [`SimulationBuilder::build`] validates it like a scene file.

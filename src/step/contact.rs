@@ -1,4 +1,6 @@
-//! Contact between bodies on the grid (the paper's Sec. 4.3, Eq. 20–21).
+//! Step 5 between bodies: contact on the grid (the paper's Sec. 4.3, Eq. 20–21),
+//!
+//! (v_A − v_B)·n > 0 (approaching):   Δ(m v)_A = (v_B − v_A) m_A m_B / (m_A + m_B) = −Δ(m v)_B.
 //!
 //! Every body has its own grid. Where two bodies have mass at the same node and approach each
 //! other along the contact normal, their node velocities are corrected with equal and opposite
@@ -8,9 +10,35 @@
 //! Only pairs of bodies whose block sets overlap are visited, and only their shared blocks:
 //! one body, or bodies apart, cost nothing.
 
+use super::constraint_dissipation;
 use crate::grid::{Grid, GridIndex};
 use crate::math::{Dim, Real, VectorOps, min};
-use crate::sim::passes::constraint_dissipation;
+use crate::sim::Simulation;
+
+impl<D: Dim> Simulation<D> {
+    /// Step 5 between every pair of bodies whose grids share blocks.
+    pub(super) fn resolve_contacts(&mut self) {
+        for body in &mut self.bodies {
+            body.contact_impulse = [0.0; 3];
+        }
+        for pair in &self.contacts {
+            let (left, right) = self.bodies.split_at_mut(pair.b);
+            let (a, b) = (&mut left[pair.a], &mut right[0]);
+            let r = resolve(
+                &mut a.grid,
+                &mut b.grid,
+                &pair.blocks,
+                self.world.contact,
+                (a.kinematic, b.kinematic),
+            );
+            self.diagnostics.dissipated_contact += r.dissipated;
+            for k in 0..3 {
+                a.contact_impulse[k] += r.impulse_on_a[k];
+                b.contact_impulse[k] -= r.impulse_on_a[k];
+            }
+        }
+    }
+}
 
 /// The shared blocks of two bodies `a < b`, as (slot in a, slot in b).
 #[derive(Clone, Debug, Default)]

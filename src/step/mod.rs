@@ -1,0 +1,279 @@
+//! The time step of the paper's Sec. 4.2, one file per pass, in the order they run:
+//!
+//! | file | pass | Sec. 4.2 |
+//! | --- | --- | --- |
+//! | [`allocate`] | the sparse grid where the particles are | (the paper's grid is dense) |
+//! | [`scatter`] | mass and momentum to the grid, grid velocities | 1 |
+//! | [`stress`] | velocity gradient, stress and volume update, internal forces | 2, 3, 4 (particle side) |
+//! | [`grid_update`] | grid velocities with forces and gravity | 4 |
+//! | [`contact`] | between bodies (Eq. 20–21) | 5 |
+//! | [`walls`] | at the domain's walls, on the grid | 5 |
+//! | [`gather`] | PIC/FLIP velocities, particle-side walls, advection | 6, 7, 8 |
+//!
+//! [`transfer`] holds the choice of how velocities travel between particles and grid (the
+//! PIC/FLIP blend α, APIC), per body, used by the scatter and the gather.
+//!
+//! Each pass is a loop over one body's particles or grid nodes, generic over the dimension
+//! `D` and the kernel `K` (with `S` nodes per axis). The stencil loops follow the tensor
+//! product of the weights, w_ijk = w_i w_j w_k, so that each node costs a few multiply-adds;
+//! 2D uses the same loops with the third axis's weight 1 (LLVM folds it away).
+
+pub mod allocate;
+pub mod contact;
+pub mod gather;
+pub mod grid_update;
+pub mod scatter;
+pub mod stress;
+pub mod transfer;
+pub mod walls;
+
+use crate::error::{Error, Result};
+use crate::grid::{BlockLayout, GHOST, Grid, stencil_span};
+use crate::kernel::Stencil;
+use crate::math::{Dim, Real, VectorOps};
+use crate::sim::{Diagnostics, PassTimings, Simulation};
+
+impl<D: Dim> Simulation<D> {
+    /// One time step, no longer than `limit` seconds: the eight steps of Sec. 4.2.
+    pub fn step_at_most(&mut self, limit: f64) -> Result<&Diagnostics> {
+        if let Some(e) = &self.failed {
+            return Err(e.clone());
+        }
+        if limit.is_nan() || limit <= 0.0 {
+            return Err(Error::invalid("step limit", limit, "must be > 0 (s)"));
+        }
+        let dt = self.stable_dt().min(limit);
+        let h = dt as Real;
+        let mut t = Clock::start(self.timings.is_some());
+        t.time(Pass::Allocate, || self.allocate_grids());
+        t.time(Pass::Scatter, || self.scatter_to_grid()); // 1
+        let stress = t.time(Pass::Stress, || self.update_stress(h)); // 2, 3, 4
+        t.time(Pass::Grid, || self.update_grid(h)); // 4
+        t.time(Pass::Contact, || self.resolve_contacts()); // 5, between bodies
+        t.time(Pass::Walls, || self.apply_walls()); // 5, walls
+        let gathered = t.time(Pass::Gather, || self.gather_and_advect(h)); // 6, 7, 8
+        t.add_to(&mut self.timings);
+        self.time += dt;
+        self.steps += 1;
+        self.finish_step(dt, &stress, &gathered)?;
+        Ok(&self.diagnostics)
+    }
+}
+
+/// Runs `$body` with the type `$k` and const `$s` set to the kernel `$kind` and its support.
+macro_rules! with_kernel {
+    ($kind:expr, $k:ident, $s:ident => $body:expr) => {
+        match $kind {
+            $crate::kernel::KernelKind::Linear => {
+                type $k = $crate::kernel::Linear;
+                const $s: usize = 2;
+                $body
+            }
+            $crate::kernel::KernelKind::QuadraticBspline => {
+                type $k = $crate::kernel::QuadraticBspline;
+                const $s: usize = 3;
+                $body
+            }
+            $crate::kernel::KernelKind::Gimp => {
+                type $k = $crate::kernel::Gimp;
+                const $s: usize = 3;
+                $body
+            }
+        }
+    };
+}
+pub(crate) use with_kernel;
+
+/// The passes, as [`PassTimings`] counts them.
+#[derive(Clone, Copy)]
+enum Pass {
+    Allocate,
+    Scatter,
+    Stress,
+    Grid,
+    Contact,
+    Walls,
+    Gather,
+}
+
+/// Wall-clock time per pass, when asked for (native builds only: WebAssembly has no clock
+/// here).
+struct Clock {
+    seconds: [f64; 7],
+    #[cfg(not(target_arch = "wasm32"))]
+    on: bool,
+}
+
+impl Clock {
+    fn start(on: bool) -> Self {
+        let _ = on;
+        Clock {
+            seconds: [0.0; 7],
+            #[cfg(not(target_arch = "wasm32"))]
+            on,
+        }
+    }
+
+    /// Runs `f`, adding its duration to `pass`.
+    #[inline(always)]
+    fn time<T>(&mut self, pass: Pass, f: impl FnOnce() -> T) -> T {
+        #[cfg(not(target_arch = "wasm32"))]
+        if self.on {
+            let start = std::time::Instant::now();
+            let out = f();
+            self.seconds[pass as usize] += start.elapsed().as_secs_f64();
+            return out;
+        }
+        let _ = pass;
+        f()
+    }
+
+    fn add_to(&self, timings: &mut Option<PassTimings>) {
+        if let Some(tm) = timings {
+            let s = self.seconds;
+            tm.steps += 1;
+            tm.allocate += s[Pass::Allocate as usize];
+            tm.scatter += s[Pass::Scatter as usize];
+            tm.stress += s[Pass::Stress as usize];
+            tm.grid += s[Pass::Grid as usize];
+            tm.contact += s[Pass::Contact as usize];
+            tm.walls += s[Pass::Walls as usize];
+            tm.gather += s[Pass::Gather as usize];
+        }
+    }
+}
+
+/// Grid coordinates of a position: x/h plus the ghost nodes before the domain.
+#[inline(always)]
+pub fn grid_coords<D: Dim>(x: D::Vector, inv_h: Real) -> [Real; 3] {
+    let mut g = [0.0; 3];
+    for (a, c) in g.iter_mut().enumerate().take(D::DIM) {
+        *c = x[a] * inv_h + GHOST as Real;
+    }
+    g
+}
+
+/// Nodes per row of a padded block for a kernel of `S` nodes per axis, and the number of
+/// consecutive nodes a stencil spans (compile-time constants after monomorphisation).
+#[inline(always)]
+fn layout<D: Dim, const S: usize>(grid: &Grid<D>) -> (usize, usize) {
+    let p = Grid::<D>::BLOCK + S - 1;
+    debug_assert_eq!(grid.layout.padded(), p, "grid laid out for another kernel");
+    (p, stencil_span(D::DIM, p, S))
+}
+
+/// The storage index of a particle's first stencil node, found when the grid was allocated
+/// (`node`); debug builds check it against the stencil's own first node.
+#[inline(always)]
+fn first_node<D: Dim, const S: usize>(
+    layout: &BlockLayout<D>,
+    node: u32,
+    st: &Stencil<S>,
+) -> usize {
+    debug_assert_eq!(
+        node as usize % layout.padded_nodes(),
+        layout.stencil_origin(0, st.base),
+        "particle's stencil moved since the grid was allocated"
+    );
+    node as usize
+}
+
+/// The stencil's weight and derivative along the third axis for node `k`: those of the
+/// kernel in 3D, and (1, 0) in 2D, where the loops over `k` run once.
+#[inline(always)]
+fn third_axis<D: Dim, const S: usize>(st: &Stencil<S>, k: usize) -> (Real, Real) {
+    if D::DIM == 3 {
+        (st.w[k][2], st.dw[k][2])
+    } else {
+        (1.0, 0.0)
+    }
+}
+
+/// Stencil nodes along the third axis: `S` in 3D, one in 2D.
+#[inline(always)]
+const fn third_axis_nodes<D: Dim, const S: usize>() -> usize {
+    if D::DIM == 3 { S } else { 1 }
+}
+
+/// The energy a constraint removes from a mass `m` whose velocity it changes from `before` to
+/// `after` within a step that started at velocity `start`: minus the work of the impulse
+/// J = m (after − before) over the mean velocity (start + after)/2. It is ½ m v² for a mass
+/// stopped by an impact, the friction force times the distance slid for a sliding one, and
+/// zero for a mass held at rest (whose grid velocity only carries the step's Δt g).
+#[inline(always)]
+pub fn constraint_dissipation<V: VectorOps>(m: Real, start: V, before: V, after: V) -> f64 {
+    0.5 * (m * (before - after).dot(start + after)) as f64
+}
+
+#[cfg(test)]
+pub(crate) mod test_util {
+    //! Grids and stencils in realistic states, for the tests that compare a pass's
+    //! specialisation with its reference version.
+    use crate::grid::Node;
+    use crate::kernel::{Kernel, Stencil};
+    use crate::math::{Dim, Real, VectorOps};
+    use crate::{BodyConfig, KernelKind, Material, Shape, Simulation};
+
+    /// A block of `material` on the floor after `steps` steps of settling, with its grid
+    /// allocated and scattered for the next step (step 1 done).
+    pub fn settled_block<D: Dim>(
+        material: Material,
+        kernel: KernelKind,
+        steps: usize,
+    ) -> Simulation<D> {
+        let (size, lo, hi) = ([1.0, 0.5, 1.0], [0.3, 0.0, 0.3], [0.7, 0.2, 0.7]);
+        let h = if D::DIM == 2 { 0.01 } else { 0.05 };
+        let mut sim = Simulation::<D>::builder(&size[..D::DIM], h)
+            .wall_friction(0.5)
+            .kernel(kernel)
+            .body(BodyConfig::new(
+                "block",
+                Shape::cuboid(&lo[..D::DIM], &hi[..D::DIM]),
+                material,
+            ))
+            .build()
+            .unwrap();
+        for _ in 0..steps {
+            sim.step().unwrap();
+        }
+        sim.allocate_grids();
+        sim.scatter_to_grid();
+        sim
+    }
+
+    /// A deterministic number in [-1, 1) from a counter (no random-number crate needed).
+    pub fn noise(seed: &mut u64) -> Real {
+        *seed = seed
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        ((*seed >> 40) as f64 / (1u64 << 23) as f64 - 1.0) as Real
+    }
+
+    /// Stencil nodes with made-up momenta, masses and new velocities, and the stencils of
+    /// particles at made-up positions, laid out with rows `p` long: for comparing two versions
+    /// of a stencil loop.
+    pub fn random_stencils<D: Dim, K: Kernel<S>, const S: usize>(
+        count: usize,
+        p: usize,
+    ) -> (Vec<Node<D::Vector>>, Vec<Stencil<S>>) {
+        let mut seed = 7;
+        let span = crate::grid::stencil_span(D::DIM, p, S);
+        let nodes = (0..span)
+            .map(|_| {
+                let v = D::vector([noise(&mut seed), noise(&mut seed), noise(&mut seed)]);
+                let n = D::vector([noise(&mut seed), noise(&mut seed), noise(&mut seed)]);
+                Node {
+                    vm: v.with_mass(1.0 + noise(&mut seed).abs()),
+                    new_vel: n,
+                }
+            })
+            .collect();
+        let stencils = (0..count)
+            .map(|_| {
+                let xg = [0; 3].map(|_| 5.0 + 2.0 * noise(&mut seed));
+                K::stencil(xg, D::DIM, 40.0, 0.25)
+            })
+            .collect();
+        (nodes, stencils)
+    }
+}

@@ -1,0 +1,60 @@
+//! Step 5 at the walls of the domain, on the grid: every node on or beyond a wall takes the
+//! wall rule ([`crate::boundary::WallRule`]: the normal velocity into the wall removed, and
+//! with friction the tangential speed reduced by μ|v_n|, Coulomb friction proportional to the
+//! pressure). Then the halo nodes take their owners' final velocities, for the gather.
+
+use super::constraint_dissipation;
+use crate::boundary::Walls;
+use crate::grid::Grid;
+use crate::math::Dim;
+use crate::sim::Simulation;
+
+impl<D: Dim> Simulation<D> {
+    /// Step 5 at the walls for every body; then the halos take the final grid velocities.
+    pub(super) fn apply_walls(&mut self) {
+        for body in &mut self.bodies {
+            if !body.kinematic {
+                self.diagnostics.dissipated_boundary +=
+                    grid_walls(&mut body.grid, &self.world.walls);
+            }
+            fill_new_velocities(&mut body.grid);
+        }
+    }
+}
+
+/// Constrains the nodes on or beyond the domain's faces; returns the energy the constraint
+/// removed.
+pub fn grid_walls<D: Dim>(grid: &mut Grid<D>, walls: &Walls<D>) -> f64 {
+    let edge = Grid::<D>::BLOCK as i32;
+    let mut dissipated = 0.0;
+    let Grid {
+        index,
+        layout,
+        nodes,
+        ..
+    } = grid;
+    for slot in 0..index.block_count() {
+        if !walls.block_touches(index.block_origin(slot), edge) {
+            continue;
+        }
+        layout.for_each_owned(index, slot, |coord, n| {
+            let node = &mut nodes[n];
+            let m = node.mass();
+            if m <= 0.0 {
+                return;
+            }
+            let before = node.new_vel;
+            let after = walls.node_velocity(coord, before);
+            if after != before {
+                dissipated += constraint_dissipation(m, node.vel(), before, after);
+                node.new_vel = after;
+            }
+        });
+    }
+    dissipated
+}
+
+/// Copies the owners' updated velocities into the halos (before the particles gather).
+pub fn fill_new_velocities<D: Dim>(grid: &mut Grid<D>) {
+    grid.fill_nodes(|h, o| h.new_vel = o.new_vel);
+}
