@@ -1,76 +1,44 @@
-//! An interactive session over a simulation: what the browser page drives through
-//! [`crate::wasm`], and what any other front end (or a native benchmark of the same work) can
-//! drive directly. Browser-free: the wall clock is passed in.
+//! An interactive session over a simulation: the one driver of every front end. The browser
+//! page drives it through [`crate::wasm`], the terminal player (`mpm play`) directly, and any
+//! other front end can. Browser-free: the wall clock is passed in.
 //!
 //! - Scenes are [`SceneConfig`] JSON, exactly as the CLI reads them.
-//! - Live parameters go through [`AnySimulation::configure`], so a slider is validated exactly
-//!   like a scene file and a rejected value leaves the state unchanged. Parameters are named
-//!   `gravity`, `wall_friction`, `cfl` (world) and `<model>.<field>` for materials, where
-//!   `<model>` is the scene-file name of a material (`elastic`, `von_mises`,
-//!   `drucker_prager`) and `<field>` one of its fields or `flip`. A material parameter applies
-//!   to every body of that model and to the preset that new bodies of that model are made of.
+//! - Live parameters are those of [`crate::params`]; each goes through
+//!   [`AnySimulation::configure`], so it is validated exactly like a scene file and a rejected
+//!   value leaves the state unchanged. A material parameter applies to every body of that
+//!   model and to the preset that new bodies of that model are made of.
+//! - The session is recorded as a [`Replay`] (parameters set, Clear, bodies dropped with their
+//!   simulated times), which a front end keeps and gives back to repeat it.
 //! - Particle positions and a per-particle colour scalar are exposed as pointers and lengths
 //!   (f32), so a front end can read them in place.
 
+mod colours;
+mod drops;
+mod objects;
+
+pub use colours::ColourMode;
+pub use drops::{DroppedBody, Refused, Replay};
+pub use objects::{BunnyAssets, OBJECTS, ObjectInfo, ball_bunny, object_shape};
+
 use crate::config::{BodyConfig, SceneConfig};
 use crate::error::{Error, Result};
-use crate::geometry::{Loaded, Polygon2, Scale, Shape, TriMesh};
-use crate::material::Material;
-use crate::math::{Dim, Real, SymTensor};
-use crate::sim::{AnySimulation, Diagnostics, Simulation};
+use crate::material::{Material, PqSurface, pq};
+use crate::math::{Dim, Real};
+use crate::params::{MODELS, Param, Target, model_index};
+use crate::sim::{AnySimulation, Diagnostics, Simulation, cfl_time_step};
+use colours::Colours;
+use drops::Drops;
 use serde::Serialize;
 use std::collections::HashMap;
-use std::sync::Arc;
 
-/// The world parameters the page can change, with the slider ranges it offers.
-pub const WORLD_PARAMETERS: [&str; 3] = ["gravity", "wall_friction", "cfl"];
-
-/// Scene-file names of the three material models, in the order the page lists them.
-pub const MODELS: [&str; 3] = ["elastic", "von_mises", "drucker_prager"];
-
-/// What a particle's colour scalar shows.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ColourMode {
-    /// The body index (a categorical palette).
-    Body,
-    /// |v| (m/s).
-    Speed,
-    /// P = −tr σ / 3 (Pa, compression positive).
-    Pressure,
-    /// Accumulated equivalent plastic strain.
-    PlasticStrain,
-    /// 0 elastic, 0.5 on the yield surface, 1 flowing (plastic strain grew since the last
-    /// colour update).
-    Yield,
-}
-
-impl ColourMode {
-    pub fn parse(name: &str) -> Result<Self> {
-        Ok(match name {
-            "body" => ColourMode::Body,
-            "speed" => ColourMode::Speed,
-            "pressure" => ColourMode::Pressure,
-            "plastic_strain" => ColourMode::PlasticStrain,
-            "yield" => ColourMode::Yield,
-            _ => {
-                return Err(Error::invalid(
-                    "colour",
-                    name,
-                    "must be one of body, speed, pressure, plastic_strain, yield",
-                ));
-            }
-        })
-    }
-}
-
-/// What one call of [`Playground::frame`] did.
+/// What one call of [`Playground::frame`] or [`Playground::step`] did.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct FrameReport {
     /// Time steps taken.
     pub substeps: usize,
     /// Simulated time advanced (s).
     pub sim_time: f64,
-    /// The simulated time asked for (s).
+    /// The simulated time asked for (s): less than the frame's when a drop is due sooner.
     pub requested: f64,
     /// Wall-clock time spent stepping (ms).
     pub wall_ms: f64,
@@ -80,6 +48,9 @@ pub struct FrameReport {
     pub ms_per_step: f64,
     /// The time step the next step will take (s).
     pub stable_dt: f64,
+    /// Drops whose time came but that the solver refused (left out of the session).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub refused: Vec<Refused>,
 }
 
 /// A prediction of what a parameter value would cost, for warnings before it is applied.
@@ -99,7 +70,7 @@ pub struct Prediction {
 }
 
 /// A particle's stress in p–q space and the yield surface of its body's material.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct StressPoint {
     pub index: usize,
     pub id: u32,
@@ -112,274 +83,41 @@ pub struct StressPoint {
     pub q: f64,
     pub plastic_strain: f64,
     pub position: [f64; 3],
-    /// The yield surface as q = slope · p + intercept for p ≥ apex_p; `none` for an elastic
-    /// body (slope and intercept are then zero).
-    pub surface: &'static str,
-    pub slope: f64,
-    pub intercept: f64,
-    pub apex_p: f64,
+    /// The material's yield surface in p–q space.
+    pub surface: PqSurface,
 }
 
-/// Materials of new bodies, one per model.
+/// What a dropped object may measure, for a front end's size control (m).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SizeRange {
+    /// What [`Playground::add_object`] accepts: two cells, up to the domain less two cells.
+    pub allowed: [f64; 2],
+    /// A range worth offering on a slider, and a default in it.
+    pub offered: [f64; 2],
+    pub default: f64,
+}
+
+/// Materials of new bodies, one per model of [`MODELS`], with their PIC/FLIP ratios.
 #[derive(Clone, Debug, PartialEq)]
 struct Presets {
-    materials: [Material; 3],
-    flip: [Option<f64>; 3],
+    materials: Vec<Material>,
+    flip: Vec<Option<f64>>,
 }
 
 impl Presets {
-    fn defaults() -> Self {
-        Presets {
-            materials: [
-                Material::elastic(1.0e5, 0.3, 1000.0),
-                Material::von_mises(1.0e5, 0.3, 1000.0, 5.0e3),
-                Material::drucker_prager(3.5e5, 0.3, 2200.0, 35.0, 0.0, 0.0),
-            ],
-            flip: [None; 3],
-        }
-    }
-    /// The defaults, overridden by the first body of each model in `scene`.
+    /// The models' presets, overridden by the first body of each model in `scene`.
     fn from_scene(scene: &SceneConfig) -> Self {
-        let mut p = Self::defaults();
-        for (m, model) in MODELS.iter().enumerate() {
-            if let Some(b) = scene.bodies.iter().find(|b| b.material.kind() == *model) {
-                p.materials[m] = b.material.clone();
-                p.flip[m] = b.flip;
-            }
-        }
-        p
-    }
-}
-
-fn model_index(model: &str) -> Result<usize> {
-    MODELS.iter().position(|m| *m == model).ok_or_else(|| {
-        Error::invalid(
-            "material",
-            model,
-            "must be one of elastic, von_mises, drucker_prager",
-        )
-    })
-}
-
-/// The fields of a model that [`Playground::set_parameter`] can change.
-pub fn model_fields(model: &str) -> &'static [&'static str] {
-    match model {
-        "elastic" => &["youngs_modulus", "poisson_ratio", "density", "flip"],
-        "von_mises" => &[
-            "youngs_modulus",
-            "poisson_ratio",
-            "density",
-            "yield_stress",
-            "flip",
-        ],
-        "drucker_prager" => &[
-            "youngs_modulus",
-            "poisson_ratio",
-            "density",
-            "friction_angle",
-            "dilatancy_angle",
-            "cohesion",
-            "flip",
-        ],
-        _ => &[],
-    }
-}
-
-/// A mutable reference to `field` of a material, if it has one (`flip` is not a material field).
-fn material_field<'a>(m: &'a mut Material, field: &str) -> Option<&'a mut f64> {
-    match m {
-        Material::Elastic(p) => match field {
-            "youngs_modulus" => Some(&mut p.youngs_modulus),
-            "poisson_ratio" => Some(&mut p.poisson_ratio),
-            "density" => Some(&mut p.density),
-            _ => None,
-        },
-        Material::VonMises(p) => match field {
-            "youngs_modulus" => Some(&mut p.youngs_modulus),
-            "poisson_ratio" => Some(&mut p.poisson_ratio),
-            "density" => Some(&mut p.density),
-            "yield_stress" => Some(&mut p.yield_stress),
-            _ => None,
-        },
-        Material::DruckerPrager(p) => match field {
-            "youngs_modulus" => Some(&mut p.youngs_modulus),
-            "poisson_ratio" => Some(&mut p.poisson_ratio),
-            "density" => Some(&mut p.density),
-            "friction_angle" => Some(&mut p.friction_angle),
-            "dilatancy_angle" => Some(&mut p.dilatancy_angle),
-            "cohesion" => Some(&mut p.cohesion),
-            _ => None,
-        },
-    }
-}
-
-/// The current value of `field` of a material (or its body's `flip`).
-fn read_field(m: &Material, flip: Option<f64>, field: &str) -> Option<f64> {
-    if field == "flip" {
-        return Some(flip.unwrap_or_else(|| m.default_flip()));
-    }
-    let mut m = m.clone();
-    material_field(&mut m, field).map(|v| *v)
-}
-
-/// A parsed parameter name.
-enum Param<'a> {
-    World(&'a str),
-    Material { model: usize, field: &'a str },
-}
-
-fn parse_param(name: &str) -> Result<Param<'_>> {
-    if WORLD_PARAMETERS.contains(&name) {
-        return Ok(Param::World(name));
-    }
-    let known = || {
-        let mut all: Vec<String> = WORLD_PARAMETERS.iter().map(|s| s.to_string()).collect();
-        for m in MODELS {
-            all.extend(model_fields(m).iter().map(|f| format!("{m}.{f}")));
-        }
-        format!("must be one of {}", all.join(", "))
-    };
-    let Some((model, field)) = name.split_once('.') else {
-        return Err(Error::invalid("parameter", name, known()));
-    };
-    let m = model_index(model).map_err(|_| Error::invalid("parameter", name, known()))?;
-    if !model_fields(model).contains(&field) {
-        return Err(Error::invalid("parameter", name, known()));
-    }
-    Ok(Param::Material { model: m, field })
-}
-
-/// Applies parameter `name` = `value` to a scene (unvalidated).
-fn apply_to_scene(scene: &mut SceneConfig, param: &Param<'_>, value: f64) {
-    match *param {
-        Param::World("gravity") => {
-            let mut g = vec![0.0; scene.dim];
-            g[1] = -value;
-            scene.gravity = Some(g);
-        }
-        Param::World("wall_friction") => scene.boundary.friction = value,
-        Param::World("cfl") => scene.cfl = value,
-        Param::World(_) => unreachable!("parse_param admits only the world parameters"),
-        Param::Material { model, field } => {
-            for b in &mut scene.bodies {
-                if b.material.kind() != MODELS[model] {
-                    continue;
-                }
-                if field == "flip" {
-                    b.flip = Some(value);
-                } else if let Some(v) = material_field(&mut b.material, field) {
-                    *v = value;
-                }
-            }
-        }
-    }
-}
-
-/// The bunny of the "drop a bunny" tool: a union of balls (body, haunch, head, ears, tail),
-/// `height` tall, its base centred at `base`. 2D gives the side view.
-pub fn ball_bunny(dim: usize, base: [f64; 3], height: f64) -> Shape {
-    // (x, y, z, r) in units of the height; x points forward, base on y = 0.
-    const BALLS: [[f64; 4]; 10] = [
-        [-0.05, 0.28, 0.0, 0.28],
-        [-0.22, 0.22, 0.0, 0.22],
-        [0.22, 0.52, 0.0, 0.17],
-        [0.15, 0.70, -0.06, 0.065],
-        [0.11, 0.80, -0.06, 0.06],
-        [0.08, 0.90, -0.06, 0.06],
-        [0.25, 0.70, 0.06, 0.065],
-        [0.27, 0.80, 0.06, 0.06],
-        [0.29, 0.90, 0.06, 0.06],
-        [-0.46, 0.32, 0.0, 0.08],
-    ];
-    Shape::Union(
-        BALLS
+        let (materials, flip) = MODELS
             .iter()
-            .map(|b| {
-                let c = [
-                    base[0] + b[0] * height,
-                    base[1] + b[1] * height,
-                    base[2] + b[2] * height,
-                ];
-                Shape::ball(&c[..dim], b[3] * height)
-            })
-            .collect(),
-    )
-}
-
-/// The shipped bunny (`scenes/bunny.obj`, `scenes/bunny2d.txt`): height 1, base on y = 0,
-/// centred on x (and z), as parsed meshes, so that dropping one needs no file access.
-#[derive(Clone, Debug, Default)]
-pub struct BunnyAssets {
-    pub mesh: Option<Arc<TriMesh>>,
-    pub polygon: Option<Arc<Polygon2>>,
-}
-
-impl BunnyAssets {
-    /// Parses the OBJ mesh and the 2D vertex list (either may be absent).
-    pub fn parse(obj: Option<&str>, polygon: Option<&str>) -> Result<Self> {
-        let bad = |path: &str, message: String| Error::Io {
-            path: path.to_string(),
-            message,
-        };
-        Ok(BunnyAssets {
-            mesh: obj
-                .map(|t| TriMesh::from_obj("bunny.obj", t).map(Arc::new))
-                .transpose()
-                .map_err(|m| bad("bunny.obj", m))?,
-            polygon: polygon
-                .map(|t| Polygon2::from_vertex_list("bunny2d.txt", t).map(Arc::new))
-                .transpose()
-                .map_err(|m| bad("bunny2d.txt", m))?,
-        })
+            .map(
+                |m| match scene.bodies.iter().find(|b| b.material.kind() == m.id) {
+                    Some(b) => (b.material.clone(), b.flip),
+                    None => (m.preset(), None),
+                },
+            )
+            .unzip();
+        Presets { materials, flip }
     }
-}
-
-/// The shape of a dropped object of kind `object` (`bunny`, `ball`, `box`) and size `size`
-/// (its height, m) with its centre at `center`. The bunny is the shipped mesh (3D) or
-/// silhouette (2D) when `bunny` holds it, else [`ball_bunny`].
-pub fn object_shape(
-    object: &str,
-    dim: usize,
-    center: [f64; 3],
-    size: f64,
-    bunny: &BunnyAssets,
-) -> Result<Shape> {
-    let h = size / 2.0;
-    Ok(match object {
-        "ball" => Shape::ball(&center[..dim], h),
-        "box" => Shape::cuboid(
-            &[center[0] - h, center[1] - h, center[2] - h][..dim],
-            &[center[0] + h, center[1] + h, center[2] + h][..dim],
-        ),
-        "bunny" => {
-            let base = [center[0], center[1] - h, center[2]];
-            match (dim, &bunny.mesh, &bunny.polygon) {
-                (3, Some(mesh), _) => Shape::Mesh {
-                    path: "bunny.obj".into(),
-                    scale: Scale::Uniform(size),
-                    rotate_deg: None,
-                    translate: Some(base.to_vec()),
-                    loaded: Loaded(Some(mesh.clone())),
-                },
-                (2, _, Some(polygon)) => Shape::Polygon {
-                    path: Some("bunny2d.txt".into()),
-                    points: None,
-                    scale: Scale::Uniform(size),
-                    rotate_deg: None,
-                    translate: Some(base[..2].to_vec()),
-                    loaded: Loaded(Some(polygon.clone())),
-                },
-                _ => ball_bunny(dim, base, size),
-            }
-        }
-        _ => {
-            return Err(Error::invalid(
-                "object",
-                object,
-                "must be one of bunny, ball, box",
-            ));
-        }
-    })
 }
 
 /// The files a scene references (meshes, vertex lists; paths relative to the scene file).
@@ -387,7 +125,7 @@ pub fn asset_paths(scene_json: &str) -> Result<Vec<String>> {
     Ok(SceneConfig::from_json(scene_json)?.asset_paths())
 }
 
-/// An interactive simulation with its presets, parameter overrides and colour buffer.
+/// An interactive simulation with its presets, parameter overrides, drops and colour buffer.
 #[derive(Clone, Debug)]
 pub struct Playground {
     sim: AnySimulation,
@@ -396,10 +134,8 @@ pub struct Playground {
     presets: Presets,
     /// Parameters changed since the scene was loaded, in the order they were last set.
     overrides: Vec<(String, f64)>,
-    colours: Vec<f32>,
-    colour_range: [f32; 2],
-    /// Plastic strain at the previous colour update, by particle id (for the yield view).
-    previous_plastic: Vec<Real>,
+    drops: Drops,
+    colours: Colours,
     /// Smoothed wall-clock cost of one step (ms), for predictions.
     ms_per_step: f64,
     bunny: BunnyAssets,
@@ -438,9 +174,8 @@ impl Playground {
             initial: scene,
             sim,
             overrides: Vec::new(),
-            colours: Vec::new(),
-            colour_range: [0.0, 1.0],
-            previous_plastic: Vec::new(),
+            drops: Drops::default(),
+            colours: Colours::default(),
             ms_per_step: 0.0,
             bunny: BunnyAssets::default(),
         };
@@ -469,6 +204,10 @@ impl Playground {
     pub fn diagnostics(&self) -> &Diagnostics {
         self.sim.diagnostics()
     }
+    /// Simulated time (s).
+    pub fn time(&self) -> f64 {
+        self.sim.time()
+    }
     pub fn particle_count(&self) -> usize {
         self.sim.particle_count()
     }
@@ -481,8 +220,10 @@ impl Playground {
     }
 
     /// Advances by up to `sim_time` seconds of simulated time, stopping early when
-    /// `budget_ms` of wall-clock time (read from `now_ms`) has been spent. Stops with an error
-    /// if the simulation goes non-finite.
+    /// `budget_ms` of wall-clock time (read from `now_ms`) has been spent, or at the time of the
+    /// next drop to come, which then lands. An empty box does not step (its time stands still),
+    /// and every drop to come lands in it. Stops with an error if the simulation goes
+    /// non-finite.
     pub fn frame(
         &mut self,
         sim_time: f64,
@@ -495,26 +236,46 @@ impl Playground {
             }
         }
         let start = now_ms();
-        let end = self.sim.time() + sim_time;
+        let requested = match self.drops.next_time() {
+            Some(t) => sim_time.min((t - self.drop_clock()).max(0.0)),
+            None => sim_time,
+        };
         let mut report = FrameReport {
-            requested: sim_time,
+            requested,
+            sim_time: requested,
             ..Default::default()
         };
         if self.particle_count() > 0 {
             let t0 = self.sim.time();
-            while self.sim.time() < end - 1e-12 * end.abs().max(1.0) {
-                if now_ms() - start >= budget_ms {
-                    report.fell_behind = true;
-                    break;
-                }
-                self.sim.step_at_most(end - self.sim.time())?;
-                report.substeps += 1;
-            }
+            let end = t0 + requested;
+            report.substeps = self
+                .sim
+                .advance_until(end, |_| now_ms() - start < budget_ms)?;
             report.sim_time = self.sim.time() - t0;
-        } else {
-            report.sim_time = sim_time;
+            report.fell_behind = self.sim.time() < end - 1e-12 * end.abs().max(1.0);
         }
         report.wall_ms = now_ms() - start;
+        self.finish(&mut report);
+        Ok(report)
+    }
+
+    /// One time step of the adaptive size (then the drops whose time came land).
+    pub fn step(&mut self, mut now_ms: impl FnMut() -> f64) -> Result<FrameReport> {
+        let start = now_ms();
+        let t0 = self.sim.time();
+        self.sim.step()?;
+        let mut report = FrameReport {
+            substeps: 1,
+            sim_time: self.sim.time() - t0,
+            wall_ms: now_ms() - start,
+            ..Default::default()
+        };
+        self.finish(&mut report);
+        Ok(report)
+    }
+
+    /// The bookkeeping after stepping: the cost per step, the next time step, the drops due.
+    fn finish(&mut self, report: &mut FrameReport) {
         if report.substeps > 0 {
             report.ms_per_step = report.wall_ms / report.substeps as f64;
             self.ms_per_step = if self.ms_per_step > 0.0 {
@@ -523,76 +284,63 @@ impl Playground {
                 report.ms_per_step
             };
         }
+        report.refused = self.land_due_drops();
         report.stable_dt = self.sim.stable_dt();
-        Ok(report)
     }
 
-    /// One time step of the adaptive size.
-    pub fn step(&mut self) -> Result<()> {
-        self.sim.step().map(|_| ())
-    }
-
-    /// Sets a live parameter (see the module docs for the names), validated like a scene file;
-    /// on error the state is unchanged.
-    pub fn set_parameter(&mut self, name: &str, value: f64) -> Result<()> {
-        let param = parse_param(name)?;
+    /// The parameter `name` = `value` applied to a copy of the scene and of the presets, the
+    /// presets validated (the scene is validated when it is applied).
+    fn with_parameter(&self, name: &str, value: f64) -> Result<(SceneConfig, Presets)> {
+        let target = Target::parse(name)?;
         let mut presets = self.presets.clone();
-        if let Param::Material { model, field } = param {
-            if field == "flip" {
-                presets.flip[model] = Some(value);
-                crate::error::check_range(name, value, 0.0, 1.0, false, "")?;
-            } else if let Some(v) = material_field(&mut presets.materials[model], field) {
-                *v = value;
-                // The preset's own check names the parameter as the page does.
-                presets.materials[model].validate("material")?;
-            }
+        if let (Some(m), None) = (target.param.model, target.body) {
+            let (material, flip) = (&mut presets.materials[m], &mut presets.flip[m]);
+            target.param.set_material(material, flip, value);
+            target.param.validate_preset(name, material, *flip)?;
         }
-        self.sim
-            .configure(|scene| apply_to_scene(scene, &param, value))?;
+        let mut scene = self.sim.scene().clone();
+        target.set_in_scene(&mut scene, value, false)?;
+        Ok((scene, presets))
+    }
+
+    /// Sets a live parameter (see [`crate::params`] for the names), validated like a scene
+    /// file; on error the state is unchanged.
+    pub fn set_parameter(&mut self, name: &str, value: f64) -> Result<()> {
+        let (scene, presets) = self.with_parameter(name, value)?;
+        self.sim.configure(|s| *s = scene)?;
         self.presets = presets;
         self.overrides.retain(|(n, _)| n != name);
         self.overrides.push((name.to_string(), value));
         Ok(())
     }
 
-    /// The value of a live parameter: the first body of that model's, else the preset's.
+    /// The value of a live parameter: the body's, or the first body of that model's, else the
+    /// preset's.
     pub fn parameter(&self, name: &str) -> Result<f64> {
+        let target = Target::parse(name)?;
         let scene = self.sim.scene();
-        Ok(match parse_param(name)? {
-            Param::World("gravity") => -scene.gravity_vector()[1],
-            Param::World("wall_friction") => scene.boundary.friction,
-            Param::World("cfl") => scene.cfl,
-            Param::World(_) => unreachable!("parse_param admits only the world parameters"),
-            Param::Material { model, field } => {
-                let from_body = scene
-                    .bodies
-                    .iter()
-                    .find(|b| b.material.kind() == MODELS[model])
-                    .and_then(|b| read_field(&b.material, b.flip, field));
-                from_body
-                    .or_else(|| {
-                        read_field(
-                            &self.presets.materials[model],
-                            self.presets.flip[model],
-                            field,
-                        )
-                    })
-                    .unwrap_or(0.0)
-            }
-        })
+        let p = target.param;
+        if let Some(i) = target.body {
+            let b = scene.bodies.get(i).filter(|b| p.applies_to(b));
+            return b
+                .and_then(|b| p.material_value(&b.material, b.flip))
+                .ok_or_else(|| Error::invalid("parameter", name, "no such body of that model"));
+        }
+        Ok(p.value_in_scene(scene)
+            .or_else(|| {
+                let m = p.model?;
+                p.material_value(&self.presets.materials[m], self.presets.flip[m])
+            })
+            .unwrap_or(0.0))
     }
 
     /// Every live parameter with its current value.
     pub fn parameters(&self) -> Vec<(String, f64)> {
-        let mut names: Vec<String> = WORLD_PARAMETERS.iter().map(|s| s.to_string()).collect();
-        for m in MODELS {
-            names.extend(model_fields(m).iter().map(|f| format!("{m}.{f}")));
-        }
-        names
-            .into_iter()
-            .map(|n| {
-                let v = self.parameter(&n).unwrap_or(0.0);
-                (n, v)
+        Param::all()
+            .map(|p| {
+                let name = p.name();
+                let v = self.parameter(&name).unwrap_or(0.0);
+                (name, v)
             })
             .collect()
     }
@@ -607,46 +355,27 @@ impl Playground {
     /// measured cost of a step, the ratio of simulated to wall-clock time.
     pub fn predict(&self, name: &str, value: f64, frame_time: f64) -> Prediction {
         let mut out = Prediction::default();
-        let mut scene = self.sim.scene().clone();
-        let mut presets = self.presets.clone();
-        let checked = parse_param(name).and_then(|param| {
-            apply_to_scene(&mut scene, &param, value);
-            if let Param::Material { model, field } = param {
-                if field == "flip" {
-                    crate::error::check_range(name, value, 0.0, 1.0, false, "")?;
-                } else if let Some(v) = material_field(&mut presets.materials[model], field) {
-                    *v = value;
-                    presets.materials[model].validate("material")?;
-                }
+        let (scene, presets) = match self
+            .with_parameter(name, value)
+            .and_then(|(s, p)| s.validate().map(|_| (s, p)))
+        {
+            Ok(next) => next,
+            Err(e) => {
+                out.error = e.to_string();
+                return out;
             }
-            scene.validate()
-        });
-        if let Err(e) = checked {
-            out.error = e.to_string();
-            return out;
-        }
+        };
         out.valid = true;
         // The wave speed at the reference density: of the bodies, or of the presets when
         // there is none (what the next dropped body would need).
-        let c = if scene.bodies.is_empty() {
-            presets
-                .materials
-                .iter()
-                .map(|m| m.wave_speed())
-                .fold(0.0, f64::max)
+        let materials: Vec<&Material> = if scene.bodies.is_empty() {
+            presets.materials.iter().collect()
         } else {
-            scene
-                .bodies
-                .iter()
-                .map(|b| b.material.wave_speed())
-                .fold(0.0, f64::max)
+            scene.bodies.iter().map(|b| &b.material).collect()
         };
+        let c = materials.iter().map(|m| m.wave_speed()).fold(0.0, f64::max);
         let speed = c + self.sim.diagnostics().max_speed;
-        out.stable_dt = if speed > 0.0 {
-            (scene.cfl * scene.cell_size / speed).min(scene.max_dt)
-        } else {
-            scene.max_dt
-        };
+        out.stable_dt = cfl_time_step(scene.cfl, scene.cell_size, speed, scene.max_dt);
         out.substeps_per_frame = (frame_time / out.stable_dt).ceil();
         if self.ms_per_step > 0.0 && out.substeps_per_frame > 0.0 {
             // Cost per step scales with the particle count, not with the parameter.
@@ -656,10 +385,43 @@ impl Playground {
         out
     }
 
+    /// The sizes a dropped object may have in this scene.
+    pub fn size_range(&self) -> SizeRange {
+        let scene = self.sim.scene();
+        let h = scene.cell_size;
+        let smallest = scene
+            .domain
+            .size
+            .iter()
+            .cloned()
+            .fold(f64::INFINITY, f64::min);
+        let offered = [(3.0 * h).max(0.05 * smallest), 0.6 * smallest];
+        SizeRange {
+            allowed: [2.0 * h, smallest - 2.0 * h],
+            offered,
+            default: (0.25 * smallest).clamp(offered[0], offered[1]),
+        }
+    }
+
+    /// Checks the size of an object to drop (m).
+    pub fn check_size(&self, size: f64) -> Result<()> {
+        let [lo, hi] = self.size_range().allowed;
+        if size.is_finite() && size >= lo && size <= hi {
+            return Ok(());
+        }
+        Err(Error::invalid(
+            "size",
+            size,
+            format!(
+                "must be in [{lo}, {hi}] (m): at least two cells, and the object must fit in the domain"
+            ),
+        ))
+    }
+
     /// Adds a body of kind `object` (`bunny`, `ball`, `box`) made of the preset material
     /// `model` (`elastic`, `von_mises`, `drucker_prager`), `size` metres tall, centred at
     /// `center` (moved inside the domain if it pokes out), moving at `velocity`. Returns the
-    /// new body's index.
+    /// new body's index. Not recorded in the session (see [`Self::drop_object`]).
     pub fn add_object(
         &mut self,
         object: &str,
@@ -672,20 +434,9 @@ impl Playground {
         let dim = self.dim();
         crate::geometry::check_vector("center", center, dim, "m")?;
         crate::geometry::check_vector("velocity", velocity, dim, "m/s")?;
+        self.check_size(size)?;
         let domain = self.sim.scene().domain.size.clone();
         let h = self.sim.scene().cell_size;
-        let largest = domain.iter().cloned().fold(f64::INFINITY, f64::min) - 2.0 * h;
-        if !(size.is_finite() && size >= 2.0 * h && size <= largest) {
-            return Err(Error::invalid(
-                "size",
-                size,
-                format!(
-                    "must be in [{}, {}] (m): at least two cells, and the object must fit in the domain",
-                    2.0 * h,
-                    largest
-                ),
-            ));
-        }
         let mut c = [0.0; 3];
         c[..dim].copy_from_slice(center);
         let shape = object_shape(object, dim, c, size, &self.bunny)?;
@@ -703,18 +454,130 @@ impl Playground {
         self.sim.add_body(body)
     }
 
-    /// Adds a body as written in a scene file.
+    /// Drops an object as [`Self::add_object`] does, now, and records it in the session
+    /// (its figures rounded as [`DroppedBody::rounded`] says, so that a replay drops the same
+    /// body). Returns the new body's index.
+    pub fn drop_object(
+        &mut self,
+        object: &str,
+        model: &str,
+        center: &[f64],
+        velocity: &[f64],
+        size: f64,
+    ) -> Result<usize> {
+        let clock = self.drop_clock();
+        let d = DroppedBody::rounded(clock, object, model, size, center, velocity);
+        let i = self.add_object(&d.object, &d.material, &d.centre, &d.velocity, d.size)?;
+        self.drops.record(d, clock);
+        Ok(i)
+    }
+
+    /// Drops an object aimed at `point` (3D: a point on the floor, its x and z count; 2D: a
+    /// point in the box), falling at `speed` (m/s): above whatever lies there, at least a gap
+    /// of two cells or 5 % of the height (in 3D, from at least 55 % of the height), and below
+    /// the ceiling. Recorded as [`Self::drop_object`] records.
+    pub fn drop_at(
+        &mut self,
+        object: &str,
+        model: &str,
+        point: &[f64],
+        speed: f64,
+        size: f64,
+    ) -> Result<usize> {
+        let dim = self.dim();
+        crate::geometry::check_vector("point", point, dim, "m")?;
+        crate::error::check_non_negative("speed", speed, "m/s")?;
+        self.check_size(size)?;
+        let (h, height) = (self.scene().cell_size, self.scene().domain.size[1]);
+        let z = if dim == 3 { point[2] } else { 0.0 };
+        let surface = self.surface_height(point[0], z, 0.6 * size);
+        let gap = (2.0 * h).max(0.05 * height);
+        let lowest = surface + 0.5 * size + gap;
+        let y = if dim == 3 {
+            lowest.max(0.55 * height)
+        } else {
+            lowest.max(point[1])
+        }
+        .min(height - h - 0.5 * size);
+        let mut centre = point.to_vec();
+        centre[1] = y;
+        let mut velocity = vec![0.0; dim];
+        velocity[1] = -speed;
+        self.drop_object(object, model, &centre, &velocity, size)
+    }
+
+    /// Adds a body as written in a scene file (not recorded in the session).
     pub fn add_body(&mut self, body: BodyConfig) -> Result<usize> {
         self.sim.add_body(body)
     }
 
-    /// Removes every body.
-    pub fn clear(&mut self) {
-        self.sim.clear();
-        self.colours.clear();
+    /// Simulated time since the scene started or was cleared: the clock of the drops (s).
+    pub fn drop_clock(&self) -> f64 {
+        self.sim.time() - self.drops.origin
     }
 
-    /// Reloads the scene and applies the parameter overrides again.
+    /// Lands the drops whose time has come (all of them in an empty box, where time does not
+    /// run). One the solver refuses is left out of the session and returned with its message.
+    fn land_due_drops(&mut self) -> Vec<Refused> {
+        let mut refused = Vec::new();
+        while let Some(d) = self.drops.list.get(self.drops.next).cloned() {
+            if d.t > self.drop_clock() + 1e-9 && self.particle_count() > 0 {
+                break;
+            }
+            match self.add_object(&d.object, &d.material, &d.centre, &d.velocity, d.size) {
+                Ok(_) => {
+                    self.drops.list[self.drops.next].applied_at = Some(self.drop_clock());
+                    self.drops.next += 1;
+                }
+                Err(e) => {
+                    self.drops.list.remove(self.drops.next);
+                    refused.push(Refused {
+                        drop: d,
+                        error: e.to_string(),
+                    });
+                }
+            }
+        }
+        refused
+    }
+
+    /// Repeats a session on this playground: sets its parameters in order, clears the scene if
+    /// it was cleared, and schedules its drops (those due now land at once, the others when the
+    /// simulation reaches their times). Returns the parameters refused (with their messages)
+    /// and the drops refused so far; everything else applies.
+    pub fn replay(&mut self, replay: Replay) -> (Vec<String>, Vec<Refused>) {
+        let rejected = replay
+            .params
+            .iter()
+            .filter_map(|(name, value)| self.set_parameter(name, *value).err())
+            .map(|e| e.to_string())
+            .collect();
+        if replay.cleared {
+            self.clear();
+        }
+        self.drops.schedule(replay.drops);
+        (rejected, self.land_due_drops())
+    }
+
+    /// The session so far, as [`Self::replay`] takes it.
+    pub fn session(&self) -> Replay {
+        Replay {
+            params: self.overrides.clone(),
+            cleared: self.drops.cleared,
+            drops: self.drops.list.clone(),
+        }
+    }
+
+    /// Removes every body; the drops are forgotten and their clock starts again.
+    pub fn clear(&mut self) {
+        self.sim.clear();
+        self.colours.values.clear();
+        self.drops.forget(self.sim.time());
+        self.drops.cleared = true;
+    }
+
+    /// Reloads the scene and applies the parameter overrides again; the drops and a Clear are
+    /// forgotten.
     pub fn reset(&mut self) -> Result<()> {
         let mut next = Playground::new(self.initial.clone())?;
         for (name, value) in &self.overrides {
@@ -725,6 +588,12 @@ impl Playground {
         next.bunny = std::mem::take(&mut self.bunny);
         *self = next;
         Ok(())
+    }
+
+    /// Reloads the scene as loaded, forgetting the parameter overrides too.
+    pub fn reset_to_scene(&mut self) -> Result<()> {
+        self.overrides.clear();
+        self.reset()
     }
 
     /// The highest particle (its y, m) within horizontal distance `radius` of `x` (and `z`),
@@ -772,40 +641,26 @@ impl Playground {
     }
     /// Address of the colour scalars (one f32 per particle, after [`Self::update_colours`]).
     pub fn colours_ptr(&self) -> *const f32 {
-        self.colours.as_ptr()
+        self.colours.values.as_ptr()
     }
     pub fn colours_len(&self) -> usize {
-        self.colours.len()
+        self.colours.values.len()
     }
     pub fn colours(&self) -> &[f32] {
-        &self.colours
+        &self.colours.values
     }
     /// The range the colour map spans: [0, body count) for bodies, [0, 1] for yield states,
     /// else [0, the 99th percentile].
     pub fn colour_range(&self) -> [f32; 2] {
-        self.colour_range
+        self.colours.range
     }
 
     /// Recomputes the per-particle colour scalar.
     pub fn update_colours(&mut self, mode: ColourMode) {
-        let scene = self.sim.scene().clone();
-        let (colours, prev) = (&mut self.colours, &mut self.previous_plastic);
         match &self.sim {
-            AnySimulation::D2(s) => fill_colours(s, &scene, mode, colours, prev),
-            AnySimulation::D3(s) => fill_colours(s, &scene, mode, colours, prev),
+            AnySimulation::D2(s) => self.colours.update(s, mode),
+            AnySimulation::D3(s) => self.colours.update(s, mode),
         }
-        self.colour_range = match mode {
-            ColourMode::Body => [0.0, self.body_count().max(1) as f32],
-            ColourMode::Yield => [0.0, 1.0],
-            _ => {
-                let hi = percentile(&self.colours, 0.99).max(match mode {
-                    ColourMode::Speed => 0.05,
-                    ColourMode::Pressure => 10.0,
-                    _ => 1e-3,
-                });
-                [0.0, hi]
-            }
-        };
     }
 
     /// The particle whose stable id is `id`, if it still exists.
@@ -832,132 +687,9 @@ impl Playground {
     }
 }
 
-/// The value at fraction `q` of the sorted values (0 for none).
-fn percentile(values: &[f32], q: f64) -> f32 {
-    if values.is_empty() {
-        return 0.0;
-    }
-    let mut v: Vec<f32> = values.iter().copied().filter(|x| x.is_finite()).collect();
-    if v.is_empty() {
-        return 0.0;
-    }
-    let k = ((v.len() - 1) as f64 * q).round() as usize;
-    let (_, x, _) = v.select_nth_unstable_by(k, f32::total_cmp);
-    *x
-}
-
 /// A position as three components (z = 0 in 2D).
 fn xyz<D: Dim>(v: D::Vector) -> [f64; 3] {
     std::array::from_fn(|a| if a < D::DIM { v[a] as f64 } else { 0.0 })
-}
-
-fn body_of<D: Dim>(s: &Simulation<D>) -> Vec<u32> {
-    let mut out = vec![0u32; s.particles().len()];
-    for (i, b) in s.bodies().iter().enumerate() {
-        for p in b.range() {
-            out[p] = i as u32;
-        }
-    }
-    out
-}
-
-// `as f32` is a no-op in the default build and a conversion with the `f64` feature.
-#[allow(clippy::unnecessary_cast)]
-fn fill_colours<D: Dim>(
-    s: &Simulation<D>,
-    scene: &SceneConfig,
-    mode: ColourMode,
-    out: &mut Vec<f32>,
-    previous_plastic: &mut Vec<Real>,
-) {
-    let p = s.particles();
-    out.clear();
-    match mode {
-        ColourMode::Body => out.extend(body_of(s).into_iter().map(|b| b as f32)),
-        ColourMode::Speed => out.extend((0..p.len()).map(|i| p.speed(i) as f32)),
-        ColourMode::Pressure => out.extend((0..p.len()).map(|i| p.pressure(i) as f32)),
-        ColourMode::PlasticStrain => out.extend(p.plastic_strain.iter().map(|&e| e as f32)),
-        ColourMode::Yield => {
-            let max_id = p.id.iter().copied().max().map_or(0, |m| m as usize + 1);
-            if previous_plastic.len() < max_id {
-                previous_plastic.resize(max_id, Real::NAN);
-            }
-            out.resize(p.len(), 0.0);
-            for (b, body) in s.bodies().iter().enumerate() {
-                let surface = Surface::of(&scene.bodies[b].material);
-                for i in body.range() {
-                    let id = p.id[i] as usize;
-                    let ep = p.plastic_strain[i];
-                    let before = previous_plastic[id];
-                    previous_plastic[id] = ep;
-                    out[i] = if before.is_finite() && ep > before {
-                        1.0
-                    } else if surface.on_surface(p.stress[i]) {
-                        0.5
-                    } else {
-                        0.0
-                    };
-                }
-            }
-        }
-    }
-}
-
-/// A yield surface in (p, q): q = slope p + intercept, or none.
-#[derive(Clone, Copy, Debug)]
-struct Surface {
-    kind: &'static str,
-    slope: f64,
-    intercept: f64,
-    apex_p: f64,
-}
-
-impl Surface {
-    fn of(m: &Material) -> Surface {
-        match m {
-            Material::Elastic(_) => Surface {
-                kind: "none",
-                slope: 0.0,
-                intercept: 0.0,
-                apex_p: 0.0,
-            },
-            // √J2 = Y = σ_y/√3, so q = √3 √J2 = σ_y: a cylinder about the hydrostatic axis.
-            Material::VonMises(p) => Surface {
-                kind: "von_mises",
-                slope: 0.0,
-                intercept: p.yield_stress,
-                apex_p: f64::NEG_INFINITY,
-            },
-            // f = √J2 + α_φ I1 − k_c = 0 with I1 = −3p: q = √3 (k_c + 3 α_φ p), a cone whose
-            // apex is at p = −k_c / (3 α_φ).
-            Material::DruckerPrager(params) => {
-                let m = params.model();
-                let (a, k) = (m.alpha_phi as f64, m.k_c as f64);
-                Surface {
-                    kind: "drucker_prager",
-                    slope: 3f64.sqrt() * 3.0 * a,
-                    intercept: 3f64.sqrt() * k,
-                    apex_p: if a > 0.0 {
-                        -k / (3.0 * a)
-                    } else {
-                        f64::NEG_INFINITY
-                    },
-                }
-            }
-        }
-    }
-
-    /// Whether a stress lies on (within 2 % of) the yield surface.
-    fn on_surface<S: SymTensor<Scalar = Real>>(&self, stress: S) -> bool {
-        if self.kind == "none" {
-            return false;
-        }
-        let p = -stress.trace() as f64 / 3.0;
-        let q = (3.0 * stress.j2() as f64).sqrt();
-        let limit = self.slope * p + self.intercept;
-        let scale = limit.abs().max(1e-3 * (q + p.abs())).max(1e-9);
-        q >= limit - 0.02 * scale || p <= self.apex_p
-    }
 }
 
 fn stress_point<D: Dim>(s: &Simulation<D>, i: usize) -> StressPoint {
@@ -968,32 +700,24 @@ fn stress_point<D: Dim>(s: &Simulation<D>, i: usize) -> StressPoint {
         .position(|b| b.range().contains(&i))
         .unwrap_or(0);
     let material = &s.scene().bodies[body].material;
-    let surface = Surface::of(material);
-    let sigma = p.stress[i];
-    let x = xyz::<D>(p.x[i]);
+    let (pressure, q) = pq(p.stress[i]);
     StressPoint {
         index: i,
         id: p.id[i],
         body,
         model: material.kind(),
-        p: -sigma.trace() as f64 / 3.0,
-        q: (3.0 * sigma.j2() as f64).sqrt(),
+        p: pressure,
+        q,
         plastic_strain: p.plastic_strain[i] as f64,
-        position: x,
-        surface: surface.kind,
-        slope: surface.slope,
-        intercept: surface.intercept,
-        apex_p: if surface.apex_p.is_finite() {
-            surface.apex_p
-        } else {
-            -1e300
-        },
+        position: xyz::<D>(p.x[i]),
+        surface: material.pq_surface(),
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Shape;
 
     fn sand_scene(dim: usize) -> SceneConfig {
         let mut s = Playground::sandbox_scene(dim);
@@ -1092,7 +816,7 @@ mod tests {
             let mut pg = Playground::new(Playground::sandbox_scene(dim)).unwrap();
             for (k, object) in ["bunny", "ball", "box"].into_iter().enumerate() {
                 let c = [0.05 + k as f64, 0.95, 0.5];
-                pg.add_object(object, MODELS[k], &c[..dim], &[0.0; 3][..dim], 0.3)
+                pg.add_object(object, MODELS[k].id, &c[..dim], &[0.0; 3][..dim], 0.3)
                     .unwrap();
             }
             assert_eq!(pg.body_count(), 3);
