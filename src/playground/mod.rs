@@ -905,6 +905,93 @@ mod tests {
         }
     }
 
+    /// A session (parameters, bodies dropped, Clear) is recorded with rounded figures, and a
+    /// fresh playground given it drops the same bodies when its simulation reaches their
+    /// times; what cannot apply is returned with its message.
+    #[test]
+    fn a_session_replays_its_parameters_and_drops() {
+        for dim in [2, 3] {
+            let mut pg = Playground::new(sand_scene(dim)).unwrap();
+            pg.set_parameter("gravity", 5.0).unwrap();
+            pg.frame(0.02, 1e9, clock()).unwrap();
+            let i = pg
+                .drop_at("ball", "elastic", &[0.412_345_6, 0.2, 0.5][..dim], 1.0, 0.2)
+                .unwrap();
+            let body = pg.scene().bodies[i].clone();
+            let session = pg.session();
+            assert_eq!(session.params, [("gravity".to_string(), 5.0)]);
+            let d = session.drops[0].clone();
+            assert!(d.t > 0.0199 && d.t <= pg.drop_clock(), "{d:?}");
+            assert_eq!((d.centre[0], d.velocity[1], d.size), (0.412, -1.0, 0.2));
+            assert!(d.centre[1] > 0.5, "above the sand: {d:?}");
+            pg.frame(0.01, 1e9, clock()).unwrap();
+
+            let mut again = Playground::new(sand_scene(dim)).unwrap();
+            let mut replay = session.clone();
+            replay.params.push(("cfl".into(), 7.0));
+            let mut teapot = d.clone();
+            teapot.object = "teapot".into();
+            teapot.t = 0.001;
+            replay.drops.push(teapot);
+            let (rejected, refused) = again.replay(replay);
+            assert_eq!(rejected, ["cfl = 7: must be in [0.001, 1]"]);
+            assert!(refused.is_empty() && again.body_count() == 1);
+            assert_eq!(again.parameter("gravity").unwrap(), 5.0);
+            let r = again.frame(0.1, 1e9, clock()).unwrap();
+            assert_eq!(r.requested, 0.001, "the frame stops at the next drop");
+            assert_eq!(r.refused.len(), 1);
+            assert!(r.refused[0].error.starts_with("object = teapot"), "{r:?}");
+            let r = again.frame(0.1, 1e9, clock()).unwrap();
+            assert!((r.requested - (d.t - 0.001)).abs() < 1e-12, "{r:?}");
+            assert_eq!(again.body_count(), 2);
+            assert_eq!(again.scene().bodies[1], body, "the same body");
+            let landed = again.session().drops[0].applied_at.unwrap();
+            assert!((landed - d.t).abs() < 1e-9, "{landed} vs {}", d.t);
+            assert_eq!(
+                again.session().drops.len(),
+                1,
+                "the refused drop is left out"
+            );
+
+            // Clear empties the box and restarts the drop clock; Reset forgets both.
+            again.clear();
+            let s = again.session();
+            assert!(s.cleared && s.drops.is_empty() && again.drop_clock() == 0.0);
+            again.reset().unwrap();
+            let s = again.session();
+            assert!(!s.cleared && s.drops.is_empty() && again.body_count() == 1);
+            assert_eq!(s.params, [("gravity".to_string(), 5.0)]);
+            again.reset_to_scene().unwrap();
+            assert_eq!(again.parameter("gravity").unwrap(), 9.81);
+        }
+    }
+
+    /// A parameter of one body changes that body only, is named by its scene path when
+    /// refused, and survives a reset.
+    #[test]
+    fn one_body_takes_its_own_parameters() {
+        let mut scene = sand_scene(2);
+        scene.bodies.push(scene.bodies[0].clone());
+        let mut pg = Playground::new(scene).unwrap();
+        let name = "bodies[1].drucker_prager.friction_angle";
+        pg.set_parameter(name, 20.0).unwrap();
+        assert_eq!(pg.parameter(name).unwrap(), 20.0);
+        assert_eq!(pg.parameter("drucker_prager.friction_angle").unwrap(), 35.0);
+        let e = pg.set_parameter(name, 90.0).unwrap_err().to_string();
+        assert!(
+            e.starts_with("bodies[1].material.drucker_prager.friction_angle = 90"),
+            "{e}"
+        );
+        let e = pg.set_parameter("bodies[5].drucker_prager.cohesion", 1.0);
+        assert!(
+            e.unwrap_err()
+                .to_string()
+                .contains("the scene has 2 bodies")
+        );
+        pg.reset().unwrap();
+        assert_eq!(pg.parameter(name).unwrap(), 20.0);
+    }
+
     #[test]
     fn predictions_warn_of_stiff_materials() {
         let pg = Playground::new(sand_scene(2)).unwrap();
