@@ -15,7 +15,7 @@
 //! for body `i` alone.
 
 use crate::config::{BodyConfig, SceneConfig};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, not_one_of};
 use crate::material::Material;
 use serde::Serialize;
 
@@ -357,14 +357,10 @@ pub static MODELS: [ModelInfo; 3] = [
 
 /// The index in [`MODELS`] of the model with scene-file name `id`.
 pub fn model_index(id: &str) -> Result<usize> {
-    MODELS.iter().position(|m| m.id == id).ok_or_else(|| {
-        let names: Vec<&str> = MODELS.iter().map(|m| m.id).collect();
-        Error::invalid(
-            "material",
-            id,
-            format!("must be one of {}", names.join(", ")),
-        )
-    })
+    MODELS
+        .iter()
+        .position(|m| m.id == id)
+        .ok_or_else(|| not_one_of("material", id, MODELS.iter().map(|m| m.id)))
 }
 
 /// A live parameter: a world setting, or a field of one material model.

@@ -189,20 +189,6 @@ impl Playground {
             .add_object(object, model, center, velocity, size)
             .map_err(js_err)
     }
-    /// Drops an object as `addObject` does and records it in the session (see `session`).
-    #[wasm_bindgen(js_name = dropObject)]
-    pub fn drop_object(
-        &mut self,
-        object: &str,
-        model: &str,
-        center: &[f64],
-        velocity: &[f64],
-        size: f64,
-    ) -> Result<usize, JsError> {
-        self.core
-            .drop_object(object, model, center, velocity, size)
-            .map_err(js_err)
-    }
     /// Drops an object aimed at `point` (3D: on the floor; 2D: in the box) from above whatever
     /// lies there, falling at `speed` m/s, and records it in the session.
     #[wasm_bindgen(js_name = dropAt)]

@@ -1,7 +1,7 @@
 //! The per-particle colour scalar of the views: body, speed, pressure, plastic strain or yield
 //! state, with the range a colour map should span.
 
-use crate::error::{Error, Result};
+use crate::error::{Result, not_one_of};
 use crate::material::pq;
 use crate::math::{Dim, Real};
 use crate::sim::Simulation;
@@ -36,14 +36,7 @@ impl ColourMode {
             .iter()
             .find(|(n, _)| *n == name)
             .map(|(_, m)| *m)
-            .ok_or_else(|| {
-                let names: Vec<&str> = Self::ALL.iter().map(|(n, _)| *n).collect();
-                Error::invalid(
-                    "colour",
-                    name,
-                    format!("must be one of {}", names.join(", ")),
-                )
-            })
+            .ok_or_else(|| not_one_of("colour", name, Self::ALL.iter().map(|(n, _)| n)))
     }
 }
 

@@ -421,7 +421,7 @@ impl Playground {
     /// Adds a body of kind `object` (`bunny`, `ball`, `box`) made of the preset material
     /// `model` (`elastic`, `von_mises`, `drucker_prager`), `size` metres tall, centred at
     /// `center` (moved inside the domain if it pokes out), moving at `velocity`. Returns the
-    /// new body's index. Not recorded in the session (see [`Self::drop_object`]).
+    /// new body's index. Not recorded in the session (see [`Self::drop_at`]).
     pub fn add_object(
         &mut self,
         object: &str,
@@ -454,28 +454,12 @@ impl Playground {
         self.sim.add_body(body)
     }
 
-    /// Drops an object as [`Self::add_object`] does, now, and records it in the session
-    /// (its figures rounded as [`DroppedBody::rounded`] says, so that a replay drops the same
-    /// body). Returns the new body's index.
-    pub fn drop_object(
-        &mut self,
-        object: &str,
-        model: &str,
-        center: &[f64],
-        velocity: &[f64],
-        size: f64,
-    ) -> Result<usize> {
-        let clock = self.drop_clock();
-        let d = DroppedBody::rounded(clock, object, model, size, center, velocity);
-        let i = self.add_object(&d.object, &d.material, &d.centre, &d.velocity, d.size)?;
-        self.drops.record(d, clock);
-        Ok(i)
-    }
-
     /// Drops an object aimed at `point` (3D: a point on the floor, its x and z count; 2D: a
     /// point in the box), falling at `speed` (m/s): above whatever lies there, at least a gap
     /// of two cells or 5 % of the height (in 3D, from at least 55 % of the height), and below
-    /// the ceiling. Recorded as [`Self::drop_object`] records.
+    /// the ceiling. Recorded in the session with its figures rounded as
+    /// [`DroppedBody::rounded`] says, so that a replay drops the same body. Returns the new
+    /// body's index.
     pub fn drop_at(
         &mut self,
         object: &str,
@@ -503,7 +487,11 @@ impl Playground {
         centre[1] = y;
         let mut velocity = vec![0.0; dim];
         velocity[1] = -speed;
-        self.drop_object(object, model, &centre, &velocity, size)
+        let clock = self.drop_clock();
+        let d = DroppedBody::rounded(clock, object, model, size, &centre, &velocity);
+        let i = self.add_object(&d.object, &d.material, &d.centre, &d.velocity, d.size)?;
+        self.drops.record(d, clock);
+        Ok(i)
     }
 
     /// Adds a body as written in a scene file (not recorded in the session).

@@ -1,7 +1,7 @@
 //! The objects a front end drops into a scene: a bunny (the shipped mesh in 3D, its silhouette
 //! in 2D, or a bunny made of balls when neither was given), a ball or a box.
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, not_one_of};
 use crate::geometry::{Loaded, Polygon2, Scale, Shape, TriMesh};
 use serde::Serialize;
 use std::sync::Arc;
@@ -126,13 +126,6 @@ pub fn object_shape(
                 _ => ball_bunny(dim, base, size),
             }
         }
-        _ => {
-            let ids: Vec<&str> = OBJECTS.iter().map(|o| o.id).collect();
-            return Err(Error::invalid(
-                "object",
-                object,
-                format!("must be one of {}", ids.join(", ")),
-            ));
-        }
+        _ => return Err(not_one_of("object", object, OBJECTS.iter().map(|o| o.id))),
     })
 }
