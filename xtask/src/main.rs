@@ -15,6 +15,7 @@
 //!   docs/work-precision-report.md and the SVG diagrams.
 //! - `passes`    — the cost of each pass for scenes that need different work; writes
 //!   docs/passes-report.md.
+//! - `screenshot` — the README's picture of the page in headless Chromium: docs/playground.jpg.
 //! - `stress`    — the long stability sweep (`MPM_LONG=1`: more random scenes, longer resting
 //!   runs, more fuzzing).
 //!
@@ -53,9 +54,10 @@ fn main() -> ExitCode {
         Some("work-precision") => report_bench("work_precision", rest),
         Some("passes") => report_bench("passes", rest),
         Some("stress") => stress(),
+        Some("screenshot") => screenshot(),
         _ => {
             eprintln!(
-                "usage: cargo xtask <build|serve|test|bench-web|validate|work-precision|passes|stress>"
+                "usage: cargo xtask <build|serve|test|bench-web|validate|work-precision|passes|stress|screenshot>"
             );
             eprintln!(
                 "  build              build the browser playground into www/pkg/ (wasm, simd128)"
@@ -74,6 +76,9 @@ fn main() -> ExitCode {
             );
             eprintln!("  passes             cost of each pass -> docs/passes-report.md");
             eprintln!("  stress             the long stability sweep (MPM_LONG=1)");
+            eprintln!(
+                "  screenshot         the README's picture of the page -> docs/playground.jpg"
+            );
             return ExitCode::from(2);
         }
     };
@@ -593,6 +598,16 @@ fn report_bench(name: &str, filters: &[String]) -> Result<(), String> {
     } else {
         run("cargo", &args)
     }
+}
+
+/// The README's picture: the page in headless Chromium, written to docs/playground.jpg.
+fn screenshot() -> Result<(), String> {
+    build()?;
+    let chromium = ensure_browser_tools()?;
+    let url = background_server()?;
+    let mut shot = command("node", &["www/tools/screenshot.mjs", "docs/playground.jpg"]);
+    shot.env("MPM_URL", &url).env("CHROMIUM", &chromium);
+    run_cmd(shot)
 }
 
 /// The long stability sweep: `MPM_LONG=1 cargo test --test stability -- --nocapture`.

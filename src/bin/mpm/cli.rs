@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 
 /// Material point method playground: elastic and plastic solids and sand (Jiang et al.).
 ///
-/// Scene files are JSON (see the README); units are SI, angles in degrees. Meshes and vertex
+/// Scene files are JSON (see docs/scenes.md); units are SI, angles in degrees. Meshes and vertex
 /// lists that a scene references are read relative to the scene file.
 #[derive(Parser, Debug)]
 #[command(name = "mpm", version, propagate_version = true)]
