@@ -118,6 +118,11 @@ fn is_zero_u64(x: &u64) -> bool {
     *x == 0
 }
 
+/// A PIC/FLIP ratio α must lie in [0, 1]; `field` names it.
+pub fn check_flip(field: impl std::fmt::Display, alpha: f64) -> Result<()> {
+    check_range(field, alpha, 0.0, 1.0, false, "")
+}
+
 /// At most this many lattice points are tested when a shape is sampled (a clear error instead
 /// of an endless loop over a huge bounding box).
 pub const MAX_LATTICE_POINTS: f64 = 2.0e8;
@@ -198,7 +203,7 @@ impl BodyConfig {
             ));
         }
         if let Some(a) = self.flip {
-            check_range(format!("{path}.flip"), a, 0.0, 1.0, false, "")?;
+            check_flip(format!("{path}.flip"), a)?;
         }
         check_range(
             format!("{path}.jitter"),

@@ -34,6 +34,7 @@ pub mod io;
 pub mod kernel;
 pub mod material;
 pub mod math;
+pub mod params;
 pub mod playground;
 pub mod sim;
 pub mod step;

@@ -275,6 +275,50 @@ fn check_reports_counts_memory_and_time_step() {
         s.contains(&format!("stable dt: {dt:.4e} s")),
         "{s} (expected dt {dt:.4e})"
     );
+    // --set as the page's slider: four times stiffer sand carries waves twice as fast.
+    let out = mpm(
+        &[
+            "check",
+            "tiny.json",
+            "--set",
+            "drucker_prager.youngs_modulus=1.4e6",
+        ],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let s = text(&out.stdout);
+    let dt = dt / 2.0;
+    assert!(
+        s.contains(&format!("stable dt: {dt:.4e} s")),
+        "{s} (expected dt {dt:.4e})"
+    );
+}
+
+/// `mpm check SCENE | head`: the reader closes the pipe before the command has written
+/// everything; the command ends quietly (success, nothing on stderr), not with a panic on
+/// the closed pipe.
+#[test]
+fn a_closed_output_ends_the_command_quietly() {
+    use std::process::Stdio;
+    let dir = tempfile::tempdir().unwrap();
+    fs::write(dir.path().join("tiny.json"), TINY_2D).unwrap();
+    for args in [
+        vec!["check", "tiny.json"],
+        vec!["run", "tiny.json", "-q", "-t", "0.01", "--summary", "-"],
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_mpm"))
+            .args(&args)
+            .current_dir(dir.path())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take()); // closed before the scene is even read
+        let out = child.wait_with_output().unwrap();
+        let err = text(&out.stderr);
+        assert!(out.status.success(), "{args:?}: {:?} {err}", out.status);
+        assert!(err.is_empty(), "{args:?}: {err}");
+    }
 }
 
 #[test]
@@ -332,6 +376,19 @@ fn errors_go_to_stderr_with_a_non_zero_exit() {
         (
             vec!["play", "tiny.json"],
             "play needs an interactive terminal",
+        ),
+        (
+            vec![
+                "check",
+                "tiny.json",
+                "--set",
+                "drucker_prager.friction_angle=95",
+            ],
+            "--set: bodies[0].material.drucker_prager.friction_angle = 95: must be in [0, 90)",
+        ),
+        (
+            vec!["run", "tiny.json", "-t", "1", "--set", "warp=9"],
+            "--set: parameter = warp: must be one of gravity, wall_friction, cfl",
         ),
         (vec!["frobnicate"], "unrecognized subcommand"),
     ] {

@@ -349,6 +349,68 @@ fn bodies_are_added_and_cleared() {
     }
 }
 
+/// The page builds its sliders from `parameterTable` and keeps a session as JSON that
+/// `replay` takes back: both cross the boundary intact.
+#[wasm_bindgen_test]
+fn the_parameter_table_and_a_session_cross_as_json() {
+    let table: serde_json::Value = serde_json::from_str(&mpm::wasm::parameter_table()).unwrap();
+    let names: Vec<&str> = table["params"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["name"].as_str().unwrap())
+        .collect();
+    for &(name, ..) in PARAMETERS {
+        assert!(names.contains(&name), "{name} in {names:?}");
+    }
+    let phi = &table["params"][names
+        .iter()
+        .position(|n| *n == "drucker_prager.friction_angle")
+        .unwrap()];
+    assert_eq!(
+        (
+            phi["unit"].as_str(),
+            phi["default"].as_f64(),
+            phi["key"].as_str()
+        ),
+        (Some("°"), Some(35.0), Some("f"))
+    );
+    assert_eq!(table["models"][2]["id"], "drucker_prager");
+    assert_eq!(table["objects"][0]["id"], "bunny");
+
+    let mut pg = Playground::new(&mpm::wasm::sandbox_scene(2), None).unwrap();
+    pg.set_parameter("gravity", 4.0).unwrap();
+    pg.drop_at("box", "von_mises", &[1.0, 0.5], 0.5, 0.3)
+        .unwrap();
+    pg.frame(0.05, 1e9).unwrap();
+    pg.drop_at("ball", "elastic", &[0.5, 0.5], 0.0, 0.2)
+        .unwrap();
+    let session = pg.session();
+    let mut again = Playground::new(&mpm::wasm::sandbox_scene(2), None).unwrap();
+    let out: serde_json::Value = serde_json::from_str(&again.replay(&session).unwrap()).unwrap();
+    assert_eq!(out, serde_json::json!({"rejected": [], "refused": []}));
+    // The first drop lands at once (the box is empty, its time stands still), the second when
+    // the simulation reaches its time.
+    assert_eq!(again.body_count(), 1);
+    while again.body_count() < 2 {
+        again.frame(0.02, 1e9).unwrap();
+    }
+    let times = |pg: &Playground| -> Vec<f64> {
+        let s: serde_json::Value = serde_json::from_str(&pg.session()).unwrap();
+        s["drops"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|d| d["applied_at"].as_f64().unwrap())
+            .collect()
+    };
+    let (a, b) = (times(&pg), times(&again));
+    assert!(a.len() == 2 && (a[1] - b[1]).abs() < 1e-9, "{a:?} {b:?}");
+    assert_eq!(again.scene_json(), pg.scene_json());
+    let e = message(again.replay("{\"drops\": 3}").unwrap_err());
+    assert!(e.starts_with("session: "), "{e}");
+}
+
 /// The wasm build computes stencils in four SIMD lanes (`kernel::F4`); they must equal, bit
 /// for bit, what the one-axis scalar kernel gives (the native build's arithmetic).
 #[wasm_bindgen_test]

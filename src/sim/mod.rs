@@ -93,8 +93,8 @@ impl<D: Dim> Body<D> {
         if self.kinematic {
             return 0.0;
         }
-        let (g, k) = self.model.moduli();
-        ((k + 4.0 * g / 3.0) as f64 * self.max_volume as f64 / self.min_mass as f64).sqrt()
+        let lowest_density = self.min_mass as f64 / self.max_volume as f64;
+        self.model.elastic().wave_speed(lowest_density)
     }
 }
 
@@ -376,28 +376,42 @@ impl<D: Dim> Simulation<D> {
                 .sum::<usize>()
     }
 
+    /// The largest wave speed of the bodies (m/s), see [`Body::wave_speed`].
+    pub fn max_wave_speed(&self) -> f64 {
+        self.bodies
+            .iter()
+            .map(|b| b.wave_speed())
+            .fold(0.0, f64::max)
+    }
+
     /// The time step the next step will take: dt = CFL · h / max(c + |v|), capped by max_dt,
     /// with c = √((K + 4G/3)/ρ) at each body's lowest density.
     pub fn stable_dt(&self) -> f64 {
-        let c = self
-            .bodies
-            .iter()
-            .map(|b| b.wave_speed())
-            .fold(0.0, f64::max);
-        let speed = c + self.diagnostics.max_speed;
-        if speed > 0.0 {
-            (self.world.cfl * self.world.h as f64 / speed).min(self.world.max_dt)
-        } else {
-            self.world.max_dt
-        }
+        cfl_time_step(
+            self.world.cfl,
+            self.world.h as f64,
+            self.max_wave_speed() + self.diagnostics.max_speed,
+            self.world.max_dt,
+        )
     }
 
     /// Advances by `duration` seconds (the last step is shortened to land on it); returns the
     /// number of steps taken.
     pub fn advance(&mut self, duration: f64) -> Result<usize> {
-        let end = self.time + duration;
+        self.advance_until(self.time + duration, |_| true)
+    }
+
+    /// Steps towards simulated time `end` (the last step is shortened to land on it) while
+    /// `go_on`, shown the latest diagnostics, allows another step (a wall-clock budget, a
+    /// progress report); returns the number of steps taken. The one driver loop of every front
+    /// end.
+    pub fn advance_until(
+        &mut self,
+        end: f64,
+        mut go_on: impl FnMut(&Diagnostics) -> bool,
+    ) -> Result<usize> {
         let mut n = 0;
-        while self.time < end - 1e-12 * end.abs().max(1.0) {
+        while self.time < end - 1e-12 * end.abs().max(1.0) && go_on(&self.diagnostics) {
             self.step_at_most(end - self.time)?;
             n += 1;
         }
@@ -416,6 +430,7 @@ impl<D: Dim> Simulation<D> {
         stress: &[StressReport],
         gathered: &[GatherReport<D>],
     ) -> Result<()> {
+        let c = self.max_wave_speed();
         let d = &mut self.diagnostics;
         d.time = self.time;
         d.step = self.steps;
@@ -449,11 +464,6 @@ impl<D: Dim> Simulation<D> {
         d.elastic = elastic;
         d.momentum = momentum;
         d.max_speed = max_speed;
-        let c = self
-            .bodies
-            .iter()
-            .map(|b| b.wave_speed())
-            .fold(0.0, f64::max);
         d.cfl = dt * (c + max_speed) / self.world.h as f64;
         for i in 0..self.bodies.len() {
             let bad = stress[i]
@@ -599,6 +609,16 @@ pub enum AnySimulation {
     D3(Simulation<D3>),
 }
 
+/// The CFL condition: dt = `cfl` · `h` / `speed` (the fastest signal, m/s), at most `max_dt`
+/// (which a world where nothing moves or carries stress takes).
+pub fn cfl_time_step(cfl: f64, h: f64, speed: f64, max_dt: f64) -> f64 {
+    if speed > 0.0 {
+        (cfl * h / speed).min(max_dt)
+    } else {
+        max_dt
+    }
+}
+
 macro_rules! delegate {
     ($self:ident, $s:ident => $e:expr) => {
         match $self {
@@ -627,6 +647,14 @@ impl AnySimulation {
     }
     pub fn advance(&mut self, duration: f64) -> Result<usize> {
         delegate!(self, s => s.advance(duration))
+    }
+    /// See [`Simulation::advance_until`].
+    pub fn advance_until(
+        &mut self,
+        end: f64,
+        go_on: impl FnMut(&Diagnostics) -> bool,
+    ) -> Result<usize> {
+        delegate!(self, s => s.advance_until(end, go_on))
     }
     pub fn diagnostics(&self) -> &Diagnostics {
         delegate!(self, s => s.diagnostics())

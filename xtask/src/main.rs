@@ -5,8 +5,9 @@
 //!   release wasm with simd128, runs `wasm-bindgen --target web` into `www/pkg/` and writes
 //!   the scene list `www/pkg/scenes.json` from the files in `scenes/`.
 //! - `serve`     — `build`, then serves the repository root on http://127.0.0.1:8080.
-//! - `test`      — every test: formatting, clippy (native and wasm), the native test suite, the
-//!   wasm tests in Node and the end-to-end test in headless Chromium.
+//! - `test`      — every test: formatting, clippy (native and wasm), the page's pure modules
+//!   under `node --test`, the native test suite, the wasm tests in Node and the end-to-end
+//!   tests in headless Chromium and Firefox.
 //! - `bench-web` — benchmarks that print figures: wasm in Node against native on the same
 //!   scene, and the page's frame rate in headless Chromium.
 //! - `validate`  — the long validation runs; writes docs/validation-report.md.
@@ -14,6 +15,7 @@
 //!   docs/work-precision-report.md and the SVG diagrams.
 //! - `passes`    — the cost of each pass for scenes that need different work; writes
 //!   docs/passes-report.md.
+//! - `screenshot` — the README's picture of the page in headless Chromium: docs/playground.jpg.
 //! - `stress`    — the long stability sweep (`MPM_LONG=1`: more random scenes, longer resting
 //!   runs, more fuzzing).
 //!
@@ -52,9 +54,10 @@ fn main() -> ExitCode {
         Some("work-precision") => report_bench("work_precision", rest),
         Some("passes") => report_bench("passes", rest),
         Some("stress") => stress(),
+        Some("screenshot") => screenshot(),
         _ => {
             eprintln!(
-                "usage: cargo xtask <build|serve|test|bench-web|validate|work-precision|passes|stress>"
+                "usage: cargo xtask <build|serve|test|bench-web|validate|work-precision|passes|stress|screenshot>"
             );
             eprintln!(
                 "  build              build the browser playground into www/pkg/ (wasm, simd128)"
@@ -73,6 +76,9 @@ fn main() -> ExitCode {
             );
             eprintln!("  passes             cost of each pass -> docs/passes-report.md");
             eprintln!("  stress             the long stability sweep (MPM_LONG=1)");
+            eprintln!(
+                "  screenshot         the README's picture of the page -> docs/playground.jpg"
+            );
             return ExitCode::from(2);
         }
     };
@@ -329,9 +335,10 @@ fn ensure_browser_tools() -> Result<String, String> {
         .next()
         .and_then(|m| m.parse().ok())
         .unwrap_or(0);
-    if major < 18 {
+    // The oldest Node the locked npm packages support (package-lock.json's `engines`).
+    if major < 20 {
         return Err(format!(
-            "Node.js 18 or newer is needed, found {}",
+            "Node.js 20 or newer is needed, found {}",
             node.trim()
         ));
     }
@@ -412,6 +419,7 @@ fn test() -> Result<(), String> {
             "warnings",
         ],
     )?;
+    page_unit_tests()?;
     run("cargo", &["test", "--workspace"])?;
     // the f64 build option: the unit tests (constitutive models, kernels, grid) in double precision
     run("cargo", &["test", "--lib", "--features", "f64"])?;
@@ -467,6 +475,23 @@ fn test() -> Result<(), String> {
     run_cmd(ff)?;
     eprintln!("xtask: every test passed");
     Ok(())
+}
+
+/// The page's pure modules (the link's format, slider scales, plot scales, the quality
+/// governor) under `node --test`, without a browser or the wasm build.
+fn page_unit_tests() -> Result<(), String> {
+    let dir = root().join("www/tests/unit");
+    let mut files: Vec<String> = std::fs::read_dir(&dir)
+        .map_err(|e| format!("{}: {e}", dir.display()))?
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".test.mjs"))
+        .map(|n| format!("www/tests/unit/{n}"))
+        .collect();
+    files.sort();
+    let mut args = vec!["--test", "--test-reporter=spec"];
+    args.extend(files.iter().map(String::as_str));
+    run("node", &args)
 }
 
 fn median(v: &mut [f64]) -> f64 {
@@ -573,6 +598,16 @@ fn report_bench(name: &str, filters: &[String]) -> Result<(), String> {
     } else {
         run("cargo", &args)
     }
+}
+
+/// The README's picture: the page in headless Chromium, written to docs/playground.jpg.
+fn screenshot() -> Result<(), String> {
+    build()?;
+    let chromium = ensure_browser_tools()?;
+    let url = background_server()?;
+    let mut shot = command("node", &["www/tools/screenshot.mjs", "docs/playground.jpg"]);
+    shot.env("MPM_URL", &url).env("CHROMIUM", &chromium);
+    run_cmd(shot)
 }
 
 /// The long stability sweep: `MPM_LONG=1 cargo test --test stability -- --nocapture`.
