@@ -10,6 +10,9 @@
 //!   tests in headless Chromium and Firefox.
 //! - `bench-web` — benchmarks that print figures: wasm in Node against native on the same
 //!   scene, and the page's frame rate in headless Chromium.
+//! - `live`      — the real-time factor of every shipped scene at the page's default quality:
+//!   stepping alone (wasm in Node, one core) and as seen in headless Chromium (stepping and
+//!   rendering), one `live scene=… rtf_step=… rtf_seen=… fps=…` line per scene.
 //! - `validate`  — the long validation runs; writes docs/validation-report.md.
 //! - `work-precision` — the run time against error study; writes
 //!   docs/work-precision-report.md and the SVG diagrams.
@@ -50,6 +53,7 @@ fn main() -> ExitCode {
         Some("serve") => serve_task(rest),
         Some("test") => test(),
         Some("bench-web") => bench_web(rest),
+        Some("live") => live(rest),
         Some("validate") => report_bench("validate", rest),
         Some("work-precision") => report_bench("work_precision", rest),
         Some("passes") => report_bench("passes", rest),
@@ -57,7 +61,7 @@ fn main() -> ExitCode {
         Some("screenshot") => screenshot(),
         _ => {
             eprintln!(
-                "usage: cargo xtask <build|serve|test|bench-web|validate|work-precision|passes|stress|screenshot>"
+                "usage: cargo xtask <build|serve|test|bench-web|live|validate|work-precision|passes|stress|screenshot>"
             );
             eprintln!(
                 "  build              build the browser playground into www/pkg/ (wasm, simd128)"
@@ -70,6 +74,10 @@ fn main() -> ExitCode {
             );
             eprintln!("  bench-web [--steps N] [--seconds S]");
             eprintln!("                     wasm vs native time per step, and fps in Chromium");
+            eprintln!("  live [--runs N] [--seconds S] [--no-page] [SCENE..]");
+            eprintln!(
+                "                     real-time factor per shipped scene: stepping (Node, one core), as seen (Chromium)"
+            );
             eprintln!("  validate [CASE..]  long validation runs -> docs/validation-report.md");
             eprintln!(
                 "  work-precision     run time against error -> docs/work-precision-report.md, SVGs"
@@ -579,6 +587,123 @@ fn bench_web(args: &[String]) -> Result<(), String> {
             .env("MPM_SCENE", scene)
             .env("MPM_SECONDS", seconds);
         run_cmd(fps)?;
+    }
+    Ok(())
+}
+
+/// The `key=value` figures of a benchmark's output line.
+fn fields(line: &str) -> std::collections::HashMap<&str, &str> {
+    line.split_whitespace()
+        .filter_map(|w| w.split_once('='))
+        .collect()
+}
+
+/// The real-time factor of every shipped scene (`scenes/*.json`, or those whose file name
+/// contains one of the given words) at the page's default quality: simulated seconds per
+/// wall-clock second of stepping alone (the release wasm in Node, pinned to one core with
+/// `taskset -c 0` where it exists) and as seen in headless Chromium (stepping and rendering),
+/// each the median of `--runs` runs (default 3). Prints one line per scene:
+/// `live scene=<name> dim=<d> particles=<n> rtf_step=<x> rtf_seen=<y> fps=<z>`.
+fn live(args: &[String]) -> Result<(), String> {
+    let runs: usize = flag(args, "--runs")
+        .unwrap_or("3")
+        .parse()
+        .map_err(|e| format!("--runs: {e}"))?;
+    let seconds = flag(args, "--seconds").unwrap_or("8");
+    let with_page = !args.iter().any(|a| a == "--no-page");
+    let words: Vec<&String> = {
+        let mut skip = false;
+        args.iter()
+            .filter(|a| {
+                let keep = !skip && !a.starts_with("--");
+                skip = matches!(a.as_str(), "--runs" | "--seconds");
+                keep
+            })
+            .collect()
+    };
+    if !args.iter().any(|a| a == "--no-build") {
+        build()?;
+    }
+    let mut scenes: Vec<String> = std::fs::read_dir(root().join("scenes"))
+        .map_err(|e| format!("scenes/: {e}"))?
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".json"))
+        .filter(|n| words.is_empty() || words.iter().any(|w| n.contains(w.as_str())))
+        .map(|n| format!("scenes/{n}"))
+        .collect();
+    scenes.sort();
+    if scenes.is_empty() {
+        return Err(format!("no scene file matches {words:?}"));
+    }
+    // Per scene: (dim, particles, rtf_step runs, rtf_seen runs, fps runs).
+    type Figures = (String, String, Vec<f64>, Vec<f64>, Vec<f64>);
+    let mut table: std::collections::BTreeMap<String, Figures> = Default::default();
+    let number = |f: &std::collections::HashMap<&str, &str>, k: &str| {
+        f.get(k).and_then(|v| v.parse::<f64>().ok())
+    };
+    let pinned = output("taskset", &["--version"]).is_some();
+    let chromium = if with_page {
+        Some(ensure_browser_tools()?)
+    } else {
+        None
+    };
+    let url = if with_page {
+        Some(background_server()?)
+    } else {
+        None
+    };
+    for _ in 0..runs {
+        let mut node_args = vec!["node", "www/bench/live-node.mjs"];
+        node_args.extend(scenes.iter().map(String::as_str));
+        let c = if pinned {
+            let mut all = vec!["-c", "0"];
+            all.extend(node_args);
+            command("taskset", &all)
+        } else {
+            command(node_args[0], &node_args[1..])
+        };
+        for line in captured(c)?.lines().filter(|l| l.starts_with("step ")) {
+            let f = fields(line);
+            let e = table.entry(f["scene"].to_string()).or_default();
+            e.0 = f["dim"].to_string();
+            e.1 = f["particles"].to_string();
+            e.2.extend(number(&f, "rtf_step"));
+        }
+        if let (Some(chromium), Some(url)) = (&chromium, &url) {
+            let mut page_args = vec!["www/bench/live-page.mjs", "--seconds", seconds];
+            page_args.extend(scenes.iter().map(String::as_str));
+            let mut c = command("node", &page_args);
+            c.env("MPM_URL", url).env("CHROMIUM", chromium);
+            for line in captured(c)?.lines().filter(|l| l.starts_with("seen ")) {
+                let f = fields(line);
+                let e = table.entry(f["scene"].to_string()).or_default();
+                e.3.extend(number(&f, "rtf_seen"));
+                e.4.extend(number(&f, "fps"));
+            }
+        }
+    }
+    let commit = output("git", &["rev-parse", "--short", "HEAD"]).unwrap_or_default();
+    println!(
+        "live: medians of {runs} runs at commit {}; stepping: wasm in Node{}; seen: headless Chromium, {seconds} s per scene",
+        commit.trim(),
+        if pinned { " under taskset -c 0" } else { "" }
+    );
+    for (path, (dim, particles, mut step, mut seen, mut fps)) in table {
+        let name = path.trim_start_matches("scenes/").trim_end_matches(".json");
+        let show = |v: &mut Vec<f64>, digits: usize| {
+            if v.is_empty() {
+                "-".to_string()
+            } else {
+                format!("{:.*}", digits, median(v))
+            }
+        };
+        println!(
+            "live scene={name} dim={dim} particles={particles} rtf_step={} rtf_seen={} fps={}",
+            show(&mut step, 3),
+            show(&mut seen, 3),
+            show(&mut fps, 1),
+        );
     }
     Ok(())
 }

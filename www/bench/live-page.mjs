@@ -1,0 +1,48 @@
+// The real-time factor as seen: the playground in headless Chromium (Debian's package, WebGL2
+// drawn on the CPU by SwiftShader: the floor, not a laptop's), stepping and rendering at the
+// page's default quality, for each scene given.
+//
+//   MPM_URL=http://127.0.0.1:8080/ node www/bench/live-page.mjs [--seconds S] SCENE.json...
+// prints one line per scene:
+//   seen scene=<path> dim=<d> particles=<n> sim=<s> wall=<s> frames=<k> fps=<x> rtf_seen=<y>
+// After the page shows the scene, 3 s of warm-up (V8's tier-up, the rendering governor
+// settling), then S wall-clock seconds (default 8) in which the simulated time advanced and the
+// frames drawn are counted (`cargo xtask live` serves the page and runs this).
+import { launch } from '../tests/browser.mjs';
+
+const url = process.env.MPM_URL || 'http://127.0.0.1:8080/';
+const args = process.argv.slice(2);
+let seconds = 8;
+const i = args.indexOf('--seconds');
+if (i >= 0) seconds = Number(args.splice(i, 2)[1]);
+const width = Number(process.env.MPM_WIDTH || 1280), height = Number(process.env.MPM_HEIGHT || 720);
+
+const browser = await launch({ width, height });
+// What the page reports, whichever way it holds its simulation.
+const sample = () => ({
+  t: performance.now(),
+  sim: window.mpm.simTime ?? window.mpm.pg.time(),
+  frames: window.mpm.stats.frames,
+  particles: window.mpm.particleCount ?? window.mpm.pg.particleCount(),
+  dim: window.mpm.domain.length,
+});
+for (const scene of args) {
+  const page = await browser.context.newPage();
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(e.message));
+  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+  await page.goto(`${url}#scene=${scene}`);
+  await page.waitForFunction(() => window.mpm?.stats?.frames > 3, null, { timeout: 120_000 });
+  await page.waitForTimeout(3000);
+  const a = await page.evaluate(sample);
+  await page.waitForTimeout(seconds * 1000);
+  const b = await page.evaluate(sample);
+  const wall = (b.t - a.t) / 1000;
+  console.log(
+    `seen scene=${scene} dim=${b.dim} particles=${b.particles} sim=${(b.sim - a.sim).toFixed(4)} wall=${wall.toFixed(3)} ` +
+      `frames=${b.frames - a.frames} fps=${((b.frames - a.frames) / wall).toFixed(1)} rtf_seen=${((b.sim - a.sim) / wall).toFixed(3)}`,
+  );
+  if (errors.length) console.log(`page errors (${scene}): ${errors.join('; ')}`);
+  await page.close();
+}
+await browser.close();
