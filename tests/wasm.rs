@@ -79,8 +79,8 @@ fn every_scene_steps_with_finite_bounded_energy() {
             })
             .collect();
         let assets = (!assets.is_empty()).then(|| serde_json::Value::Object(assets).to_string());
-        let mut pg =
-            Playground::new(&text, assets).unwrap_or_else(|e| panic!("{path}: {}", message(e)));
+        let mut pg = Playground::new(&text, assets, None)
+            .unwrap_or_else(|e| panic!("{path}: {}", message(e)));
         assert!(pg.particle_count() > 0, "{path}");
         let d0 = diag(&pg);
         let e0 = d0.kinetic + d0.gravitational + d0.elastic;
@@ -128,9 +128,13 @@ fn a_missing_asset_is_named() {
         mpm::wasm::asset_paths(&text).unwrap(),
         vec!["bunny.obj".to_string()]
     );
-    let e = message(Playground::new(&text, None).err().unwrap());
+    let e = message(Playground::new(&text, None, None).err().unwrap());
     assert!(e.contains("bunny.obj"), "{e}");
-    let e = message(Playground::new(&text, Some("[1, 2]".into())).err().unwrap());
+    let e = message(
+        Playground::new(&text, Some("[1, 2]".into()), None)
+            .err()
+            .unwrap(),
+    );
     assert!(e.starts_with("assets: "), "{e}");
 }
 
@@ -228,7 +232,7 @@ fn every_live_parameter_is_validated_with_the_state_unchanged() {
     for dim in [2, 3] {
         let text =
             read_file_sync(&format!("{ROOT}/www/test-scenes/drop_{dim}d.json"), "utf8").unwrap();
-        let mut pg = Playground::new(&text, None).unwrap();
+        let mut pg = Playground::new(&text, None, None).unwrap();
         pg.frame(0.01, 1e9).unwrap();
         for &(name, good, bad, error) in PARAMETERS {
             pg.set_parameter(name, good)
@@ -260,7 +264,7 @@ fn every_live_parameter_is_validated_with_the_state_unchanged() {
 #[wasm_bindgen_test]
 fn bodies_are_added_and_cleared() {
     for dim in [2usize, 3] {
-        let mut pg = Playground::new(&mpm::wasm::sandbox_scene(dim), None).unwrap();
+        let mut pg = Playground::new(&mpm::wasm::sandbox_scene(dim), None, None).unwrap();
         assert_eq!(pg.particle_count(), 0);
         let obj = read_file_sync(&format!("{ROOT}/scenes/bunny.obj"), "utf8").unwrap();
         let polygon = read_file_sync(&format!("{ROOT}/scenes/bunny2d.txt"), "utf8").unwrap();
@@ -378,7 +382,7 @@ fn the_parameter_table_and_a_session_cross_as_json() {
     assert_eq!(table["models"][2]["id"], "drucker_prager");
     assert_eq!(table["objects"][0]["id"], "bunny");
 
-    let mut pg = Playground::new(&mpm::wasm::sandbox_scene(2), None).unwrap();
+    let mut pg = Playground::new(&mpm::wasm::sandbox_scene(2), None, None).unwrap();
     pg.set_parameter("gravity", 4.0).unwrap();
     pg.drop_at("box", "von_mises", &[1.0, 0.5], 0.5, 0.3)
         .unwrap();
@@ -386,7 +390,7 @@ fn the_parameter_table_and_a_session_cross_as_json() {
     pg.drop_at("ball", "elastic", &[0.5, 0.5], 0.0, 0.2)
         .unwrap();
     let session = pg.session();
-    let mut again = Playground::new(&mpm::wasm::sandbox_scene(2), None).unwrap();
+    let mut again = Playground::new(&mpm::wasm::sandbox_scene(2), None, None).unwrap();
     let out: serde_json::Value = serde_json::from_str(&again.replay(&session).unwrap()).unwrap();
     assert_eq!(out, serde_json::json!({"rejected": [], "refused": []}));
     // The first drop lands at once (the box is empty, its time stands still), the second when

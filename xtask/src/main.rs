@@ -13,6 +13,9 @@
 //! - `live`      — the real-time factor of every shipped scene at the page's default quality:
 //!   stepping alone (wasm in Node, one core) and as seen in headless Chromium (stepping and
 //!   rendering), one `live scene=… rtf_step=… rtf_seen=… fps=…` line per scene.
+//! - `quality`   — what the page's quality levels cost in accuracy: the validation cases at
+//!   each level's cell factor and particles per cell (the figures of
+//!   `src/playground/quality.rs`).
 //! - `validate`  — the long validation runs; writes docs/validation-report.md.
 //! - `work-precision` — the run time against error study; writes
 //!   docs/work-precision-report.md and the SVG diagrams.
@@ -54,6 +57,7 @@ fn main() -> ExitCode {
         Some("test") => test(),
         Some("bench-web") => bench_web(rest),
         Some("live") => live(rest),
+        Some("quality") => report_bench("quality", rest),
         Some("validate") => report_bench("validate", rest),
         Some("work-precision") => report_bench("work_precision", rest),
         Some("passes") => report_bench("passes", rest),
@@ -61,7 +65,7 @@ fn main() -> ExitCode {
         Some("screenshot") => screenshot(),
         _ => {
             eprintln!(
-                "usage: cargo xtask <build|serve|test|bench-web|live|validate|work-precision|passes|stress|screenshot>"
+                "usage: cargo xtask <build|serve|test|bench-web|live|quality|validate|work-precision|passes|stress|screenshot>"
             );
             eprintln!(
                 "  build              build the browser playground into www/pkg/ (wasm, simd128)"
@@ -74,9 +78,12 @@ fn main() -> ExitCode {
             );
             eprintln!("  bench-web [--steps N] [--seconds S]");
             eprintln!("                     wasm vs native time per step, and fps in Chromium");
-            eprintln!("  live [--runs N] [--seconds S] [--no-page] [SCENE..]");
+            eprintln!("  live [--runs N] [--seconds S] [--no-page] [--root DIR] [SCENE..]");
             eprintln!(
                 "                     real-time factor per shipped scene: stepping (Node, one core), as seen (Chromium)"
+            );
+            eprintln!(
+                "  quality            the validation errors at each quality level's resolution"
             );
             eprintln!("  validate [CASE..]  long validation runs -> docs/validation-report.md");
             eprintln!(
@@ -326,9 +333,14 @@ fn serve_task(args: &[String]) -> Result<(), String> {
 
 /// Starts the file server on a free loopback port in this process; returns its URL.
 fn background_server() -> Result<String, String> {
+    background_server_of(root())
+}
+
+/// The same, serving the folder `dir`.
+fn background_server_of(dir: PathBuf) -> Result<String, String> {
     let listener = TcpListener::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
     let addr = listener.local_addr().map_err(|e| e.to_string())?;
-    std::thread::spawn(move || serve::run(listener, root(), true));
+    std::thread::spawn(move || serve::run(listener, dir, true));
     Ok(format!("http://{addr}/"))
 }
 
@@ -604,7 +616,11 @@ fn fields(line: &str) -> std::collections::HashMap<&str, &str> {
 /// `taskset -c 0` where it exists) and as seen in headless Chromium (stepping and rendering),
 /// each the median of `--runs` runs (default 3). Prints one line per scene:
 /// `live scene=<name> dim=<d> particles=<n> rtf_step=<x> rtf_seen=<y> fps=<z>`.
+/// `--root DIR` measures another tree instead (a checkout of an earlier commit with its
+/// `www/pkg/` built, and this one's `www/bench/live-*.mjs` copied in): the figures before a
+/// change.
 fn live(args: &[String]) -> Result<(), String> {
+    let tree = flag(args, "--root").map_or_else(root, PathBuf::from);
     let runs: usize = flag(args, "--runs")
         .unwrap_or("3")
         .parse()
@@ -616,15 +632,15 @@ fn live(args: &[String]) -> Result<(), String> {
         args.iter()
             .filter(|a| {
                 let keep = !skip && !a.starts_with("--");
-                skip = matches!(a.as_str(), "--runs" | "--seconds");
+                skip = matches!(a.as_str(), "--runs" | "--seconds" | "--root");
                 keep
             })
             .collect()
     };
-    if !args.iter().any(|a| a == "--no-build") {
+    if !args.iter().any(|a| a == "--no-build") && flag(args, "--root").is_none() {
         build()?;
     }
-    let mut scenes: Vec<String> = std::fs::read_dir(root().join("scenes"))
+    let mut scenes: Vec<String> = std::fs::read_dir(tree.join("scenes"))
         .map_err(|e| format!("scenes/: {e}"))?
         .flatten()
         .map(|e| e.file_name().to_string_lossy().into_owned())
@@ -649,20 +665,21 @@ fn live(args: &[String]) -> Result<(), String> {
         None
     };
     let url = if with_page {
-        Some(background_server()?)
+        Some(background_server_of(tree.clone())?)
     } else {
         None
     };
     for _ in 0..runs {
         let mut node_args = vec!["node", "www/bench/live-node.mjs"];
         node_args.extend(scenes.iter().map(String::as_str));
-        let c = if pinned {
+        let mut c = if pinned {
             let mut all = vec!["-c", "0"];
             all.extend(node_args);
             command("taskset", &all)
         } else {
             command(node_args[0], &node_args[1..])
         };
+        c.current_dir(&tree);
         for line in captured(c)?.lines().filter(|l| l.starts_with("step ")) {
             let f = fields(line);
             let e = table.entry(f["scene"].to_string()).or_default();
@@ -674,7 +691,9 @@ fn live(args: &[String]) -> Result<(), String> {
             let mut page_args = vec!["www/bench/live-page.mjs", "--seconds", seconds];
             page_args.extend(scenes.iter().map(String::as_str));
             let mut c = command("node", &page_args);
-            c.env("MPM_URL", url).env("CHROMIUM", chromium);
+            c.env("MPM_URL", url)
+                .env("CHROMIUM", chromium)
+                .current_dir(&tree);
             for line in captured(c)?.lines().filter(|l| l.starts_with("seen ")) {
                 let f = fields(line);
                 let e = table.entry(f["scene"].to_string()).or_default();
@@ -683,7 +702,11 @@ fn live(args: &[String]) -> Result<(), String> {
             }
         }
     }
-    let commit = output("git", &["rev-parse", "--short", "HEAD"]).unwrap_or_default();
+    let commit = if flag(args, "--root").is_some() {
+        format!("(the tree {})", tree.display())
+    } else {
+        output("git", &["rev-parse", "--short", "HEAD"]).unwrap_or_default()
+    };
     println!(
         "live: medians of {runs} runs at commit {}; stepping: wasm in Node{}; seen: headless Chromium, {seconds} s per scene",
         commit.trim(),
