@@ -415,6 +415,64 @@ fn the_parameter_table_and_a_session_cross_as_json() {
     assert!(e.starts_with("session: "), "{e}");
 }
 
+/// The quality levels cross as JSON; a playground opens at the default level, re-samples at
+/// another (the particles scale as the lattice does), records it in the session, and refuses an
+/// unknown level with the state unchanged. A particle picked where it was drawn is found again.
+#[wasm_bindgen_test]
+fn quality_levels_resample_the_scene() {
+    let levels: serde_json::Value = serde_json::from_str(&mpm::wasm::quality_levels()).unwrap();
+    let ids: Vec<&str> = levels["levels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| l["id"].as_str().unwrap())
+        .collect();
+    assert_eq!(ids, ["live", "balanced", "fine"]);
+    assert_eq!(levels["default"], "live");
+    let text =
+        read_file_sync(&format!("{ROOT}/scenes/notched_sand_block_2d.json"), "utf8").unwrap();
+    let mut pg = Playground::new(&text, None, None).unwrap();
+    let q: serde_json::Value = serde_json::from_str(&pg.quality()).unwrap();
+    assert_eq!(q["quality"], "live");
+    let (h, h0) = (
+        q["cell_size"].as_f64().unwrap(),
+        q["scene_cell_size"].as_f64().unwrap(),
+    );
+    let ppc = q["particles_per_cell"].as_f64().unwrap();
+    assert!(h > h0 && h <= 2.0 * h0 + 1e-12, "{q}");
+    assert!(q["accuracy"]["column_runout"].as_f64().unwrap().is_finite());
+    let live = pg.particle_count();
+    pg.frame(0.01, 1e9).unwrap();
+    let e = message(pg.set_quality("ultra").unwrap_err());
+    assert_eq!(e, "quality = ultra: must be one of live, balanced, fine");
+    assert_eq!(pg.particle_count(), live);
+    assert_eq!(pg.set_quality("fine").unwrap(), "[]");
+    let fine = pg.particle_count();
+    let want = (ppc / 2.0 * h0 / h).powi(2);
+    assert!(
+        (live as f64 / fine as f64 / want - 1.0).abs() < 0.1,
+        "{live} / {fine}, want {want}"
+    );
+    assert_eq!(pg.time(), 0.0);
+    let session: serde_json::Value = serde_json::from_str(&pg.session()).unwrap();
+    assert_eq!(session["quality"], "fine");
+    // Picking: the particle nearest a drawn position is that particle.
+    let stride = pg.positions_stride();
+    let memory: js_sys::WebAssembly::Memory = wasm_bindgen::memory().unchecked_into();
+    let view = js_sys::Float32Array::new_with_byte_offset_and_length(
+        &memory.buffer(),
+        pg.positions_ptr() as u32,
+        pg.positions_len() as u32,
+    );
+    let i = 1234;
+    let at = [
+        view.get_index((i * stride) as u32) as f64,
+        view.get_index((i * stride + 1) as u32) as f64,
+    ];
+    assert_eq!(pg.nearest_particle(&at).unwrap(), Some(i));
+    assert!(pg.nearest_particle(&[0.5]).is_err());
+}
+
 /// The wasm build computes stencils in four SIMD lanes (`kernel::F4`); they must equal, bit
 /// for bit, what the one-axis scalar kernel gives (the native build's arithmetic).
 #[wasm_bindgen_test]
