@@ -4,6 +4,7 @@
 //! and runs out further than PIC, the elastic bunny bounces while the clay one stays flat and
 //! the sand one spreads, and the inspected sand particle reaches the Drucker–Prager cone.
 #![cfg(not(target_arch = "wasm32"))]
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
 
 use mpm::lesson::Lesson;
 use mpm::playground::Playground;
