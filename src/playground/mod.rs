@@ -15,6 +15,7 @@
 mod colours;
 mod drops;
 mod objects;
+mod save;
 
 pub use colours::ColourMode;
 pub use drops::{DroppedBody, Refused, Replay};
@@ -211,6 +212,7 @@ impl Playground {
     pub fn particle_count(&self) -> usize {
         self.sim.particle_count()
     }
+    /// Bodies in the scene, those to come included.
     pub fn body_count(&self) -> usize {
         self.sim.scene().bodies.len()
     }
@@ -221,9 +223,9 @@ impl Playground {
 
     /// Advances by up to `sim_time` seconds of simulated time, stopping early when
     /// `budget_ms` of wall-clock time (read from `now_ms`) has been spent, or at the time of the
-    /// next drop to come, which then lands. An empty box does not step (its time stands still),
-    /// and every drop to come lands in it. Stops with an error if the simulation goes
-    /// non-finite.
+    /// next drop to come, which then lands. An empty box with no body to come does not step (its
+    /// time stands still), and every drop to come lands in it. Stops with an error if the
+    /// simulation goes non-finite.
     pub fn frame(
         &mut self,
         sim_time: f64,
@@ -245,7 +247,7 @@ impl Playground {
             sim_time: requested,
             ..Default::default()
         };
-        if self.particle_count() > 0 {
+        if !self.idle() {
             let t0 = self.sim.time();
             let end = t0 + requested;
             report.substeps = self
@@ -421,7 +423,8 @@ impl Playground {
     /// Adds a body of kind `object` (`bunny`, `ball`, `box`) made of the preset material
     /// `model` (`elastic`, `von_mises`, `drucker_prager`), `size` metres tall, centred at
     /// `center` (moved inside the domain if it pokes out), moving at `velocity`. Returns the
-    /// new body's index. Not recorded in the session (see [`Self::drop_at`]).
+    /// new body's index. Not recorded in the session (see [`Self::drop_at`]); its `appear_at`
+    /// is the drop clock's time, for [`Self::saved_scene`].
     pub fn add_object(
         &mut self,
         object: &str,
@@ -430,6 +433,30 @@ impl Playground {
         velocity: &[f64],
         size: f64,
     ) -> Result<usize> {
+        let body = self.object_body(object, model, center, velocity, size)?;
+        self.add_now(body, self.drop_clock())
+    }
+
+    /// Adds a body now, and records `t`, its time on the drop clock (no later than now), as its
+    /// `appear_at` (none at 0): the time a saved scene gives it.
+    fn add_now(&mut self, mut body: BodyConfig, t: f64) -> Result<usize> {
+        body.appear_at = None;
+        let i = self.sim.add_body(body)?;
+        let clock = self.drop_clock();
+        let t = if t <= clock + 1e-9 { t } else { clock };
+        self.sim.record_appearance(i, (t > 0.0).then_some(t));
+        Ok(i)
+    }
+
+    /// The body [`Self::add_object`] adds.
+    fn object_body(
+        &self,
+        object: &str,
+        model: &str,
+        center: &[f64],
+        velocity: &[f64],
+        size: f64,
+    ) -> Result<BodyConfig> {
         let m = model_index(model)?;
         let dim = self.dim();
         crate::geometry::check_vector("center", center, dim, "m")?;
@@ -451,7 +478,7 @@ impl Playground {
         let mut body = BodyConfig::new(object, shape, self.presets.materials[m].clone())
             .with_velocity(velocity);
         body.flip = self.presets.flip[m];
-        self.sim.add_body(body)
+        Ok(body)
     }
 
     /// Drops an object aimed at `point` (3D: a point on the floor, its x and z count; 2D: a
@@ -489,7 +516,8 @@ impl Playground {
         velocity[1] = -speed;
         let clock = self.drop_clock();
         let d = DroppedBody::rounded(clock, object, model, size, &centre, &velocity);
-        let i = self.add_object(&d.object, &d.material, &d.centre, &d.velocity, d.size)?;
+        let body = self.object_body(&d.object, &d.material, &d.centre, &d.velocity, d.size)?;
+        let i = self.add_now(body, d.t)?;
         self.drops.record(d, clock);
         Ok(i)
     }
@@ -504,15 +532,21 @@ impl Playground {
         self.sim.time() - self.drops.origin
     }
 
-    /// Lands the drops whose time has come (all of them in an empty box, where time does not
+    /// Whether the box is empty with nothing to come: then its time stands still.
+    fn idle(&self) -> bool {
+        self.particle_count() == 0 && self.sim.next_appearance().is_none()
+    }
+
+    /// Lands the drops whose time has come (all of them in an idle box, where time does not
     /// run). One the solver refuses is left out of the session and returned with its message.
     fn land_due_drops(&mut self) -> Vec<Refused> {
         let mut refused = Vec::new();
         while let Some(d) = self.drops.list.get(self.drops.next).cloned() {
-            if d.t > self.drop_clock() + 1e-9 && self.particle_count() > 0 {
+            if d.t > self.drop_clock() + 1e-9 && !self.idle() {
                 break;
             }
-            match self.add_object(&d.object, &d.material, &d.centre, &d.velocity, d.size) {
+            let body = self.object_body(&d.object, &d.material, &d.centre, &d.velocity, d.size);
+            match body.and_then(|b| self.add_now(b, d.t)) {
                 Ok(_) => {
                     self.drops.list[self.drops.next].applied_at = Some(self.drop_clock());
                     self.drops.next += 1;
