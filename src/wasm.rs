@@ -278,6 +278,13 @@ impl Playground {
         let body: crate::BodyConfig = serde_json::from_str(body_json).map_err(js_err)?;
         self.core.add_body(body).map_err(js_err)
     }
+    /// The session as a scene file (JSON) that the CLI runs unchanged: the parameters as set,
+    /// and each dropped body entering at its drop time (`appear_at`). The meshes and outlines
+    /// it references (`assetPaths` of it) must lie beside the file.
+    #[wasm_bindgen(js_name = saveScene)]
+    pub fn save_scene(&self) -> Result<String, JsError> {
+        self.core.saved_scene_json().map_err(js_err)
+    }
     /// Removes every body (recorded in the session; the drops so far are forgotten).
     pub fn clear(&mut self) {
         self.core.clear();

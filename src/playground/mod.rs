@@ -21,6 +21,7 @@ mod drops;
 mod figures;
 mod objects;
 mod quality;
+mod save;
 
 pub use colours::ColourMode;
 pub use drops::{DroppedBody, Refused, Replay};
@@ -215,11 +216,10 @@ impl Playground {
         Ok(pg)
     }
 
-    /// An empty box to drop things into: 2 m × 1 m (× 1 m), rough floor, cell size 1.25 cm
-    /// as written (the `fine` level; 2.5 cm at the `live` level).
+    /// An empty box to drop things into: 2 m × 1 m (× 1 m), cell size 2.5 cm, rough floor.
     pub fn sandbox_scene(dim: usize) -> SceneConfig {
         let size = [2.0, 1.0, 1.0];
-        let mut scene = SceneConfig::new(dim, &size[..dim.clamp(2, 3)], 0.0125);
+        let mut scene = SceneConfig::new(dim, &size[..dim.clamp(2, 3)], 0.025);
         scene.name = "sandbox".into();
         scene.boundary.friction = 0.5;
         scene
@@ -244,6 +244,7 @@ impl Playground {
     pub fn particle_count(&self) -> usize {
         self.sim.particle_count()
     }
+    /// Bodies in the scene, those to come included.
     pub fn body_count(&self) -> usize {
         self.sim.scene().bodies.len()
     }
@@ -254,9 +255,9 @@ impl Playground {
 
     /// Advances by up to `sim_time` seconds of simulated time, stopping early when
     /// `budget_ms` of wall-clock time (read from `now_ms`) has been spent, or at the time of the
-    /// next drop to come, which then lands. An empty box does not step (its time stands still),
-    /// and every drop to come lands in it. Stops with an error if the simulation goes
-    /// non-finite.
+    /// next drop to come, which then lands. An empty box with no body to come does not step (its
+    /// time stands still), and every drop to come lands in it. Stops with an error if the
+    /// simulation goes non-finite.
     pub fn frame(
         &mut self,
         sim_time: f64,
@@ -278,7 +279,7 @@ impl Playground {
             sim_time: requested,
             ..Default::default()
         };
-        if self.particle_count() > 0 {
+        if !self.idle() {
             let t0 = self.sim.time();
             let end = t0 + requested;
             report.substeps = self
@@ -454,7 +455,8 @@ impl Playground {
     /// Adds a body of kind `object` (`bunny`, `ball`, `box`) made of the preset material
     /// `model` (`elastic`, `von_mises`, `drucker_prager`), `size` metres tall, centred at
     /// `center` (moved inside the domain if it pokes out), moving at `velocity`. Returns the
-    /// new body's index. Not recorded in the session (see [`Self::drop_at`]).
+    /// new body's index. Not recorded in the session (see [`Self::drop_at`]); its `appear_at`
+    /// is the drop clock's time, for [`Self::saved_scene`].
     pub fn add_object(
         &mut self,
         object: &str,
@@ -463,6 +465,30 @@ impl Playground {
         velocity: &[f64],
         size: f64,
     ) -> Result<usize> {
+        let body = self.object_body(object, model, center, velocity, size)?;
+        self.add_now(body, self.drop_clock())
+    }
+
+    /// Adds a body now, and records `t`, its time on the drop clock (no later than now), as its
+    /// `appear_at` (none at 0): the time a saved scene gives it.
+    fn add_now(&mut self, mut body: BodyConfig, t: f64) -> Result<usize> {
+        body.appear_at = None;
+        let i = self.sim.add_body(body)?;
+        let clock = self.drop_clock();
+        let t = if t <= clock + 1e-9 { t } else { clock };
+        self.sim.record_appearance(i, (t > 0.0).then_some(t));
+        Ok(i)
+    }
+
+    /// The body [`Self::add_object`] adds.
+    fn object_body(
+        &self,
+        object: &str,
+        model: &str,
+        center: &[f64],
+        velocity: &[f64],
+        size: f64,
+    ) -> Result<BodyConfig> {
         let m = model_index(model)?;
         let dim = self.dim();
         crate::geometry::check_vector("center", center, dim, "m")?;
@@ -491,7 +517,7 @@ impl Playground {
                 b.particles_per_cell = p;
                 Ok(b.sample("body", dim, h)?.0.len())
             })?;
-        self.sim.add_body(body)
+        Ok(body)
     }
 
     /// Drops an object aimed at `point` (3D: a point on the floor, its x and z count; 2D: a
@@ -529,7 +555,8 @@ impl Playground {
         velocity[1] = -speed;
         let clock = self.drop_clock();
         let d = DroppedBody::rounded(clock, object, model, size, &centre, &velocity);
-        let i = self.add_object(&d.object, &d.material, &d.centre, &d.velocity, d.size)?;
+        let body = self.object_body(&d.object, &d.material, &d.centre, &d.velocity, d.size)?;
+        let i = self.add_now(body, d.t)?;
         self.drops.record(d, clock);
         Ok(i)
     }
@@ -544,15 +571,21 @@ impl Playground {
         self.sim.time() - self.drops.origin
     }
 
-    /// Lands the drops whose time has come (all of them in an empty box, where time does not
+    /// Whether the box is empty with nothing to come: then its time stands still.
+    fn idle(&self) -> bool {
+        self.particle_count() == 0 && self.sim.next_appearance().is_none()
+    }
+
+    /// Lands the drops whose time has come (all of them in an idle box, where time does not
     /// run). One the solver refuses is left out of the session and returned with its message.
     fn land_due_drops(&mut self) -> Vec<Refused> {
         let mut refused = Vec::new();
         while let Some(d) = self.drops.list.get(self.drops.next).cloned() {
-            if d.t > self.drop_clock() + 1e-9 && self.particle_count() > 0 {
+            if d.t > self.drop_clock() + 1e-9 && !self.idle() {
                 break;
             }
-            match self.add_object(&d.object, &d.material, &d.centre, &d.velocity, d.size) {
+            let body = self.object_body(&d.object, &d.material, &d.centre, &d.velocity, d.size);
+            match body.and_then(|b| self.add_now(b, d.t)) {
                 Ok(_) => {
                     self.drops.list[self.drops.next].applied_at = Some(self.drop_clock());
                     self.drops.next += 1;
@@ -628,6 +661,29 @@ impl Playground {
         next.bunny = std::mem::take(&mut self.bunny);
         *self = next;
         Ok(())
+    }
+
+    /// `scene` (the simulated one, or built from it) at the resolution of the scene as loaded:
+    /// its cell size and time-step cap, its bodies' particles per cell, the default for bodies
+    /// dropped.
+    fn as_written(&self, scene: &mut SceneConfig) {
+        scene.cell_size = self.initial.cell_size;
+        scene.max_dt = self.initial.max_dt;
+        let own = if self.drops.cleared {
+            &[][..]
+        } else {
+            &self.initial.bodies[..]
+        };
+        // The scene format's default, as a body dropped is written.
+        let dropped = BodyConfig::new(
+            "",
+            crate::Shape::ball(&[0.0; 2], 1.0),
+            Material::elastic(1.0, 0.0, 1.0),
+        )
+        .particles_per_cell;
+        for (i, b) in scene.bodies.iter_mut().enumerate() {
+            b.particles_per_cell = own.get(i).map_or(dropped, |b| b.particles_per_cell);
+        }
     }
 
     /// The quality level and the resolution the scene is sampled at.
@@ -800,7 +856,6 @@ mod tests {
 
     fn sand_scene(dim: usize) -> SceneConfig {
         let mut s = Playground::sandbox_scene(dim);
-        s.cell_size = 0.025;
         let (lo, hi) = ([0.2, 0.0, 0.3], [0.6, 0.4, 0.7]);
         s.bodies.push(BodyConfig::new(
             "sand",
@@ -895,7 +950,6 @@ mod tests {
         for dim in [2, 3] {
             let live = Quality::find("live").unwrap();
             let mut pg = Playground::with_quality(Playground::sandbox_scene(dim), live).unwrap();
-            assert_eq!(pg.scene().cell_size, 0.025);
             for (k, object) in ["bunny", "ball", "box"].into_iter().enumerate() {
                 let c = [0.05 + k as f64, 0.95, 0.5];
                 pg.add_object(object, MODELS[k].id, &c[..dim], &[0.0; 3][..dim], 0.3)
@@ -1081,6 +1135,12 @@ mod tests {
         assert!(n >= 2000 && n < n0 * 2, "{n}");
         // The cheaper to simulate: particles over cell size, against the scene as written.
         assert!((n as f64 / r.cell_size) < 0.7 * (n0 as f64 / h0));
+        // Saved, the session is the scene as written: opened at a level, it samples as this did.
+        let saved = pg.saved_scene().unwrap();
+        assert_eq!(saved.cell_size, h0);
+        assert_eq!(saved.bodies[0].particles_per_cell, 2);
+        let again = Playground::with_quality(saved, Quality::find("live").unwrap()).unwrap();
+        assert_eq!(again.scene(), pg.scene());
         let e = Playground::load(&text, &none, "ultra")
             .err()
             .unwrap()
@@ -1121,7 +1181,8 @@ mod tests {
         assert!(rejected[0].starts_with("quality = ultra"), "{rejected:?}");
     }
 
-    /// Bodies dropped take the level's resolution, and a small one more particles per cell.
+    /// Bodies dropped take the level's resolution, and a small one more particles per cell. An
+    /// empty box keeps its cells (there is nothing to make cheaper).
     #[test]
     fn dropped_bodies_take_the_quality_level() {
         for dim in [2, 3] {
@@ -1129,7 +1190,7 @@ mod tests {
             let mut pg = Playground::with_quality(Playground::sandbox_scene(dim), live).unwrap();
             assert_eq!(
                 pg.quality().cell_size,
-                2.0 * Playground::sandbox_scene(dim).cell_size
+                Playground::sandbox_scene(dim).cell_size
             );
             let c = [1.0, 0.5, 0.5];
             let big = pg

@@ -201,7 +201,11 @@ pub fn resample(
         .min()
         .unwrap_or(2);
     let mut ppc = own;
-    if q.cell_factor > 1.0 {
+    // The bodies there from the start set the resolution; those that enter later (`appear_at`)
+    // are sampled at it like bodies dropped. An empty scene keeps its cells: there is nothing
+    // to make cheaper, and what is dropped keeps its shape by the level's least per body.
+    let present = |b: &crate::config::BodyConfig| b.appear_time() == 0.0;
+    if q.cell_factor > 1.0 && scene.bodies.iter().any(present) {
         let floor = q.min_particles[if dim == 2 { 0 } else { 1 }] as f64;
         let mut bodies = Vec::with_capacity(scene.bodies.len());
         for (i, b) in scene.bodies.iter().enumerate() {
@@ -210,11 +214,13 @@ pub fn resample(
                 b.particles_per_cell,
             ));
         }
-        // Particles at `p` per cell per axis and cell size h.
+        // Particles at `p` per cell per axis and cell size h, of the bodies there from the start.
         let particles = |p: u32, h: f64| -> f64 {
             bodies
                 .iter()
-                .map(|&(n, p0)| n * (p.max(p0) as f64 / p0 as f64 * h0 / h).powi(dim))
+                .zip(&scene.bodies)
+                .filter(|(_, b)| present(b))
+                .map(|(&(n, p0), _)| n * (p.max(p0) as f64 / p0 as f64 * h0 / h).powi(dim))
                 .sum()
         };
         let mut best = (f64::INFINITY, own, h0);

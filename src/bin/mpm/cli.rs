@@ -435,8 +435,24 @@ fn report<D: Dim>(sim: &Simulation<D>, sampling: f64) -> Result<(), Failure> {
             cfg.flip_ratio()
         );
     }
+    let present = sim.bodies().len();
+    let mut later = 0;
+    for (k, (cfg, n)) in sim.bodies_to_come().enumerate() {
+        out!(
+            "  body {} {:?}: {}, {n} particles, enters at t = {} s",
+            present + k,
+            cfg.name,
+            cfg.material.kind(),
+            cfg.appear_time()
+        );
+        later += n;
+    }
     let n = sim.particles().len();
-    out!("particles: {n} (sampled in {:.3} s)", sampling);
+    if later > 0 {
+        out!("particles: {n} at the start, {later} to come (sampled in {sampling:.3} s)");
+    } else {
+        out!("particles: {n} (sampled in {:.3} s)", sampling);
+    }
     // one step on a copy allocates the grids: the memory that the run will need at first
     let mut probe = sim.clone();
     let step_wall = Instant::now();
