@@ -117,15 +117,20 @@ pub struct Accuracy {
     pub resting_settlement: f64,
 }
 
-/// The measured errors, one row per (cell factor, particles per cell) a level can take
-/// (`cargo xtask quality`, commit in `docs/playground.md`).
-pub static ACCURACY: [Accuracy; 6] = [
-    acc(1.0, 2, 0.00084, 0.0513, -0.145, 0.031, -0.029),
-    acc(1.5, 2, 0.0, 0.0, 0.0, 0.0, 0.0),
-    acc(1.5, 3, 0.0, 0.0, 0.0, 0.0, 0.0),
-    acc(2.0, 2, 0.00326, 0.0974, -0.161, 0.012, -0.021),
-    acc(2.0, 3, 0.0, 0.0, 0.0, 0.0, 0.0),
-    acc(2.0, 4, 0.0, 0.0, 0.0, 0.0, 0.0),
+/// The measured errors, one row per cell factor and particles per cell measured: factors at
+/// which every case's domain is a whole number of cells; a level's sampling takes the nearest
+/// row (`cargo xtask quality`; the figures and the commit they were measured at are in
+/// docs/playground.md).
+pub static ACCURACY: [Accuracy; 9] = [
+    acc(1.0, 2, 0.00084, 0.0513, -0.1453, 0.0316, -0.0292),
+    acc(1.25, 2, 0.00129, 0.0629, -0.1874, 0.0324, -0.0291),
+    acc(1.25, 3, 0.00127, 0.0631, -0.1331, 0.0419, 0.0069),
+    acc(5.0 / 3.0, 2, 0.00229, 0.0821, -0.1692, 0.0133, -0.0258),
+    acc(5.0 / 3.0, 3, 0.00219, 0.0825, -0.1720, 0.0470, 0.0193),
+    acc(2.0, 2, 0.00326, 0.0973, -0.1611, 0.0133, -0.0209),
+    acc(2.0, 3, 0.00314, 0.0977, -0.1869, 0.0336, 0.0297),
+    acc(2.0, 4, 0.00308, 0.0978, -0.1617, 0.0470, 0.0527),
+    acc(1.0, 3, 0.00081, 0.0513, -0.1039, 0.0450, 0.0011),
 ];
 
 const fn acc(

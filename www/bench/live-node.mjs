@@ -3,13 +3,13 @@
 // playground's default quality (the solver's `qualityLevels().default`, when the build has
 // quality levels). `cargo xtask live` runs this pinned to one core (`taskset -c 0`).
 //
-//   node www/bench/live-node.mjs [--seconds S] [--sim T] SCENE.json...
+//   node www/bench/live-node.mjs [--seconds S] [--sim T] [--quality Q] SCENE.json...
 // prints one line per scene:
 //   step scene=<path> dim=<d> particles=<n> quality=<q> sim=<s> wall=<s> steps=<k> ms_per_step=<x> rtf_step=<y>
 // Each scene runs from its start for T simulated seconds (default 1.5: the fall and the impact
 // of the bunny scenes, the collapse of the sand) or S wall-clock seconds (default 12),
 // whichever comes first, after a warm-up on a separate copy of the scene (V8 runs wasm in its
-// baseline compiler first and tiers hot functions up).
+// baseline compiler first and tiers hot functions up). `--quality` picks another level.
 import { readFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
 import { performance } from 'node:perf_hooks';
@@ -25,11 +25,13 @@ const option = (name, fallback) => {
 };
 const seconds = option('--seconds', 12);
 const simSeconds = option('--sim', 1.5);
+const q = args.indexOf('--quality');
+const asked = q >= 0 ? args.splice(q, 2)[1] : null;
 const scenes = args;
 
 const wasm = await import(new URL('www/pkg/mpm.js', `file://${root}`));
 wasm.initSync({ module: readFileSync(`${root}www/pkg/mpm_bg.wasm`) });
-const quality = wasm.qualityLevels ? JSON.parse(wasm.qualityLevels()).default : null;
+const quality = wasm.qualityLevels ? asked ?? JSON.parse(wasm.qualityLevels()).default : null;
 
 /// A playground over the scene file at `path` (relative to the repository root).
 function load(path) {

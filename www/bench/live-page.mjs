@@ -2,12 +2,13 @@
 // drawn on the CPU by SwiftShader: the floor, not a laptop's), stepping and rendering at the
 // page's default quality, for each scene given.
 //
-//   MPM_URL=http://127.0.0.1:8080/ node www/bench/live-page.mjs [--seconds S] SCENE.json...
+//   MPM_URL=http://127.0.0.1:8080/ node www/bench/live-page.mjs [--seconds S] [--quality Q] SCENE.json...
 // prints one line per scene:
 //   seen scene=<path> dim=<d> particles=<n> sim=<s> wall=<s> frames=<k> fps=<x> rtf_seen=<y>
 // After the page shows the scene, 3 s of warm-up (V8's tier-up, the rendering governor
 // settling), then S wall-clock seconds (default 8) in which the simulated time advanced and the
-// frames drawn are counted (`cargo xtask live` serves the page and runs this).
+// frames drawn are counted (`cargo xtask live` serves the page and runs this). `--quality`
+// picks another level.
 import { launch } from '../tests/browser.mjs';
 
 const url = process.env.MPM_URL || 'http://127.0.0.1:8080/';
@@ -15,6 +16,8 @@ const args = process.argv.slice(2);
 let seconds = 8;
 const i = args.indexOf('--seconds');
 if (i >= 0) seconds = Number(args.splice(i, 2)[1]);
+const q = args.indexOf('--quality');
+const quality = q >= 0 ? `&quality=${args.splice(q, 2)[1]}` : '';
 const width = Number(process.env.MPM_WIDTH || 1280), height = Number(process.env.MPM_HEIGHT || 720);
 
 const browser = await launch({ width, height });
@@ -31,7 +34,7 @@ for (const scene of args) {
   const errors = [];
   page.on('pageerror', (e) => errors.push(e.message));
   page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
-  await page.goto(`${url}#scene=${scene}`);
+  await page.goto(`${url}#scene=${scene}${quality}`);
   await page.waitForFunction(() => window.mpm?.stats?.frames > 3, null, { timeout: 120_000 });
   await page.waitForTimeout(3000);
   const a = await page.evaluate(sample);

@@ -43,7 +43,8 @@ export class SimHost {
     this.behind = false; // the last slice ran out of time before it caught up
     this.failed = '';
     this.last = performance.now();
-    this.pool = []; // free {positions, values} buffers
+    this.owed = 0; // simulated time owed to real time (s)
+    this.pool = []; // free buffers
     this.seq = 0;
     this.pending = fresh();
   }
@@ -204,27 +205,34 @@ export class SimHost {
     this.pg.setColourMode(this.colour);
     this.pending = fresh();
     this.last = performance.now();
+    this.owed = 0;
     this.changed();
   }
 
-  /// Steps for up to `budgetMs`: the simulated time owed since the last slice (one step after
-  /// Step). Returns whether it ran out of time before it caught up.
+  /// Steps for up to `budgetMs`: the simulated time owed to real time (one step after Step).
+  /// Returns whether it ran out of time before it caught up. The debt carries over between
+  /// slices, capped at MAX_OWED_MS of real time: behind real time, each slice steps whole
+  /// steps until its budget runs out; ahead, it lands on real time.
   slice(budgetMs) {
     const now = performance.now();
-    const owed = Math.min(MAX_OWED_MS, now - this.last);
+    this.owed = Math.min((MAX_OWED_MS / 1000) * this.scale, this.owed + ((now - this.last) / 1000) * this.scale);
     this.last = now;
     this.behind = false;
     const pg = this.pg;
-    if (!pg || this.failed || !(this.playing || this.stepOnce)) return false;
+    if (!pg || this.failed || !(this.playing || this.stepOnce)) {
+      this.owed = 0;
+      return false;
+    }
     let report;
     try {
-      report = JSON.parse(this.stepOnce ? pg.step() : pg.frame((owed / 1000) * this.scale, budgetMs));
+      report = JSON.parse(this.stepOnce ? pg.step() : pg.frame(this.owed, budgetMs));
     } catch (e) {
       this.failed = e.message;
       this.playing = false;
       this.changed();
       return false;
     }
+    if (!this.stepOnce) this.owed = Math.max(0, this.owed - report.sim_time);
     this.stepOnce = false;
     const p = this.pending;
     p.substeps += report.substeps;

@@ -87,7 +87,9 @@ fn main() -> ExitCode {
             );
             eprintln!("  bench-web [--steps N] [--seconds S]");
             eprintln!("                     wasm vs native time per step, and fps in Chromium");
-            eprintln!("  live [--runs N] [--seconds S] [--no-page] [--root DIR] [SCENE..]");
+            eprintln!(
+                "  live [--runs N] [--seconds S] [--quality Q] [--no-page] [--root DIR] [SCENE..]"
+            );
             eprintln!(
                 "                     real-time factor per shipped scene: stepping (Node, one core), as seen (Chromium)"
             );
@@ -762,8 +764,8 @@ fn fields(line: &str) -> std::collections::HashMap<&str, &str> {
 /// wall-clock second of stepping alone (the release wasm in Node, pinned to one core with
 /// `taskset -c 0` where it exists) and as seen in headless Chromium (stepping and rendering),
 /// each the median of `--runs` runs (default 3). Prints one line per scene:
-/// `live scene=<name> dim=<d> particles=<n> rtf_step=<x> rtf_seen=<y> fps=<z>`.
-/// `--root DIR` measures another tree instead (a checkout of an earlier commit with its
+/// `live scene=<name> dim=<d> particles=<n> rtf_step=<x> rtf_seen=<y> fps=<z> quality=<q>`.
+/// `--quality Q` measures another quality level. `--root DIR` measures another tree instead (a checkout of an earlier commit with its
 /// `www/pkg/` built, and this one's `www/bench/live-*.mjs` copied in): the figures before a
 /// change.
 fn live(args: &[String]) -> Result<(), String> {
@@ -779,7 +781,7 @@ fn live(args: &[String]) -> Result<(), String> {
         args.iter()
             .filter(|a| {
                 let keep = !skip && !a.starts_with("--");
-                skip = matches!(a.as_str(), "--runs" | "--seconds" | "--root");
+                skip = matches!(a.as_str(), "--runs" | "--seconds" | "--root" | "--quality");
                 keep
             })
             .collect()
@@ -799,7 +801,7 @@ fn live(args: &[String]) -> Result<(), String> {
     if scenes.is_empty() {
         return Err(format!("no scene file matches {words:?}"));
     }
-    // Per scene: (dim, particles, rtf_step runs, rtf_seen runs, fps runs).
+    // Per scene: (dim, particles and quality, rtf_step runs, rtf_seen runs, fps runs).
     type Figures = (String, String, Vec<f64>, Vec<f64>, Vec<f64>);
     let mut table: std::collections::BTreeMap<String, Figures> = Default::default();
     let number = |f: &std::collections::HashMap<&str, &str>, k: &str| {
@@ -818,6 +820,9 @@ fn live(args: &[String]) -> Result<(), String> {
     };
     for _ in 0..runs {
         let mut node_args = vec!["node", "www/bench/live-node.mjs"];
+        if let Some(q) = flag(args, "--quality") {
+            node_args.extend(["--quality", q]);
+        }
         node_args.extend(scenes.iter().map(String::as_str));
         let mut c = if pinned {
             let mut all = vec!["-c", "0"];
@@ -831,11 +836,14 @@ fn live(args: &[String]) -> Result<(), String> {
             let f = fields(line);
             let e = table.entry(f["scene"].to_string()).or_default();
             e.0 = f["dim"].to_string();
-            e.1 = f["particles"].to_string();
+            e.1 = format!("{} quality={}", f["particles"], f["quality"]);
             e.2.extend(number(&f, "rtf_step"));
         }
         if let (Some(chromium), Some(url)) = (&chromium, &url) {
             let mut page_args = vec!["www/bench/live-page.mjs", "--seconds", seconds];
+            if let Some(q) = flag(args, "--quality") {
+                page_args.extend(["--quality", q]);
+            }
             page_args.extend(scenes.iter().map(String::as_str));
             let mut c = command("node", &page_args);
             c.env("MPM_URL", url)
@@ -868,8 +876,9 @@ fn live(args: &[String]) -> Result<(), String> {
                 format!("{:.*}", digits, median(v))
             }
         };
+        let (particles, quality) = particles.split_once(' ').unwrap_or((&particles, ""));
         println!(
-            "live scene={name} dim={dim} particles={particles} rtf_step={} rtf_seen={} fps={}",
+            "live scene={name} dim={dim} particles={particles} rtf_step={} rtf_seen={} fps={} {quality}",
             show(&mut step, 3),
             show(&mut seen, 3),
             show(&mut fps, 1),
