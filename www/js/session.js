@@ -98,14 +98,15 @@ export class Session {
     } else if (m.type === 'failed') this.onFailed?.(m.error);
   }
 
-  /// The frame to draw now: a new one if it came (the one drawn before goes back to the
-  /// host), else the last one. On the page's thread, steps for up to `budgetMs` first.
-  take(budgetMs = 0) {
+  /// The frame to draw now: a new one if it came and `fresh` is wanted (the one drawn before
+  /// goes back to the host), else the last one. On the page's thread, steps for up to
+  /// `budgetMs` first.
+  take(budgetMs = 0, fresh = true) {
     if (this.host) {
       this.host.slice(budgetMs);
       this.host.flush();
     }
-    if (this.unseen) {
+    if (this.unseen && fresh) {
       const old = this.frame;
       this.frame = this.unseen;
       this.unseen = null;
