@@ -24,6 +24,9 @@ const browser = await launch({ width, height });
 // What the page reports, whichever way it holds its simulation.
 const sample = () => ({
   t: performance.now(),
+  flush: window.mpm.stats.flushMs,
+  render: window.mpm.stats.renderMs,
+  stepping: window.mpm.stats.stepWallMs,
   sim: window.mpm.simTime ?? window.mpm.pg.time(),
   frames: window.mpm.stats.frames,
   particles: window.mpm.particleCount ?? window.mpm.pg.particleCount(),
@@ -43,7 +46,9 @@ for (const scene of args) {
   const wall = (b.t - a.t) / 1000;
   console.log(
     `seen scene=${scene} dim=${b.dim} particles=${b.particles} sim=${(b.sim - a.sim).toFixed(4)} wall=${wall.toFixed(3)} ` +
-      `frames=${b.frames - a.frames} fps=${((b.frames - a.frames) / wall).toFixed(1)} rtf_seen=${((b.sim - a.sim) / wall).toFixed(3)}`,
+      `frames=${b.frames - a.frames} fps=${((b.frames - a.frames) / wall).toFixed(1)} rtf_seen=${((b.sim - a.sim) / wall).toFixed(3)}` +
+      (b.flush === undefined ? '' : ` stepping_share=${((b.stepping - a.stepping) / 1000 / wall).toFixed(2)} ` +
+        `frame_send_ms=${b.flush.toFixed(2)} draw_js_ms=${b.render.toFixed(2)}`),
   );
   if (errors.length) console.log(`page errors (${scene}): ${errors.join('; ')}`);
   await page.close();

@@ -90,6 +90,8 @@ function record(app, wall, f, simMs, renderMs, drawn) {
   st.fps = st.drawn.length;
   if (f) {
     const r = f.report;
+    st.flushMs = 0.9 * (st.flushMs || 0) + 0.1 * (f.flushMs || 0);
+    st.stepWallMs = (st.stepWallMs || 0) + r.wall_ms;
     st.substeps = r.substeps;
     if (r.substeps > 0) st.msPerStep = r.ms_per_step;
     st.fellBehind = r.fell_behind;

@@ -46,6 +46,7 @@ export class SimHost {
     this.owed = 0; // simulated time owed to real time (s)
     this.pool = []; // free buffers
     this.seq = 0;
+    this.flushMs = 0;
     this.pending = fresh();
   }
 
@@ -254,6 +255,7 @@ export class SimHost {
   /// Sends a frame if there is something new and the page is ready for it.
   flush() {
     if (!this.pg || !this.dirty || !this.wanted) return;
+    const t0 = performance.now();
     const pg = this.pg;
     const range = pg.updateColours();
     const count = pg.particleCount();
@@ -283,11 +285,13 @@ export class SimHost {
       diagnostics: JSON.parse(pg.diagnostics()),
       failure: this.failed,
       state: this.stateChanged ? this.state() : undefined,
+      flushMs: this.flushMs, // what the frame before cost to send (colours, copies, records)
     };
     this.stateChanged = false;
     this.dirty = false;
     this.wanted = !this.transfer; // on the page's thread the page draws before the next slice
     this.post(message, transfer);
+    this.flushMs = performance.now() - t0;
   }
 
   /// Two free buffers for `n` positions and `m` colour values (new ones when none is large
