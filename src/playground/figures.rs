@@ -128,6 +128,7 @@ fn the_elastic_bunny_bounces_and_recovers_and_the_plastic_one_flattens_for_good(
             "{dim}D: elastic rebound {:.3} m, height {:.2} (least {:.2}); plastic rebound {:.3} m, height {:.2}",
             elastic.rebound, elastic.height, elastic.squashed, plastic.rebound, plastic.height
         );
+        eprintln!("{figures}");
         // The elastic bunny squashes on impact, jumps back up by centimetres and ends near its
         // own shape (sagging a little under its weight: ρgH/E ≈ 4 %).
         assert!(elastic.squashed < 0.85, "{figures}");
@@ -156,6 +157,7 @@ fn the_notched_block_collapses_into_a_slope() {
         let at_crest = top.iter().position(|&t| t == crest).unwrap();
         let toe = highest(&p, 0);
         let figures = format!("{dim}D: crest {crest:.3} m, toe at x = {toe:.3} m");
+        eprintln!("{figures}");
         // The block was 0.5 m high, its foot at x = 0.7 m, the notch a vertical step.
         assert!(crest < 0.45, "{figures}");
         assert!(toe > 0.78, "{figures}");
@@ -190,6 +192,7 @@ fn the_bunny_sinks_into_the_sand_ball() {
             "{dim}D: sand top {sand_top:.3} -> {:.3} m, bunny bottom {bottom:.3} m",
             highest(&sand, 1)
         );
+        eprintln!("{figures}");
         // The ball gives way: the bunny ends well below where the ball's top was, level with
         // or inside the heap's top, with sand still under it.
         assert!(bottom < sand_top - 0.15, "{figures}");

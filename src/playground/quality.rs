@@ -183,9 +183,10 @@ pub struct Resolution {
 /// `scene` sampled at level `q`: the cheapest sampling that keeps at least
 /// `q.min_particles` particles, with cells from the scene's size up to `q.cell_factor` times
 /// it (sizes that divide the domain) and the particles per cell per axis from the scene's up to
-/// [`MAX_PPC`]. The cost of a simulated second goes as N / h (N particles, a time step ∝ h):
-/// for a large scene the largest cells at the scene's particles per cell, for a small one
-/// larger cells with more particles per cell, so that the bodies keep their particles. The cap
+/// [`MAX_PPC`]: for each number of particles per cell the largest cells that keep the floor,
+/// and of those the one with the least N / h, what a simulated second costs (N particles, a
+/// time step ∝ h). A large scene gets the largest cells at the scene's particles per cell, a
+/// small one larger cells with more particles per cell, so that the bodies keep their particles. The cap
 /// on the time step grows with the cells (it stays the same fraction of a cell).
 /// A body that would keep fewer than `q.min_body_particles` (and fewer than it has as written)
 /// gets more particles per cell. `count(body, cell_size, ppc)` samples a body (the particles it
@@ -212,6 +213,7 @@ pub fn resample(
     let present = |b: &crate::config::BodyConfig| b.appear_time() == 0.0;
     if q.cell_factor > 1.0 && scene.bodies.iter().any(present) {
         let floor = q.min_particles[if dim == 2 { 0 } else { 1 }] as f64;
+        let least = q.min_body_particles[if dim == 2 { 0 } else { 1 }] as f64;
         let mut bodies = Vec::with_capacity(scene.bodies.len());
         for (i, b) in scene.bodies.iter().enumerate() {
             bodies.push((
@@ -219,25 +221,48 @@ pub fn resample(
                 b.particles_per_cell,
             ));
         }
-        // Particles at `p` per cell per axis and cell size h, of the bodies there from the start.
+        // Body `b`'s particles per cell and particles at cell size h, the scene's at `p`: its
+        // own or `p`, raised to keep the level's least per body (or all it has as written).
+        let body = |b: usize, p: u32, h: f64| -> (u32, f64) {
+            let (n, p0) = bodies[b];
+            let at = |pb: u32| n * (pb as f64 / p0 as f64 * h0 / h).powi(dim);
+            let mut pb = p.max(p0);
+            while pb < MAX_PPC && at(pb) < least.min(n) {
+                pb += 1;
+            }
+            (pb, at(pb))
+        };
+        // Particles of the bodies there from the start.
         let particles = |p: u32, h: f64| -> f64 {
-            bodies
-                .iter()
-                .zip(&scene.bodies)
-                .filter(|(_, b)| present(b))
-                .map(|(&(n, p0), _)| n * (p.max(p0) as f64 / p0 as f64 * h0 / h).powi(dim))
+            (0..bodies.len())
+                .filter(|&b| present(&scene.bodies[b]))
+                .map(|b| body(b, p, h).1)
                 .sum()
         };
+        // Candidate cells: the smallest side over a whole number of them, from the level's
+        // largest to the file's (which divides the domain), those that divide every side.
+        let side = scene
+            .domain
+            .size
+            .iter()
+            .cloned()
+            .fold(f64::INFINITY, f64::min);
+        let whole = |x: f64| (x - x.round()).abs() <= 1e-6 * x.max(1.0);
+        let n_file = (side / h0).round() as i64;
+        let n_least = ((side / (h0 * q.cell_factor)) * (1.0 - 1e-9)).ceil() as i64;
+        let cells: Vec<f64> = (n_least.max(1)..=n_file)
+            .map(|n| side / n as f64)
+            .filter(|&h| scene.domain.size.iter().all(|&l| whole(l / h)))
+            .collect();
+        // For each particles per cell, the largest cells that keep the floor (or the file's);
+        // of those, the cheapest.
         let mut best = (f64::INFINITY, own, h0);
         for p in own..=MAX_PPC.max(own) {
-            // The largest cells up to the level's factor that keep the floor.
-            let at_scene = particles(p, h0);
-            let f = if at_scene > 0.0 {
-                (at_scene / floor).powf(1.0 / dim as f64)
-            } else {
-                f64::INFINITY
-            };
-            let h = cell_size_at_most(&scene.domain.size, h0 * f.clamp(1.0, q.cell_factor));
+            let h = cells
+                .iter()
+                .copied()
+                .find(|&h| particles(p, h) >= floor)
+                .unwrap_or(h0);
             let cost = particles(p, h) / h;
             if cost < best.0 * (1.0 - 1e-9) {
                 best = (cost, p, h);
@@ -245,13 +270,8 @@ pub fn resample(
         }
         (ppc, out.cell_size) = (best.1, best.2);
         out.max_dt = scene.max_dt * out.cell_size / h0;
-        let least = q.min_body_particles[if dim == 2 { 0 } else { 1 }] as f64;
-        for (b, &(n, p0)) in out.bodies.iter_mut().zip(&bodies) {
-            let at = |p: u32| n * (p as f64 / p0 as f64 * h0 / out.cell_size).powi(dim);
-            b.particles_per_cell = p0.max(ppc);
-            while b.particles_per_cell < MAX_PPC && at(b.particles_per_cell) < least.min(n) {
-                b.particles_per_cell += 1;
-            }
+        for (i, b) in out.bodies.iter_mut().enumerate() {
+            b.particles_per_cell = body(i, ppc, out.cell_size).0;
         }
         out.validate()?;
     }
@@ -263,16 +283,4 @@ pub fn resample(
         accuracy: accuracy(out.cell_size / h0, ppc),
     };
     Ok((out, resolution))
-}
-
-/// The largest cell size up to `h` that divides every side of a domain of size `domain` (the
-/// walls lie on grid nodes): the smallest side over a whole number of cells, the others checked.
-fn cell_size_at_most(domain: &[f64], h: f64) -> f64 {
-    let whole = |x: f64| (x - x.round()).abs() <= 1e-6 * x.max(1.0);
-    let side = domain.iter().cloned().fold(f64::INFINITY, f64::min);
-    let n = (side / h * (1.0 - 1e-9)).ceil().max(1.0) as i64;
-    (n..n + 1000)
-        .map(|k| side / k as f64)
-        .find(|&c| domain.iter().all(|&l| whole(l / c)))
-        .unwrap_or(h)
 }
