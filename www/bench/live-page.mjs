@@ -7,7 +7,8 @@
 //   seen scene=<path> dim=<d> particles=<n> sim=<s> wall=<s> frames=<k> fps=<x> rtf_seen=<y>
 // After the page shows the scene, 3 s of warm-up (V8's tier-up, the rendering governor
 // settling), then S wall-clock seconds (default 8) in which the simulated time advanced and the
-// frames drawn are counted (`cargo xtask live` serves the page and runs this). `--quality`
+// frames drawn are counted, then how long 20 commands wait for an answer while it runs
+// (`cargo xtask live` serves the page and runs this). `--quality`
 // picks another level.
 import { launch } from '../tests/browser.mjs';
 
@@ -44,11 +45,25 @@ for (const scene of args) {
   await page.waitForTimeout(seconds * 1000);
   const b = await page.evaluate(sample);
   const wall = (b.t - a.t) / 1000;
+  // How long a command waits for the simulation while it runs (a size check: no work of its
+  // own), over 20 commands 50 ms apart.
+  const waits = await page.evaluate(async () => {
+    if (!window.mpm.session?.checkSize) return null;
+    const out = [];
+    for (let k = 0; k < 20; k++) {
+      const t0 = performance.now();
+      await window.mpm.session.checkSize(0.2);
+      out.push(performance.now() - t0);
+      await new Promise((r) => setTimeout(r, 50));
+    }
+    return out.sort((x, y) => x - y);
+  });
   console.log(
     `seen scene=${scene} dim=${b.dim} particles=${b.particles} sim=${(b.sim - a.sim).toFixed(4)} wall=${wall.toFixed(3)} ` +
       `frames=${b.frames - a.frames} fps=${((b.frames - a.frames) / wall).toFixed(1)} rtf_seen=${((b.sim - a.sim) / wall).toFixed(3)}` +
       (b.flush === undefined ? '' : ` stepping_share=${((b.stepping - a.stepping) / 1000 / wall).toFixed(2)} ` +
-        `frame_send_ms=${b.flush.toFixed(2)} draw_js_ms=${b.render.toFixed(2)}`),
+        `frame_send_ms=${b.flush.toFixed(2)} draw_js_ms=${b.render.toFixed(2)}`) +
+      (waits ? ` command_wait_ms=${waits[10].toFixed(1)} command_wait_max_ms=${waits[19].toFixed(1)}` : ''),
   );
   if (errors.length) console.log(`page errors (${scene}): ${errors.join('; ')}`);
   await page.close();
