@@ -15,7 +15,7 @@
 import init, { Playground, assetPaths, parameterTable, qualityLevels, sandboxScene } from '../pkg/mpm.js';
 
 /// The longest a slice of stepping takes (ms): a command waits at most this plus one step.
-export const SLICE_MS = 12;
+export const SLICE_MS = 8;
 /// Wall-clock time owed to the simulation is capped (ms): a simulation slower than real time
 /// runs in slow motion instead of piling up a debt.
 const MAX_OWED_MS = 100;
