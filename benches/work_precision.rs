@@ -327,6 +327,7 @@ fn column_reference(file: &str) -> Collapse {
                 aspect_ratio: v[0],
                 runout: v[1],
                 height: v[2],
+                spread: 0.0,
                 settled_at: v[3],
                 failure: None,
                 cost: Cost {

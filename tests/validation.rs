@@ -186,3 +186,85 @@ fn angle_of_repose() {
         "asymmetric heap {p:?}"
     );
 }
+
+/// A cohesionless slope gentler than its plane-strain friction angle stands: a heap with 25°
+/// flanks of φ = 32° sand (φ_ps = 30.4°) released on a rough floor neither creeps nor
+/// flattens over 2 s (beyond the elastic settling of its stress-free release).
+#[test]
+fn a_slope_gentler_than_the_friction_angle_stands() {
+    let r = heap_slope(
+        32.0,
+        25.0,
+        3.5e5,
+        &Numerics::new(0.01, KernelKind::Gimp),
+        2.0,
+    );
+    eprintln!("gentle slope: {r:?}");
+    assert!(
+        r.creep < 1e-3,
+        "the 25° slope crept by {:.2} mm after {CREEP_FROM} s",
+        1e3 * r.creep
+    );
+    assert!(
+        (r.angle - r.initial_angle).abs() < 1.0,
+        "the 25° slope went from {:.1}° to {:.1}°",
+        r.initial_angle,
+        r.angle
+    );
+    assert!(
+        r.final_speed < 1e-3,
+        "still moving at {} m/s",
+        r.final_speed
+    );
+}
+
+/// A cohesionless slope steeper than its plane-strain friction angle cannot stand: a heap
+/// with 40° flanks of φ = 32° sand (φ_ps = 30.4°) avalanches (its flanks come halfway down to
+/// φ_ps within half a second) and comes to rest near φ_ps.
+#[test]
+#[ignore = "the sand's default transfer (issue 16) lands with the rebuilt step: with PIC/FLIP α = 0.05 the 40° slope creeps at mm/s (docs/validation.md)"]
+fn a_slope_steeper_than_the_friction_angle_fails() {
+    let r = heap_slope(
+        32.0,
+        40.0,
+        3.5e5,
+        &Numerics::new(0.01, KernelKind::Gimp),
+        2.0,
+    );
+    eprintln!("steep slope: {r:?}");
+    let t = r.failed_at.expect("the 40° slope did not fail");
+    assert!(t < 0.5, "the 40° slope took {t:.2} s to fail");
+    assert!(
+        (r.angle - r.plane_strain_angle).abs() < 3.0,
+        "the avalanche stopped at {:.1}°, φ_ps = {:.1}°",
+        r.angle,
+        r.plane_strain_angle
+    );
+}
+
+/// Axisymmetric collapse of a column with a = 1 against Lube et al. (2004): run-out within
+/// 25 %, final height within 15 %, and a round deposit, at a coarse resolution (R0 = 5 cells).
+#[test]
+#[ignore = "the sand's default transfer (issue 16) lands with the rebuilt step: with PIC/FLIP α = 0.05 the run-out is 56-62 % short (docs/validation.md)"]
+fn axisymmetric_column_collapse() {
+    let a = 1.0;
+    let c = axisymmetric_collapse(
+        "column_collapse_axi_a1_3d.json",
+        &Numerics::new(0.02, KernelKind::Gimp),
+        3.0,
+    );
+    eprintln!("axisymmetric collapse a = {a}: {c:?}");
+    assert!(c.failure.is_none(), "{:?}", c.failure);
+    assert!(c.spread < 0.2, "the deposit is not round: {c:?}");
+    let (r, h) = (lube_axisymmetric_runout(a), lube_axisymmetric_height(a));
+    assert!(
+        (c.runout / r - 1.0).abs() < 0.25,
+        "run-out {:.3}, Lube et al. {r:.2}",
+        c.runout
+    );
+    assert!(
+        (c.height / h - 1.0).abs() < 0.15,
+        "H∞/H0 = {:.3}, Lube et al. {h:.3}",
+        c.height
+    );
+}
