@@ -263,12 +263,18 @@ fn main() {
     if want("repose") {
         let mut rows = Vec::new();
         for phi in [20.0, 32.0, 45.0] {
-            for h in [0.02, 0.01, 0.005] {
+            for (h, lift) in [
+                (0.02, LIFT_SPEED),
+                (0.01, LIFT_SPEED),
+                (0.005, LIFT_SPEED),
+                (0.01, SLOW_LIFT_SPEED),
+            ] {
                 let n = gimp(h);
-                let p = repose_pile(&n, 10.0, Some(phi));
-                println!("repose φ={phi} {}: {p:?}", n.label());
+                let p = repose_pile(&n, 1.2 * 0.24 / lift + 6.0, Some(phi), lift);
+                println!("repose φ={phi} lift {lift} {}: {p:?}", n.label());
                 rows.push(vec![
                     n.label(),
+                    format!("{lift}"),
                     format!("{phi}"),
                     format!("{:.1}", p.plane_strain_angle),
                     format!("{:.1} ({:.1}, {:.1})", p.angle, p.flanks[0], p.flanks[1]),
@@ -284,6 +290,7 @@ fn main() {
             table(
                 &[
                     "numerics",
+                    "lift (m/s)",
                     "φ (°)",
                     "φ_ps (°)",
                     "heap angle (°) (left, right)",

@@ -164,7 +164,7 @@ fn column_collapse_runout_and_height() {
 /// A heap left by slowly lifted walls stands at about the friction angle.
 #[test]
 fn angle_of_repose() {
-    let p = repose_pile(&Numerics::new(0.01, KernelKind::Gimp), 8.0, None);
+    let p = repose_pile(&Numerics::new(0.01, KernelKind::Gimp), 8.0, None, LIFT_SPEED);
     eprintln!("pile: {p:?}");
     // A cohesionless Mohr–Coulomb slope cannot stand steeper than its friction angle (here
     // the plane-strain angle of the model's cone, 30.4° for φ = 32°); the surface fit on a
@@ -267,4 +267,26 @@ fn axisymmetric_column_collapse() {
         "H∞/H0 = {:.3}, Lube et al. {h:.3}",
         c.height
     );
+}
+
+/// Sand sheets one and two cells thick (two and four particle rows) thrown along a floor with
+/// μ = 0.5 stop after v0²/(2 μ g): the floor's friction is proportional to the weight it
+/// carries, for the rows that straddle the floor nodes too (the particles' half-width).
+#[test]
+fn sand_sheets_slide_the_coulomb_distance() {
+    for thickness in [0.01, 0.02] {
+        let r = sand_sheet_slide(thickness, 0.5, 1.0, &Numerics::new(0.01, KernelKind::Gimp));
+        eprintln!("sheet {thickness} m: {r:?}");
+        assert!(
+            (r.travel / r.travel_exact - 1.0).abs() < 0.02,
+            "a {thickness} m sheet slid {:.4} m, Coulomb {:.4} m",
+            r.travel,
+            r.travel_exact
+        );
+        assert!(
+            r.final_speed < 0.01,
+            "still sliding at {} m/s",
+            r.final_speed
+        );
+    }
 }

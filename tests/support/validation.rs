@@ -733,8 +733,8 @@ pub fn axisymmetric_collapse(file: &str, n: &Numerics, t_max: f64) -> Collapse {
 // Drucker–Prager: the angle of repose
 
 /// The angle of repose by the lifted-cylinder method: a sand column between two smooth walls
-/// that are lifted slowly ([`LIFT_SPEED`]); the sand flows out beneath them and comes to rest
-/// as a heap whose flanks stand at the angle of repose.
+/// that are lifted slowly ([`LIFT_SPEED`], [`SLOW_LIFT_SPEED`]); the sand flows out beneath
+/// them and comes to rest as a heap whose flanks stand at the angle of repose.
 #[derive(Clone, Debug)]
 pub struct Pile {
     pub friction_angle: f64,
@@ -752,6 +752,8 @@ pub struct Pile {
 
 /// Speed at which the walls are lifted (m/s): √(g H) / 30 for the 0.2 m column.
 pub const LIFT_SPEED: f64 = 0.05;
+/// A slower lift, √(g H) / 70: closer to the quasi-static limit.
+pub const SLOW_LIFT_SPEED: f64 = 0.02;
 
 /// The plane-strain Mohr–Coulomb angle of the paper's Drucker–Prager cone with ψ = 0.
 pub fn plane_strain_angle(phi_deg: f64) -> f64 {
@@ -759,8 +761,9 @@ pub fn plane_strain_angle(phi_deg: f64) -> f64 {
     (3.0 * t / (9.0 + 12.0 * t * t).sqrt()).asin().to_degrees()
 }
 
-/// `phi` replaces the scene's friction angle (degrees) when given.
-pub fn repose_pile(n: &Numerics, t_max: f64, phi: Option<f64>) -> Pile {
+/// `phi` replaces the scene's friction angle (degrees) when given; the walls rise at
+/// `lift_speed` (m/s) until they clear the sand.
+pub fn repose_pile(n: &Numerics, t_max: f64, phi: Option<f64>, lift_speed: f64) -> Pile {
     let mut scene = load("repose_pile_2d.json", n);
     // another friction angle, on a floor as rough as the sand (μ = tan φ)
     if let (Some(phi), Material::DruckerPrager(m)) = (phi, &mut scene.bodies[0].material) {
@@ -780,10 +783,10 @@ pub fn repose_pile(n: &Numerics, t_max: f64, phi: Option<f64>) -> Pile {
         .map(|i| sim.particles().x[i][1] as f64)
         .fold(0.0, f64::max)
         + 0.5 * s;
-    let lift = <mpm::D2 as Dim>::Vector::from_fn(|a| if a == 1 { LIFT_SPEED as Real } else { 0.0 });
+    let lift = <mpm::D2 as Dim>::Vector::from_fn(|a| if a == 1 { lift_speed as Real } else { 0.0 });
     let start = Instant::now();
     // lift until the walls clear the sand, then let it settle
-    let t_clear = 1.2 * h0 / LIFT_SPEED;
+    let t_clear = 1.2 * h0 / lift_speed;
     loop {
         for _ in 0..50 {
             // lifted until they clear the sand, then held
@@ -1071,6 +1074,46 @@ pub fn heap_slope(
         final_speed: sim.diagnostics().max_speed,
         widening: width(&sim) - w0,
         cost,
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sand on a rough floor: friction proportional to the pressure
+
+/// A thin sheet of sand (`thickness` m, 0.3 m long) thrown along a floor of Coulomb friction μ
+/// at `v0`: its centre of mass travels v0²/(2 μ g) before it stops, if the floor's friction is
+/// proportional to the weight it carries, however few particle rows the sheet has.
+#[derive(Clone, Debug)]
+pub struct Slide {
+    pub travel: f64,
+    pub travel_exact: f64,
+    pub final_speed: f64,
+    pub cost: Cost,
+}
+
+pub fn sand_sheet_slide(thickness: f64, mu: f64, v0: f64, n: &Numerics) -> Slide {
+    let g = 9.81;
+    let mut scene = SceneConfig::new(2, &[2.0, 0.2], n.cell_size);
+    scene.boundary.friction = mu;
+    scene.bodies.push(
+        mpm::BodyConfig::new(
+            "sheet",
+            mpm::Shape::cuboid(&[0.2, 0.0], &[0.5, thickness]),
+            Material::drucker_prager(3.5e5, 0.3, 2200.0, 32.0, 0.0, 0.0),
+        )
+        .with_velocity(&[v0, 0.0]),
+    );
+    n.apply(&mut scene);
+    let mut sim = Simulation::<mpm::D2>::new(scene).expect("sheet scene");
+    let x0 = sim.bodies()[0].stats().center_of_mass[0];
+    let start = Instant::now();
+    let stop = v0 / (mu * g);
+    sim.advance(stop + 0.3).expect("sheet step");
+    Slide {
+        travel: sim.bodies()[0].stats().center_of_mass[0] - x0,
+        travel_exact: v0 * v0 / (2.0 * mu * g),
+        final_speed: sim.diagnostics().max_speed,
+        cost: cost(&sim, start),
     }
 }
 
