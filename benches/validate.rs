@@ -233,6 +233,8 @@ fn main() {
                     format!("{:.3}", c.height),
                     format!("{:.3}", lube_axisymmetric_height(a)),
                     pct(c.height / lube_axisymmetric_height(a) - 1.0),
+                    format!("{:.3}", lajeunesse_axisymmetric_height(a)),
+                    pct(c.height / lajeunesse_axisymmetric_height(a) - 1.0),
                     format!("{:.2}", c.spread),
                     format!("{:.2}", c.settled_at),
                     format!("{:.1}", c.cost.wall_seconds),
@@ -251,6 +253,8 @@ fn main() {
                     "error",
                     "H∞/H0",
                     "Lube 2004",
+                    "error",
+                    "Lajeunesse 2004",
                     "error",
                     "front spread / R0",
                     "at rest (s)",
@@ -310,6 +314,9 @@ fn main() {
             cases.push((phi, gentle, 3.5e5, gimp(0.01)));
             cases.push((phi, steep, 3.5e5, gimp(0.01)));
         }
+        // just under φ_ps
+        cases.push((32.0, 29.5, 3.5e5, gimp(0.01)));
+        cases.push((45.0, 38.0, 3.5e5, gimp(0.01)));
         cases.push((32.0, 40.0, 3.5e5, gimp(0.005)));
         cases.push((32.0, 40.0, 3.5e7, gimp(0.01)));
         for alpha in [0.0, 0.5, 1.0] {

@@ -164,7 +164,12 @@ fn column_collapse_runout_and_height() {
 /// A heap left by slowly lifted walls stands at about the friction angle.
 #[test]
 fn angle_of_repose() {
-    let p = repose_pile(&Numerics::new(0.01, KernelKind::Gimp), 8.0, None, LIFT_SPEED);
+    let p = repose_pile(
+        &Numerics::new(0.01, KernelKind::Gimp),
+        8.0,
+        None,
+        LIFT_SPEED,
+    );
     eprintln!("pile: {p:?}");
     // A cohesionless Mohr–Coulomb slope cannot stand steeper than its friction angle (here
     // the plane-strain angle of the model's cone, 30.4° for φ = 32°); the surface fit on a
@@ -243,7 +248,8 @@ fn a_slope_steeper_than_the_friction_angle_fails() {
 }
 
 /// Axisymmetric collapse of a column with a = 1 against Lube et al. (2004): run-out within
-/// 25 %, final height within 15 %, and a round deposit, at a coarse resolution (R0 = 5 cells).
+/// 25 %, final height within 15 % of Lube et al.'s or Lajeunesse et al.'s (2004) law, and a
+/// round deposit, at a coarse resolution (R0 = 5 cells).
 #[test]
 #[ignore = "the sand's default transfer (issue 16) lands with the rebuilt step: with PIC/FLIP α = 0.05 the run-out is 56-62 % short (docs/validation.md)"]
 fn axisymmetric_column_collapse() {
@@ -256,15 +262,20 @@ fn axisymmetric_column_collapse() {
     eprintln!("axisymmetric collapse a = {a}: {c:?}");
     assert!(c.failure.is_none(), "{:?}", c.failure);
     assert!(c.spread < 0.2, "the deposit is not round: {c:?}");
-    let (r, h) = (lube_axisymmetric_runout(a), lube_axisymmetric_height(a));
+    let r = lube_axisymmetric_runout(a);
     assert!(
         (c.runout / r - 1.0).abs() < 0.25,
         "run-out {:.3}, Lube et al. {r:.2}",
         c.runout
     );
+    // the two published final-height laws differ by 20 % at a = 1 (0.88 and 0.74)
+    let (h1, h2) = (
+        lube_axisymmetric_height(a),
+        lajeunesse_axisymmetric_height(a),
+    );
     assert!(
-        (c.height / h - 1.0).abs() < 0.15,
-        "H∞/H0 = {:.3}, Lube et al. {h:.3}",
+        (c.height / h1 - 1.0).abs() < 0.15 || (c.height / h2 - 1.0).abs() < 0.15,
+        "H∞/H0 = {:.3}, Lube et al. {h1:.3}, Lajeunesse et al. {h2:.3}",
         c.height
     );
 }

@@ -677,6 +677,12 @@ pub fn lube_axisymmetric_height(a: f64) -> f64 {
     }
 }
 
+/// Lajeunesse, Mangeney-Castelnau & Vilotte (2004), axisymmetric collapses: H∞/R0 = a for
+/// a ≲ 0.74, then about 0.74 whatever a; returned as H∞/H0.
+pub fn lajeunesse_axisymmetric_height(a: f64) -> f64 {
+    a.min(0.74) / a
+}
+
 /// Azimuthal sectors over which the front of an axisymmetric deposit is measured.
 const SECTORS: usize = 16;
 
