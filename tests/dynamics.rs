@@ -126,6 +126,20 @@ fn bouncing_boxes<D: Dim>(kernel: KernelKind, alpha: f64, h: f64, two: bool) {
     );
 }
 
+/// The FLIP slider's whole range with the default kernel: GIMP at α = 1 (and 0.9, 0.95)
+/// against the walls and between bodies, 2D and 3D.
+#[test]
+#[ignore = "FLIP safety at walls for the GIMP kernel lands with the rebuilt step: today GIMP gains energy above α ≈ 0.7 (docs/stability.md)"]
+fn the_whole_flip_range_is_safe_with_the_default_kernel() {
+    for alpha in [0.9, 0.95, 1.0] {
+        for two in [false, true] {
+            bouncing_boxes::<D2>(KernelKind::Gimp, alpha, 0.01, two);
+            bouncing_boxes::<D3>(KernelKind::Gimp, alpha, 0.02, two);
+        }
+        bouncing_boxes::<D2>(KernelKind::Gimp, alpha, 0.05, false);
+    }
+}
+
 #[test]
 fn walls_and_contacts_add_no_energy_to_flip_boxes() {
     for (kernel, alpha) in [
