@@ -29,6 +29,8 @@ fn main() {
         "# Validation report (generated)\n\nRegenerate with `taskset -c 0 cargo bench --bench validate` (or `cargo xtask validate`). Written by `benches/validate.rs`; the cases, references and discussion are in [validation.md](validation.md). Run times are wall-clock seconds on one core.\n"
     );
     let gimp = |h: f64| Numerics::new(h, KernelKind::Gimp);
+    // the report is rewritten after each case, so that an interrupted run keeps its results
+    let path = filters.report_path("validation-report");
     if want("bar") {
         let mut rows = Vec::new();
         for (dim, h, alpha) in [
@@ -75,6 +77,7 @@ fn main() {
             )
         );
     }
+    std::fs::write(&path, &md).unwrap();
     if want("wave") {
         let mut rows = Vec::new();
         for h in [0.02, 0.01, 0.005] {
@@ -106,6 +109,7 @@ fn main() {
             )
         );
     }
+    std::fs::write(&path, &md).unwrap();
     if want("squeeze") {
         let mut rows = Vec::new();
         let mut curves = String::new();
@@ -167,6 +171,7 @@ fn main() {
             )
         );
     }
+    std::fs::write(&path, &md).unwrap();
     if want("collapse") {
         let mut rows = Vec::new();
         for h in [0.01, 0.005] {
@@ -213,6 +218,7 @@ fn main() {
             )
         );
     }
+    std::fs::write(&path, &md).unwrap();
     if want("axi") {
         let mut rows = Vec::new();
         for h in [0.02, 0.01] {
@@ -264,6 +270,7 @@ fn main() {
             )
         );
     }
+    std::fs::write(&path, &md).unwrap();
     if want("repose") {
         let mut rows = Vec::new();
         for phi in [20.0, 32.0, 45.0] {
@@ -306,6 +313,7 @@ fn main() {
             )
         );
     }
+    std::fs::write(&path, &md).unwrap();
     if want("slopes") {
         // per friction angle: a slope 5° gentler than φ_ps (must stand) and one about 10°
         // steeper (must fail), with the defaults; then the steep slope under other numerics
@@ -371,6 +379,7 @@ fn main() {
             )
         );
     }
+    std::fs::write(&path, &md).unwrap();
     if want("flip") {
         let mut rows = Vec::new();
         let alphas = [0.0, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95, 1.0];
@@ -400,11 +409,11 @@ fn main() {
                     flip_impacts::<D3>(&n, alpha, two, IMPACT_TIME)
                 };
                 println!("flip {dim}D {} two={two} α={alpha}: {r:?}", n.label());
-                row.push(format!(
-                    "{:+.1} % / {:.2}",
-                    100.0 * r.energy_rise,
-                    r.energy_kept
-                ));
+                row.push(if r.failure.is_some() {
+                    "diverged".to_string()
+                } else {
+                    format!("{:+.1} % / {:.2}", 100.0 * r.energy_rise, r.energy_kept)
+                });
             }
             rows.push(row);
         }
@@ -422,6 +431,7 @@ fn main() {
             table(&header, &rows)
         );
     }
+    std::fs::write(&path, &md).unwrap();
     if want("resting") {
         let mut rows = Vec::new();
         for k in [
@@ -463,7 +473,6 @@ fn main() {
             )
         );
     }
-    let path = filters.report_path("validation-report");
     std::fs::write(&path, md).unwrap();
     println!("wrote {}", path.display());
 }

@@ -117,6 +117,7 @@ fn bouncing_boxes<D: Dim>(kernel: KernelKind, alpha: f64, h: f64, two: bool) {
         D::DIM,
         if two { "two boxes" } else { "one box" }
     );
+    assert!(r.failure.is_none(), "{what}: {:?}", r.failure);
     assert!(r.impacts >= 2, "{what}: only {} impacts", r.impacts);
     assert!(
         r.energy_rise < 0.01,

@@ -1143,6 +1143,8 @@ pub struct Impacts {
     /// Sign changes of the first body's momentum along its flight (impacts, and the
     /// oscillations of a body that comes to rest against a wall).
     pub impacts: usize,
+    /// The error that stopped the run (a run that diverged), if any.
+    pub failure: Option<String>,
     pub cost: Cost,
 }
 
@@ -1179,8 +1181,16 @@ pub fn flip_impacts<D: Dim>(n: &Numerics, alpha: f64, two: bool, duration: f64) 
     let momentum = |sim: &Simulation<D>| sim.bodies()[0].stats().momentum[axis];
     let (mut worst, mut impacts, mut last) = (0.0f64, 0, momentum(&sim));
     let start = Instant::now();
+    let mut failure = None;
     while sim.time() < duration {
-        let d = sim.step().expect("impact step");
+        let d = match sim.step() {
+            Ok(d) => d,
+            Err(e) => {
+                failure = Some(e.to_string());
+                worst = f64::INFINITY;
+                break;
+            }
+        };
         worst = worst.max(d.total_energy() / e0 - 1.0);
         let now = momentum(&sim);
         if now * last < 0.0 {
@@ -1192,6 +1202,7 @@ pub fn flip_impacts<D: Dim>(n: &Numerics, alpha: f64, two: bool, duration: f64) 
         energy_rise: worst,
         energy_kept: sim.diagnostics().total_energy() / e0,
         impacts,
+        failure,
         cost: cost(&sim, start),
     }
 }
