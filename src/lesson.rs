@@ -17,6 +17,7 @@ use crate::error::{Error, Result, check_non_negative, not_one_of};
 use crate::params::Target;
 use crate::playground::ColourMode;
 use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
 
 /// The plots a lesson may show.
 pub const PLOTS: [&str; 3] = ["energy", "stress_path", "none"];
@@ -215,6 +216,38 @@ impl Lesson {
         Ok(Some(scene))
     }
 
+    /// A lesson from texts, as a web page has them: the lesson's JSON, the text of the scene
+    /// file it names (`None` for an inline scene) and the texts of the files the scene
+    /// references, keyed by their paths as written in it. Validates both; errors name the
+    /// field (`view.params[0] = …`, `scene.cfl = …`) or the file missing.
+    pub fn from_texts(
+        text: &str,
+        scene_text: Option<&str>,
+        assets: &HashMap<String, String>,
+    ) -> Result<(Lesson, SceneConfig)> {
+        let lesson = Lesson::from_json(text)?;
+        let read = |p: &str| {
+            assets.get(p).cloned().ok_or_else(|| Error::Io {
+                path: p.to_string(),
+                message: "not provided (fetch it beside the scene file)".into(),
+            })
+        };
+        let scene = match lesson.scene_path() {
+            Some(p) => {
+                let text = scene_text.ok_or_else(|| {
+                    Error::invalid("scene", p, "the text of this scene file is needed")
+                })?;
+                let mut scene = SceneConfig::from_json(text)?;
+                scene.resolve_assets(read)?;
+                scene.validate()?;
+                scene
+            }
+            None => lesson.inline_scene(read)?.expect("an inline scene"),
+        };
+        lesson.validate(&scene)?;
+        Ok((lesson, scene))
+    }
+
     /// Reads a lesson file with its scene (a scene file beside it, or inline, with the files it
     /// references), validates both; errors name the file and the field.
     pub fn load(path: &std::path::Path) -> Result<(Lesson, SceneConfig)> {
@@ -322,6 +355,51 @@ mod tests {
             let e = lesson(edit).unwrap_err().to_string();
             assert!(e.starts_with(want), "{e}\n  want {want}");
         }
+    }
+
+    #[test]
+    fn from_texts_takes_the_scene_and_its_files_as_texts() {
+        let lesson = serde_json::json!({
+            "title": "t", "caption": "c", "duration": 1.0,
+            "view": {"params": ["drucker_prager.friction_angle"]},
+            "scene": "heap.json",
+        })
+        .to_string();
+        let scene = serde_json::to_string(&scene()).unwrap();
+        let none = HashMap::new();
+        let (l, s) = Lesson::from_texts(&lesson, Some(&scene), &none).unwrap();
+        assert_eq!((l.scene_path(), s.bodies.len()), (Some("heap.json"), 1));
+        let e = Lesson::from_texts(&lesson, None, &none).unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("scene = heap.json: the text of this scene file is needed"),
+            "{e}"
+        );
+        // An inline scene's outline comes from the texts given, keyed as written.
+        let mut v: serde_json::Value = serde_json::from_str(&lesson).unwrap();
+        v["scene"] = serde_json::from_str(&scene).unwrap();
+        v["scene"]["bodies"][0]["shape"] =
+            serde_json::json!({"polygon": {"path": "../outline.txt"}});
+        let e = Lesson::from_texts(&v.to_string(), None, &none)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("../outline.txt") && e.contains("not provided"),
+            "{e}"
+        );
+        let outline = HashMap::from([(
+            "../outline.txt".to_string(),
+            "0.1 0\n0.3 0\n0.3 0.3\n0.1 0.3\n".to_string(),
+        )]);
+        Lesson::from_texts(&v.to_string(), None, &outline).unwrap();
+        v["view"]["params"][0] = "von_mises.yield_stress".into();
+        let e = Lesson::from_texts(&v.to_string(), None, &outline)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("view.params[0] = von_mises.yield_stress: does not apply"),
+            "{e}"
+        );
     }
 
     #[test]

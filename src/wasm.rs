@@ -45,6 +45,31 @@ pub fn asset_paths(scene_json: &str) -> Result<Vec<String>, JsError> {
     crate::playground::asset_paths(scene_json).map_err(js_err)
 }
 
+/// Validates a lesson (`lessons/*.json`) as the tests do: `scene_json` is the text of the
+/// scene file it names (undefined when the scene is inline), `assets_json` a JSON object of the
+/// texts of the files the scene references, keyed by their paths as written in it (see
+/// `assetPaths`). Throws naming the field (`view.params[0] = …: does not apply: …`,
+/// `scene.bodies[1].material… = …`) or the file missing.
+#[wasm_bindgen(js_name = checkLesson)]
+pub fn check_lesson(
+    lesson_json: &str,
+    scene_json: Option<String>,
+    assets_json: Option<String>,
+) -> Result<(), JsError> {
+    let assets = parse_assets(assets_json)?;
+    crate::lesson::Lesson::from_texts(lesson_json, scene_json.as_deref(), &assets)
+        .map(|_| ())
+        .map_err(js_err)
+}
+
+fn parse_assets(assets_json: Option<String>) -> Result<HashMap<String, String>, JsError> {
+    match assets_json {
+        Some(text) => serde_json::from_str(&text)
+            .map_err(|e| js_err(format!("assets: {e} (want {{\"path\": \"text\"}})"))),
+        None => Ok(HashMap::new()),
+    }
+}
+
 /// The live parameters, material models and droppable objects, as JSON
 /// `{"params": [...], "models": [...], "objects": [...]}`: each parameter's name, model,
 /// label, symbol, unit, slider range and scale, default, help text and terminal key (see
@@ -87,11 +112,7 @@ impl Playground {
         assets_json: Option<String>,
         quality: Option<String>,
     ) -> Result<Playground, JsError> {
-        let assets: HashMap<String, String> = match assets_json {
-            Some(text) => serde_json::from_str(&text)
-                .map_err(|e| js_err(format!("assets: {e} (want {{\"path\": \"text\"}})")))?,
-            None => HashMap::new(),
-        };
+        let assets = parse_assets(assets_json)?;
         Ok(Playground {
             core: Core::load(
                 scene_json,

@@ -549,3 +549,47 @@ fn a_saved_scene_replays_the_drops() {
     assert!(again.particle_count() > before);
     assert_eq!(again.scene_json(), pg.scene_json());
 }
+
+#[wasm_bindgen_test]
+fn every_lesson_checks_with_its_files_and_a_bad_one_names_the_field() {
+    let lessons = scene_files("lessons");
+    assert!(lessons.len() >= 5, "{} lessons", lessons.len());
+    for (path, text) in lessons {
+        // The scene: a file beside the lesson, or inline; its files relative to the file that
+        // names them.
+        let lesson: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let (scene, base) = match lesson["scene"].as_str() {
+            Some(p) => {
+                let scene_path = format!("lessons/{p}");
+                let text = read_file_sync(&format!("{ROOT}/{scene_path}"), "utf8").unwrap();
+                let dir = scene_path.rsplit_once('/').unwrap().0.to_string();
+                (Some(text), dir)
+            }
+            None => (None, "lessons".to_string()),
+        };
+        let scene_text = scene.clone().unwrap_or_else(|| lesson["scene"].to_string());
+        let files: serde_json::Map<String, serde_json::Value> = mpm::wasm::asset_paths(&scene_text)
+            .unwrap_or_else(|e| panic!("{path}: {}", message(e)))
+            .into_iter()
+            .map(|f| {
+                let t = read_file_sync(&format!("{ROOT}/{base}/{f}"), "utf8").unwrap();
+                (f, t.into())
+            })
+            .collect();
+        let assets = serde_json::Value::Object(files).to_string();
+        mpm::wasm::check_lesson(&text, scene.clone(), Some(assets.clone()))
+            .unwrap_or_else(|e| panic!("{path}: {}", message(e)));
+        let mut bad = lesson.clone();
+        bad["view"]["colour"] = "rainbow".into();
+        let e = mpm::wasm::check_lesson(&bad.to_string(), scene.clone(), Some(assets)).unwrap_err();
+        assert!(
+            message(e).starts_with("view.colour = rainbow: must be one of"),
+            "{path}"
+        );
+        if lesson["scene"].is_object() && scene_text.contains(".txt") {
+            // The outline missing: named.
+            let e = mpm::wasm::check_lesson(&text, None, None).unwrap_err();
+            assert!(message(e).contains("bunny2d.txt"), "{path}");
+        }
+    }
+}
