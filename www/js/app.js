@@ -9,16 +9,23 @@ import { banner, toast, warnCost, warnFlip } from './hud.js';
 import { readHash, writeHash, formatDrop } from './hash.js';
 import { LEVELS, QualityGovernor, applyQuality } from './quality.js';
 import { insideBox, nearestParticle } from './pointer.js';
-import { SANDBOX, sceneSource } from './scenes.js';
-import { buildDropControls, syncControls } from './controls.js';
+import { OPENED, SANDBOX, sceneSource } from './scenes.js';
+import { buildDropControls, showPlots, syncControls } from './controls.js';
+import { LessonPanel, bodyParam, fetchLesson } from './lessons.js';
+import { Recorder } from './record.js';
 
 /// Frames per second the page aims at (the frame's stepping budget and the quality governor).
 export const TARGET_FPS = 30;
 
 export class App {
-  constructor({ session, renderer, camera, canvas, energyPlot, stressPlot, scenes, bunny }) {
-    Object.assign(this, { session, renderer, camera, canvas, energyPlot, stressPlot, scenes, bunny });
-    this.view = { scene: SANDBOX, dim: '3', colour: 'body', object: 'bunny', material: 'drucker_prager', time: '1' };
+  constructor({ session, renderer, camera, canvas, energyPlot, stressPlot, scenes, lessons = [], bunny }) {
+    Object.assign(this, { session, renderer, camera, canvas, energyPlot, stressPlot, scenes, lessons, bunny });
+    // `lesson`: the id of the lesson open (its scene is the one shown), else undefined.
+    this.view = { lesson: undefined, scene: SANDBOX, dim: '3', colour: 'body', object: 'bunny', material: 'drucker_prager', time: '1' };
+    this.lesson = null; // the lesson open, as its file has it
+    this.opened = null; // the scene file opened from disk: {key, source}
+    this.lessonPanel = new LessonPanel(this);
+    this.recorder = new Recorder(canvas);
     this.size = 0.25; // of dropped objects (m)
     this.dropSpeed = 0;
     this.tool = 'drop';
@@ -70,16 +77,20 @@ export class App {
     if (level !== null) this.quality = applyQuality(this.renderer, level);
   }
 
-  /// Loads the scene of `this.view` and replays `session` ({params, cleared, drops}, from a
-  /// link or kept across a 2D/3D switch); `ignored` lists what the link held that cannot be
-  /// used, for the message.
+  /// Loads the scene of `this.view` (a lesson's, a scene of the list, a path, a file opened)
+  /// and replays `session` ({quality, params, cleared, drops}, from a link or kept across a
+  /// 2D/3D switch); `ignored` lists what the link held that cannot be used, for the message.
   async loadScene(session = {}, ignored = []) {
     const token = (this.loadToken = (this.loadToken || 0) + 1);
-    let source;
+    let source, lesson = null;
     try {
-      source = await sceneSource(this.view.scene, this.view.dim, this.scenes, this.session);
+      if (this.view.lesson) ({ lesson, source } = await fetchLesson(this.view.lesson, this.lessons, this.session));
+      else if (this.view.scene.startsWith(OPENED)) source = this.openedSource(this.view.scene);
+      else source = await sceneSource(this.view.scene, this.view.dim, this.scenes, this.session);
     } catch (e) {
-      toast(`Cannot load the scene: ${e.message}. Showing the sandbox.`);
+      if (this.view.lesson) banner('lesson', 'bad', `The lesson cannot open: ${e.message}`, { label: 'Close', run: () => banner('lesson') });
+      else toast(`Cannot load the scene: ${e.message}. Showing the sandbox.`);
+      this.view.lesson = undefined;
       this.view.scene = SANDBOX;
       source = { sandbox: this.view.dim };
     }
@@ -88,7 +99,44 @@ export class App {
     if (out.invalid) {
       toast(`The scene is invalid: ${out.invalid}`);
       this.view.scene = SANDBOX;
+      this.view.lesson = undefined;
+      lesson = null;
     }
+    await this.loaded(out, ignored, lesson);
+  }
+
+  /// The source of a scene file opened from disk (`key` is `file:NAME`).
+  openedSource(key) {
+    if (this.opened?.key === key) return this.opened.source;
+    throw new Error(`${key.slice(OPENED.length)} was opened from a file: open it again with Open scene`);
+  }
+
+  /// Opens lesson `id` of the list, at the current quality level, in the view it asks for.
+  openLesson(id) {
+    this.view.lesson = id;
+    this.view.colour = undefined; // the lesson's
+    this.view.size = undefined;
+    return this.loadScene({ quality: this.session.quality.quality });
+  }
+
+  /// Opens scene file `name` (`source`: {text, assets}) at the current quality level; resolves
+  /// to '' or the solver's message naming the field (the simulation then goes on as it was).
+  async openScene(name, source) {
+    const token = (this.loadToken = (this.loadToken || 0) + 1);
+    const out = await this.session.load(source, { quality: this.session.quality.quality }, this.view.dim, true);
+    if (out.kept) return out.invalid;
+    if (token !== this.loadToken) return '';
+    this.opened = { key: `${OPENED}${name}`, source };
+    Object.assign(this.view, { lesson: undefined, scene: this.opened.key, size: undefined });
+    banner('open');
+    await this.loaded(out, [], null);
+    toast(`Opened ${name}: ${this.session.state.bodies} bodies, ${this.session.state.particles.toLocaleString('en')} particles.`);
+    return '';
+  }
+
+  /// After a scene loaded: the messages of what did not apply, the camera, the controls, and
+  /// a lesson's view (colours, plot, sliders, the particle inspected).
+  async loaded(out, ignored, lesson) {
     for (const msg of ignored) console.warn(`ignored from the link: ${msg}`);
     const refused = this.refused(out.refused);
     const messages = [...ignored, ...out.rejected, ...refused];
@@ -101,6 +149,12 @@ export class App {
     this.sizeRange = sizes.offered;
     const sz = Number(this.view.size);
     this.size = Number.isFinite(sz) && sz > 0 ? sz : sizes.default;
+    this.lesson = lesson;
+    const lv = lesson?.view ?? {};
+    if (!this.view.colour) this.view.colour = lv.colour ?? 'body';
+    // The material of the lesson's first slider, so that its slider shows among the controls.
+    const model = (lv.params ?? []).map((n) => (bodyParam(n)?.name ?? n).split('.')).find((p) => p.length === 2)?.[0];
+    if (lesson && model) this.view.material = model;
     this.restarted();
     this.session.timeScale(Number(this.view.time));
     this.session.colour(this.view.colour);
@@ -108,6 +162,11 @@ export class App {
     warnFlip(this.session);
     buildDropControls(this);
     syncControls(this);
+    if (lesson) {
+      showPlots(lv.plot !== 'none');
+      await this.lessonPanel.show(lesson);
+      if (lv.inspect) this.setProbe(await this.session.pick(lv.inspect));
+    } else this.lessonPanel.close();
     this.updateHash();
   }
 
@@ -144,6 +203,8 @@ export class App {
   loadFromHash() {
     const { view, session, errors } = readHash(location.hash, this.session.table.names);
     Object.assign(this.view, view);
+    this.view.lesson = view.lesson;
+    if (view.lesson && !view.colour) this.view.colour = undefined; // the lesson's
     return this.loadScene(session, errors);
   }
 
@@ -158,7 +219,14 @@ export class App {
 
   /// The state of the link: the view, and the session the solver recorded.
   updateHash() {
-    writeHash({ ...this.view, size: +this.size.toPrecision(3) }, this.session.session());
+    const view = { ...this.view, size: +this.size.toPrecision(3) };
+    if (view.lesson) view.scene = view.dim = undefined; // the lesson's
+    writeHash(view, this.session.session());
+  }
+
+  /// Draws the frame again at the next animation frame (for a snapshot).
+  redraw() {
+    this.viewKey = null;
   }
 
   /// Applies a live parameter; resolves to '' or the solver's error message (state unchanged).
@@ -167,6 +235,9 @@ export class App {
     const { error, prediction, before } = await s.setParameter(name, value);
     if (error) return error;
     warnCost(s.table.spec(name), value, prediction, before, s);
+    // The same parameter's slider elsewhere (the lesson's panel, the controls) follows.
+    this.sliders.get(name)?.set(value);
+    this.lessonPanel.changed(name, value);
     syncControls(this, false);
     this.updateHash();
     return '';
@@ -225,6 +296,7 @@ export class App {
     this.restarted();
     this.updateHash();
     syncControls(this);
+    if (this.lesson?.view?.inspect) this.setProbe(await this.session.pick(this.lesson.view.inspect));
   }
 
   /// What a new start forgets: the inspected particle, the plots, the failure banner.

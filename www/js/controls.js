@@ -4,7 +4,7 @@
 
 import { ENERGY_SERIES } from './plots.js';
 import { boundedMax } from './params.js';
-import { SANDBOX } from './scenes.js';
+import { OPENED, SANDBOX } from './scenes.js';
 import { toast } from './hud.js';
 import { el, paramSlider, segmented } from './widgets.js';
 
@@ -23,8 +23,11 @@ export function buildControls(app) {
   $('energy-legend').replaceChildren(...ENERGY_SERIES.map((s) => el('span', {}, el('i', { style: `background:${s.colour}` }), s.label)));
 
   $('scene').addEventListener('change', () => {
-    const entry = app.scenes.find((s) => s.base === $('scene').value);
-    app.view.scene = entry ? entry.base : $('scene').value;
+    const value = $('scene').value;
+    if (value.startsWith('lesson:')) return app.openLesson(value.slice('lesson:'.length));
+    const entry = app.scenes.find((s) => s.base === value);
+    app.view.lesson = undefined;
+    app.view.scene = entry ? entry.base : value;
     if (entry && !entry.paths[app.view.dim]) app.view.dim = Object.keys(entry.paths)[0];
     app.view.size = undefined;
     // A new scene starts with its own parameters, at the quality chosen.
@@ -43,14 +46,9 @@ export function buildControls(app) {
   $('step').addEventListener('click', () => app.step());
   $('reset').addEventListener('click', () => app.reset());
   $('clear').addEventListener('click', () => app.clear());
-  $('toggle-plots').addEventListener('click', () => {
-    const hidden = document.body.classList.toggle('no-plots');
-    $('toggle-plots').setAttribute('aria-pressed', String(!hidden));
-  });
-  if (window.innerWidth < 1500) {
-    document.body.classList.add('no-plots');
-    $('toggle-plots').setAttribute('aria-pressed', 'false');
-  }
+  $('toggle-plots').addEventListener('click', () => showPlots(document.body.classList.contains('no-plots')));
+  // Wide screens show the plots beside the view; narrower ones on demand, beneath it.
+  if (window.innerWidth < 1500) showPlots(false);
   $('timescale').addEventListener('change', () => {
     app.view.time = $('timescale').value;
     app.session.timeScale(Number(app.view.time));
@@ -83,6 +81,13 @@ export function buildControls(app) {
   window.addEventListener('hashchange', () => app.loadFromHash());
 }
 
+/// Shows or hides the plots (beside the view on wide screens, beneath it on narrower ones:
+/// never over it).
+export function showPlots(on) {
+  document.body.classList.toggle('no-plots', !on);
+  $('toggle-plots').setAttribute('aria-pressed', String(on));
+}
+
 /// A slider for parameter `spec` of the table, registered in `app.sliders`.
 function slider(app, spec) {
   const w = paramSlider({ ...spec }, (v) => app.applyParam(spec.name, v));
@@ -105,18 +110,25 @@ export function syncControls(app, values = true) {
   const q = app.session.quality;
   $('quality').title = `${app.session.qualities.levels.find((l) => l.id === q.quality)?.hint ?? ''}. ` +
     'Another level samples the scene again and starts it over, with the parameters and drops so far.';
-  const entry = app.scenes.find((s) => s.base === app.view.scene);
-  if (!entry && app.view.scene.endsWith('.json')) {
-    // A scene file given by path in the link: list it too.
-    const select = $('scene');
-    if (![...select.options].some((o) => o.value === app.view.scene))
-      select.append(el('option', { value: app.view.scene }, app.view.scene.split('/').pop()));
-    select.value = app.view.scene;
-  } else $('scene').value = entry ? entry.base : SANDBOX;
+  const lesson = app.view.lesson && app.lessons.find((l) => l.id === app.view.lesson);
+  const entry = lesson ? null : app.scenes.find((s) => s.base === app.view.scene);
+  const select = $('scene');
+  for (const o of [...select.options]) if (o.dataset.extra) o.remove();
+  if (entry || app.view.scene === SANDBOX && !lesson) select.value = entry ? entry.base : SANDBOX;
+  else {
+    // A lesson, a scene file given by path in the link, a file opened: listed while shown.
+    const [value, label] = lesson ? [`lesson:${lesson.id}`, `Lesson: ${lesson.title}`]
+      : [app.view.scene, app.view.scene.startsWith(OPENED) ? `${app.view.scene.slice(OPENED.length)} (opened)` : app.view.scene.split('/').pop()];
+    const o = el('option', { value }, label);
+    o.dataset.extra = '1';
+    select.append(o);
+    select.value = value;
+  }
   for (const d of ['2', '3']) {
     const b = $(`dim${d}`);
     b.setAttribute('aria-pressed', String(app.view.dim === d));
-    b.disabled = !!entry && !entry.paths[d];
+    // A scene of the list has the dimensions it has files for; a lesson or a file one only.
+    b.disabled = entry ? !entry.paths[d] : app.view.scene !== SANDBOX || !!lesson ? app.view.dim !== d : false;
   }
   markObject(app.view.object);
   if (values) pickMaterial(app, app.view.material, false);
@@ -154,6 +166,7 @@ function pickMaterial(app, id, user) {
     w.set(current[name]);
     if (w.spec.at_most) w.setMax(boundedMax(w.spec, current));
   }
+  app.lessonPanel?.mark();
   if (user) app.updateHash();
 }
 

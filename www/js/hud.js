@@ -68,12 +68,15 @@ export function warnFlip(session) {
     : '');
 }
 
+/// The HUD rows a small screen shows (app.css hides the others there).
+const MAIN_ROWS = ['fps', 'particles', 'sim / real', 'sim time'];
+
 /// The HUD: `rows` [[label, value, title?]]; the `sim / real` value is marked slow when `slow`.
 export function hud(rows, slow) {
   $('hud').replaceChildren(...rows.flatMap(([k, v, title = '']) => [
-    el('span', { class: 'k' }, k),
+    el('span', { class: `k${MAIN_ROWS.includes(k) ? '' : ' minor'}` }, k),
     el('span', {
-      class: `v${k === 'sim / real' && slow ? ' slow' : ''}`,
+      class: `v${k === 'sim / real' && slow ? ' slow' : ''}${MAIN_ROWS.includes(k) ? '' : ' minor'}`,
       'data-hud': k,
       title: k === 'sim / real' && slow ? 'Slow motion: the simulation steps slower than real time at this resolution' : title,
     }, v),

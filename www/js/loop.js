@@ -8,6 +8,7 @@
 import { TARGET_FPS } from './app.js';
 import { format } from './params.js';
 import { hud, hudRows, legend, toast } from './hud.js';
+import { captionText } from './record.js';
 
 export function startLoop(app) {
   let last = 0, lastDrawn = false, lastFresh = 0;
@@ -66,6 +67,8 @@ function draw(app, f) {
     mode: app.view.colour, range: app.range, radius: app.radius, marker,
   });
   if (app.syncRender) app.renderer.finish(); // benchmarks: count the GPU's work in renderMs
+  // A recording or a snapshot copies the frame now, while the drawing buffer holds it.
+  app.recorder?.drawn(() => captionText(app.session.scene.name, f.time));
 }
 
 /// A colour range that grows at once and shrinks slowly, so that colours do not flicker.

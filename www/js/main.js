@@ -1,11 +1,16 @@
-// The MPM playground page: starts the solver (wasm, in a Web Worker), loads the scene list and
-// the shipped bunny, builds the controls from the solver's parameter table, opens the scene of
-// the link (or a sand scene on a first visit) and starts the frame loop. See app.js for the
+// The MPM playground page: starts the solver (wasm, in a Web Worker), loads the scene and
+// lesson lists and the shipped bunny, builds the controls from the solver's parameter table,
+// opens the scene or lesson of the link (or a sand scene on a first visit) and starts the
+// frame loop. See app.js for the
 // state and its actions, session.js for the simulation, loop.js for the frame loop.
 
 import { App } from './app.js';
 import { Camera } from './camera.js';
 import { buildControls } from './controls.js';
+import { setupFiles } from './files.js';
+import { setupFolding } from './fold.js';
+import { buildLessonMenu, loadLessonList } from './lessons.js';
+import { setupRecording } from './record.js';
 import { banner } from './hud.js';
 import { startLoop } from './loop.js';
 import { EnergyPlot, StressPlot } from './plots.js';
@@ -26,16 +31,17 @@ async function main() {
     console.warn(`WebGL2 unavailable (${e.message}); using the 2D canvas fallback`);
     renderer = new CanvasRenderer(canvas);
   }
-  let session, scenes, bunny;
+  setupFolding();
+  let session, scenes, lessons, bunny;
   try {
-    [session, scenes, bunny] = await Promise.all([Session.start(), loadSceneList(), loadBunny()]);
+    [session, scenes, lessons, bunny] = await Promise.all([Session.start(), loadSceneList(), loadLessonList(), loadBunny()]);
   } catch (e) {
     banner('failed', 'bad', `The solver did not load (${e.message}). Build it first: cargo xtask build (or cargo xtask serve).`);
     return;
   }
   await session.setBunny(bunny);
   const app = new App({
-    session, renderer, canvas, scenes,
+    session, renderer, canvas, scenes, lessons,
     camera: new Camera([2, 1, 1]),
     energyPlot: new EnergyPlot($('energy')),
     stressPlot: new StressPlot($('pq')),
@@ -47,6 +53,9 @@ async function main() {
     if (pick) app.view.scene = pick;
   }
   buildControls(app);
+  buildLessonMenu(app, lessons);
+  setupFiles(app, document.querySelector('.stage'));
+  setupRecording(app);
   setupPointer(canvas, app.camera, (x, y) => app.click(x, y));
   await app.loadFromHash();
   startLoop(app);

@@ -15,8 +15,9 @@ export function paramTable(json) {
     objects: t.objects,
     world: t.params.filter((p) => !p.model),
     names: t.params.map((p) => p.name),
-    /// The spec of parameter `name`; undefined if there is none.
-    spec: (name) => byName.get(name),
+    /// The spec of parameter `name` (that of `<model>.<field>` for `bodies[i].<model>.<field>`,
+    /// one body's); undefined if there is none.
+    spec: (name) => byName.get(name) ?? byName.get(name.replace(/^bodies\[\d+\]\./, '')),
     /// The parameters of material model `model`, in display order.
     ofModel: (model) => t.params.filter((p) => p.model === model),
   };

@@ -1,31 +1,34 @@
-// The pointer on the view: drag to orbit (3D), wheel to zoom, click to drop or inspect.
+// The pointer on the view: drag (one finger) to orbit (3D), wheel or pinch (two fingers) to
+// zoom, click or tap to drop or inspect. The gestures are recognised in touch.js.
 
-/// Wires `canvas`: drags turn `camera`, the wheel zooms, a click (a press that did not move)
-/// calls `onClick(x, y)` with the position in CSS pixels from the canvas' top-left corner.
+import { Gestures } from './touch.js';
+
+/// Wires `canvas`: drags turn `camera`, the wheel and a pinch zoom, a click or tap (a press
+/// that did not move) calls `onClick(x, y)` with the position in CSS pixels from the canvas'
+/// top-left corner.
 export function setupPointer(canvas, camera, onClick) {
-  let down = null;
+  const g = new Gestures();
   canvas.addEventListener('pointerdown', (e) => {
-    down = { x: e.clientX, y: e.clientY, lastX: e.clientX, lastY: e.clientY, moved: false };
+    g.down(e.pointerId, e.clientX, e.clientY);
     canvas.setPointerCapture(e.pointerId);
   });
   canvas.addEventListener('pointermove', (e) => {
-    if (!down) return;
-    const dx = e.clientX - down.lastX, dy = e.clientY - down.lastY;
-    if (Math.hypot(e.clientX - down.x, e.clientY - down.y) > 5) down.moved = true;
-    if (down.moved) {
-      canvas.classList.add('dragging');
-      camera.orbit(dx, dy);
-    }
-    down.lastX = e.clientX;
-    down.lastY = e.clientY;
+    const a = g.move(e.pointerId, e.clientX, e.clientY);
+    if (a?.orbit) camera.orbit(a.orbit[0], a.orbit[1]);
+    if (a?.zoom) camera.zoomBy(a.zoom);
+    canvas.classList.toggle('dragging', g.dragging);
   });
   canvas.addEventListener('pointerup', (e) => {
-    canvas.classList.remove('dragging');
-    if (down && !down.moved) {
+    const a = g.up(e.pointerId, e.clientX, e.clientY);
+    canvas.classList.toggle('dragging', g.dragging);
+    if (a?.tap) {
       const r = canvas.getBoundingClientRect();
-      onClick(e.clientX - r.left, e.clientY - r.top);
+      onClick(a.tap[0] - r.left, a.tap[1] - r.top);
     }
-    down = null;
+  });
+  canvas.addEventListener('pointercancel', (e) => {
+    g.cancel(e.pointerId);
+    canvas.classList.toggle('dragging', g.dragging);
   });
   canvas.addEventListener('wheel', (e) => {
     e.preventDefault();

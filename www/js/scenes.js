@@ -3,6 +3,8 @@
 // the files it references, and the shipped bunny.
 
 export const SANDBOX = 'sandbox';
+/// The prefix of a scene file opened from disk (`file:NAME`): the page holds its text.
+export const OPENED = 'file:';
 
 /// [{ base, name, paths: { 2: path, 3: path } }], the sandbox last.
 export async function loadSceneList() {
@@ -38,7 +40,8 @@ export async function sceneSource(key, dim, list, session) {
   return { text, assets: JSON.stringify(Object.fromEntries(files.map((f, i) => [f, texts[i]]))) };
 }
 
-async function fetchText(url) {
+/// The text at `url` (relative to the page); throws naming it and the status.
+export async function fetchText(url) {
   const r = await fetch(url, { cache: 'no-cache' });
   if (!r.ok) throw new Error(`${url}: ${r.status} ${r.statusText}`);
   return r.text();

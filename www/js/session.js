@@ -132,9 +132,17 @@ export class Session {
   /// The shipped bunny ({obj, polygon}) for dropped bunnies.
   setBunny(bunny) { return this.request('bunny', bunny); }
   /// Loads scene `source` ({text, assets} or {sandbox: dim}; an invalid one falls back to the
-  /// sandbox of dimension `dim`) and replays `session` ({quality, params, cleared, drops}).
-  /// Resolves to what did not apply: {invalid, rejected, refused}.
-  load(source, session, dim) { return this.request('load', { source, session, dim }); }
+  /// sandbox of dimension `dim`, or with `keep` leaves the simulation as it was) and replays
+  /// `session` ({quality, params, cleared, drops}). Resolves to what did not apply: {invalid,
+  /// rejected, refused, kept}.
+  load(source, session, dim, keep = false) { return this.request('load', { source, session, dim, keep }); }
+  /// Validates a lesson (its text, its scene file's text or null, the scene's files as JSON);
+  /// rejects with the message naming the field.
+  checkLesson(text, scene, assets) { return this.request('checkLesson', { text, scene, assets }); }
+  /// The session as a scene file (JSON text) the CLI runs: drops enter at their times.
+  saveScene() { return this.request('saveScene'); }
+  /// The current values of parameters `names` (null where one does not apply).
+  values(names) { return this.request('values', { names }); }
   /// Sets a parameter: {error ('' or the message), prediction, before} (see
   /// `Playground::predict`).
   setParameter(name, value) { return this.request('setParameter', { name, value }); }

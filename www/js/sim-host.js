@@ -12,7 +12,7 @@
 // per frame); a frame is only sent when the page has drawn the one before. On the page's thread
 // the frame is a view into wasm memory (no copy at all), valid until the next command.
 
-import init, { Playground, assetPaths, parameterTable, qualityLevels, sandboxScene } from '../pkg/mpm.js';
+import init, { Playground, assetPaths, checkLesson, parameterTable, qualityLevels, sandboxScene } from '../pkg/mpm.js';
 
 /// The longest a slice of stepping takes (ms): a command waits at most this plus one step.
 export const SLICE_MS = 8;
@@ -78,10 +78,32 @@ export class SimHost {
   cmd_assetPaths({ text }) {
     return assetPaths(text);
   }
+  /// Validates a lesson with its scene file's text (none when inline) and the scene's files
+  /// (JSON keyed by path as written); throws naming the field.
+  cmd_checkLesson({ text, scene, assets }) {
+    checkLesson(text, scene ?? undefined, assets ?? undefined);
+  }
+  /// The session as a scene file the CLI runs (see `Playground.saveScene`).
+  cmd_saveScene() {
+    return this.pg.saveScene();
+  }
+  /// The current values of live parameters `names` (also `bodies[i].<model>.<field>`); null
+  /// for one that does not apply.
+  cmd_values({ names }) {
+    return names.map((n) => {
+      try {
+        return this.pg.parameter(n);
+      } catch {
+        return null;
+      }
+    });
+  }
   /// Loads scene `source` ({text, assets} or {sandbox: dim}; an invalid one falls back to the
-  /// sandbox of dimension `dim`) at quality `session.quality` (the current one, else the
-  /// default) and replays `session`. Returns what did not apply: {invalid, rejected, refused}.
-  cmd_load({ source, session = {}, dim }) {
+  /// sandbox of dimension `dim`, or with `keep` leaves the simulation as it was) at quality
+  /// `session.quality` (the current one, else the default) and replays `session`. Returns what
+  /// did not apply: {invalid, rejected, refused} (with `keep` and an invalid scene, only
+  /// {invalid, kept: true}).
+  cmd_load({ source, session = {}, dim, keep = false }) {
     const levels = JSON.parse(qualityLevels());
     const current = this.pg ? JSON.parse(this.pg.quality()).quality : levels.default;
     const asked = session.quality ?? current;
@@ -92,6 +114,7 @@ export class SimHost {
       pg = new Playground(text, source.assets ?? undefined, quality);
     } catch (e) {
       invalid = e.message;
+      if (keep && this.pg) return { invalid, kept: true, rejected: [], refused: [] };
       pg = new Playground(sandboxScene(Number(dim)), undefined, quality);
     }
     try {

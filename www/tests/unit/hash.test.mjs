@@ -50,3 +50,17 @@ test('a drop entry: the velocity is left out when zero, numbers in their shortes
   assert.equal(formatDrop({ ...d, velocity: [0, -1e-7, 0] }), '0.5:bunny:drucker_prager:0.3:1,0.5,0.25:0,-1e-7,0');
   assert.throws(() => parseDrop('0:ball:elastic:0.2:0.5,0.5:1,2,3'), /the centre has 2 components, the velocity 3/);
 });
+
+test('a lesson link: the lesson, and parameters of one body of its scene', () => {
+  const hash = formatHash({ lesson: 'friction_angle', colour: 'body' },
+    { params: [['bodies[1].drucker_prager.friction_angle', 30]], drops: [] });
+  assert.equal(hash, '#lesson=friction_angle&colour=body&bodies%5B1%5D.drucker_prager.friction_angle=30');
+  const back = readHash(hash, NAMES);
+  assert.deepEqual(back.errors, []);
+  assert.deepEqual(back.view, { lesson: 'friction_angle', colour: 'body' });
+  assert.deepEqual(back.session.params, [['bodies[1].drucker_prager.friction_angle', 30]]);
+  // Only material parameters belong to a body, and only known ones.
+  const bad = readHash('#bodies[0].gravity=3&bodies[0].drucker_prager.colour=2&bodies[x].elastic.youngs_modulus=1', NAMES);
+  assert.equal(bad.session.params.length, 0);
+  assert.equal(bad.errors.length, 3, bad.errors.join('; '));
+});
