@@ -23,6 +23,7 @@ export class App {
     // `lesson`: the id of the lesson open (its scene is the one shown), else undefined.
     this.view = { lesson: undefined, scene: SANDBOX, dim: '3', colour: 'body', object: 'bunny', material: 'drucker_prager', time: '1' };
     this.lesson = null; // the lesson open, as its file has it
+    this.lessonColours = false; // the lesson about to open sets the colours
     this.opened = null; // the scene file opened from disk: {key, source}
     this.lessonPanel = new LessonPanel(this);
     this.recorder = new Recorder(canvas);
@@ -114,7 +115,7 @@ export class App {
   /// Opens lesson `id` of the list, at the current quality level, in the view it asks for.
   openLesson(id) {
     this.view.lesson = id;
-    this.view.colour = undefined; // the lesson's
+    this.lessonColours = true;
     this.view.size = undefined;
     return this.loadScene({ quality: this.session.quality.quality });
   }
@@ -151,7 +152,8 @@ export class App {
     this.size = Number.isFinite(sz) && sz > 0 ? sz : sizes.default;
     this.lesson = lesson;
     const lv = lesson?.view ?? {};
-    if (!this.view.colour) this.view.colour = lv.colour ?? 'body';
+    if (lesson && this.lessonColours) this.view.colour = lv.colour ?? 'body';
+    this.lessonColours = false;
     // The material of the lesson's first slider, so that its slider shows among the controls.
     const model = (lv.params ?? []).map((n) => (bodyParam(n)?.name ?? n).split('.')).find((p) => p.length === 2)?.[0];
     if (lesson && model) this.view.material = model;
@@ -204,7 +206,7 @@ export class App {
     const { view, session, errors } = readHash(location.hash, this.session.table.names);
     Object.assign(this.view, view);
     this.view.lesson = view.lesson;
-    if (view.lesson && !view.colour) this.view.colour = undefined; // the lesson's
+    this.lessonColours = !!view.lesson && !view.colour; // the lesson's, unless the link names others
     return this.loadScene(session, errors);
   }
 

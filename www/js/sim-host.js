@@ -269,7 +269,8 @@ export class SimHost {
       p.refused.push(...report.refused);
       this.stateChanged = true;
     }
-    if (this.pg.bodyCount() !== this.bodies) this.stateChanged = true; // a drop of the link landed
+    // A drop of the link landed, or a body of the scene entered (`appear_at`).
+    if (this.pg.bodyCount() !== this.bodies || this.pg.particleCount() !== this.particles) this.stateChanged = true;
     if (report.substeps > 0 || report.refused) this.dirty = true;
     this.behind = report.fell_behind;
     return this.behind;
@@ -302,6 +303,7 @@ export class SimHost {
     const report = this.pending;
     this.pending = fresh();
     this.bodies = pg.bodyCount();
+    this.particles = count;
     const message = {
       type: 'frame', seq: ++this.seq, positions, values, stride, count, range,
       time: pg.time(), stableDt: pg.stableDt(), report, stress,

@@ -10,6 +10,28 @@ export const FLAGS = [
   '--disable-background-networking', '--disable-component-update', '--disable-sync',
 ];
 
+/// Opens the playground at `url` in a new page of `context` (an init script `init` first),
+/// collecting console errors and uncaught exceptions, and console warnings; resolves when the
+/// simulation has drawn a few frames.
+export async function openPage(context, url, init) {
+  const page = await context.newPage();
+  const errors = [], warnings = [];
+  page.on('console', (m) => {
+    if (m.type() === 'error') errors.push(m.text());
+    if (m.type() === 'warning') warnings.push(m.text());
+  });
+  page.on('pageerror', (e) => errors.push(e.message));
+  if (init) await page.addInitScript(init);
+  await page.goto(url);
+  await page.waitForFunction(() => window.mpm?.sim && window.mpm.stats.frames > 5, null, { timeout: 60_000 });
+  return { page, errors, warnings };
+}
+
+/// A browser for contexts of other kinds (`browser.newContext({viewport, hasTouch, isMobile})`).
+export function launchBrowser() {
+  return chromium.launch({ executablePath: process.env.CHROMIUM || '/usr/bin/chromium', headless: true, args: FLAGS });
+}
+
 /// A persistent context on a fresh --user-data-dir; `close()` ends it and removes the profile.
 export async function launch({ width = 1400, height = 860 } = {}) {
   const profile = mkdtempSync(join(tmpdir(), 'mpm-chromium-'));

@@ -7,7 +7,7 @@ import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { mkdirSync, statSync } from 'node:fs';
 import { join } from 'node:path';
-import { launch } from './browser.mjs';
+import { launch, openPage } from './browser.mjs';
 import { decodePng, pixelStats } from './png.mjs';
 import { hideWebgl2, screenOf } from './view.mjs';
 
@@ -19,21 +19,8 @@ let browser;
 before(async () => { browser = await launch(); });
 after(async () => { await browser?.close(); });
 
-/// Opens the page with `hash`, collecting console errors and uncaught exceptions, and
-/// console warnings.
-async function open(hash = '', init) {
-  const page = await browser.context.newPage();
-  const errors = [], warnings = [];
-  page.on('console', (m) => {
-    if (m.type() === 'error') errors.push(m.text());
-    if (m.type() === 'warning') warnings.push(m.text());
-  });
-  page.on('pageerror', (e) => errors.push(e.message));
-  if (init) await page.addInitScript(init);
-  await page.goto(URL_ROOT + hash);
-  await page.waitForFunction(() => window.mpm?.sim && window.mpm.stats.frames > 5, null, { timeout: 60_000 });
-  return { page, errors, warnings };
-}
+/// Opens the page with `hash` (see `openPage`).
+const open = (hash = '', init) => openPage(browser.context, URL_ROOT + hash, init);
 
 /// The body `i` of the simulated scene, as JSON text.
 const bodyJson = (page, i) => page.evaluate((i) => JSON.stringify(mpm.sim.scene.bodies[i]), i);
