@@ -121,8 +121,16 @@ export function setupFiles(app, stage) {
     if (files.length) await openFiles(app, files);
   });
   const over = (on) => stage.classList.toggle('drop-target', on);
+  const hasFiles = (e) => [...(e.dataTransfer?.types ?? [])].includes('Files');
+  // Files dropped beside the view do nothing (rather than the browser leaving the page for them).
+  for (const type of ['dragover', 'drop'])
+    window.addEventListener(type, (e) => {
+      if (!hasFiles(e) || stage.contains(e.target)) return;
+      e.preventDefault();
+      e.dataTransfer.dropEffect = 'none';
+    });
   stage.addEventListener('dragover', (e) => {
-    if (![...(e.dataTransfer?.types ?? [])].includes('Files')) return;
+    if (!hasFiles(e)) return;
     e.preventDefault();
     e.dataTransfer.dropEffect = 'copy';
     over(true);

@@ -11,8 +11,9 @@
 //!   files, every URL relative, for any static web host as it is.
 //! - `test`      — every test: formatting, clippy (native and wasm), the page's pure modules
 //!   under `node --test`, the native test suite, the wasm tests in Node, the end-to-end
-//!   tests in headless Chromium and Firefox, and the `dist` folder served alone by a plain
-//!   static server under a sub-path and loaded in Chromium.
+//!   tests in headless Chromium (also the classroom's: lessons, save and open, recording,
+//!   touch on phone and tablet viewports) and Firefox, and the `dist` folder served alone by
+//!   a plain static server under a sub-path and loaded in Chromium.
 //! - `bench-web` — benchmarks that print figures: wasm in Node against native on the same
 //!   scene, and the page's frame rate in headless Chromium.
 //! - `live`      — the real-time factor of every shipped scene at the page's default quality:
@@ -618,6 +619,20 @@ fn test() -> Result<(), String> {
         .env("CHROMIUM", &chromium)
         .env("MPM_OUT", root().join("target/e2e"));
     run_cmd(e2e)?;
+    // The page in a classroom: lessons, save and open, recording, touch and small screens.
+    let mut class = command(
+        "node",
+        &[
+            "--test",
+            "--test-reporter=spec",
+            "www/tests/classroom.test.mjs",
+        ],
+    );
+    class
+        .env("MPM_URL", &url)
+        .env("CHROMIUM", &chromium)
+        .env("MPM_OUT", root().join("target/e2e"));
+    run_cmd(class)?;
     // The static folder alone, served by a plain static server under a sub-path.
     write_dist(&dist_dir())?;
     let mut dist = command(
