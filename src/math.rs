@@ -49,6 +49,7 @@ pub trait VectorOps:
     + 'static
     + Add<Output = Self>
     + Sub<Output = Self>
+    + Mul<Output = Self>
     + Mul<Real, Output = Self>
     + Div<Real, Output = Self>
     + Neg<Output = Self>
