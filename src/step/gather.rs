@@ -129,6 +129,21 @@ pub fn gather<D: Dim, K: Kernel<S>, A: AfterGather<D>, const S: usize>(
     ps: GatherState<'_, D>,
     after: &mut A,
 ) -> GatherReport<D> {
+    // PIC (α = 0) needs no old grid velocities.
+    if pass.transfer.flip == 0.0 {
+        gather_chunks::<D, K, A, S, false>(pass, ps, after)
+    } else {
+        gather_chunks::<D, K, A, S, true>(pass, ps, after)
+    }
+}
+
+/// [`gather`], with the old grid velocities interpolated or not (`OLD`).
+#[inline(always)]
+fn gather_chunks<D: Dim, K: Kernel<S>, A: AfterGather<D>, const S: usize, const OLD: bool>(
+    pass: &Pass<'_, D>,
+    ps: GatherState<'_, D>,
+    after: &mut A,
+) -> GatherReport<D> {
     let &Pass {
         grid,
         transfer,
@@ -159,15 +174,15 @@ pub fn gather<D: Dim, K: Kernel<S>, A: AfterGather<D>, const S: usize>(
             // Step 6 (and 2).
             let (v_new, v_old) = if !A::GRADIENT {
                 if D::DIM == 2 {
-                    gather_velocity_2d_packed::<D, S>(cell, p, &st)
+                    gather_velocity_2d_packed::<D, S, OLD>(cell, p, &st)
                 } else {
-                    gather_velocity::<D, S>(cell, p, &st)
+                    gather_velocity::<D, S, OLD>(cell, p, &st)
                 }
             } else {
                 let (v_new, v_old, grad) = if D::DIM == 2 {
-                    gather_2d_packed::<D, S>(cell, p, &st)
+                    gather_2d_packed::<D, S, OLD>(cell, p, &st)
                 } else {
-                    gather_particle::<D, S>(cell, p, &st)
+                    gather_particle::<D, S, OLD>(cell, p, &st)
                 };
                 rates.set(q - first, grad);
                 (v_new, v_old)
@@ -223,10 +238,11 @@ pub fn advect_kinematic<D: Dim>(
     r
 }
 
-/// Step 6 for one particle: (Σ_i w_ip v_i^{n+1}, Σ_i w_ip v_i^n). `nodes` starts at the
-/// stencil's first node (node (i, j, k) at `i + j p + k p²`).
+/// Step 6 for one particle: (Σ_i w_ip v_i^{n+1}, Σ_i w_ip v_i^n); without `OLD` (PIC, which
+/// needs no old velocities) the second is the first. `nodes` starts at the stencil's first
+/// node (node (i, j, k) at `i + j p + k p²`).
 #[inline(always)]
-pub fn gather_velocity<D: Dim, const S: usize>(
+pub fn gather_velocity<D: Dim, const S: usize, const OLD: bool>(
     nodes: &[Node<D::Vector>],
     p: usize,
     st: &Stencil<S>,
@@ -241,20 +257,22 @@ pub fn gather_velocity<D: Dim, const S: usize>(
             let (mut rn, mut ro) = (D::Vector::ZERO, D::Vector::ZERO);
             for i in 0..S {
                 rn += row[i].new_vel * st.w[i][0];
-                ro += row[i].vel() * st.w[i][0];
+                if OLD {
+                    ro += row[i].vel() * st.w[i][0];
+                }
             }
             let wjk = st.w[j][1] * wk;
             new += rn * wjk;
             old += ro * wjk;
         }
     }
-    (new, old)
+    (new, if OLD { old } else { new })
 }
 
 /// [`gather_velocity`] in 2D, packing specialisation: v^{n+1} and v^n side by side in one
 /// `Vec4`.
 #[inline(always)]
-pub fn gather_velocity_2d_packed<D: Dim, const S: usize>(
+pub fn gather_velocity_2d_packed<D: Dim, const S: usize, const OLD: bool>(
     nodes: &[Node<D::Vector>],
     p: usize,
     st: &Stencil<S>,
@@ -268,17 +286,22 @@ pub fn gather_velocity_2d_packed<D: Dim, const S: usize>(
             Vec4::new(n[0], n[1], o[0], o[1]) * st.w[i][0]
         }) * st.w[j][1]
     });
+    let new = D::vector([acc.x, acc.y, 0.0]);
     (
-        D::vector([acc.x, acc.y, 0.0]),
-        D::vector([acc.z, acc.w, 0.0]),
+        new,
+        if OLD {
+            D::vector([acc.z, acc.w, 0.0])
+        } else {
+            new
+        },
     )
 }
 
 /// Steps 6 and 2 for one particle: (Σ_i w_ip v_i^{n+1}, Σ_i w_ip v_i^n,
-/// Σ_i v_i^{n+1} ⊗ ∇w_ip). `nodes` starts at the stencil's first node (node (i, j, k) at
-/// `i + j p + k p²`).
+/// Σ_i v_i^{n+1} ⊗ ∇w_ip); without `OLD` (PIC) the second is the first. `nodes` starts at the
+/// stencil's first node (node (i, j, k) at `i + j p + k p²`).
 #[inline(always)]
-pub fn gather_particle<D: Dim, const S: usize>(
+pub fn gather_particle<D: Dim, const S: usize, const OLD: bool>(
     nodes: &[Node<D::Vector>],
     p: usize,
     st: &Stencil<S>,
@@ -286,7 +309,7 @@ pub fn gather_particle<D: Dim, const S: usize>(
     let nodes = &nodes[..stencil_span(D::DIM, p, S)];
     let (mut new, mut old) = (D::Vector::ZERO, D::Vector::ZERO);
     let mut c = [D::Vector::ZERO; 3];
-    // Per node, only vector multiply-adds: the first axis's factors as vectors, once.
+    // The first axis's weights as vectors, once.
     let w: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.w[i][0]));
     let dw: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.dw[i][0]));
     for k in 0..third_axis_nodes::<D, S>() {
@@ -300,7 +323,9 @@ pub fn gather_particle<D: Dim, const S: usize>(
             for i in 0..S {
                 let v = row[i].new_vel;
                 rn += v * w[i];
-                ro += row[i].vel() * w[i];
+                if OLD {
+                    ro += row[i].vel() * w[i];
+                }
                 rd += v * dw[i];
             }
             let wjk = st.w[j][1] * wk;
@@ -313,14 +338,14 @@ pub fn gather_particle<D: Dim, const S: usize>(
             }
         }
     }
-    (new, old, D::from_columns(c))
+    (new, if OLD { old } else { new }, D::from_columns(c))
 }
 
-/// [`gather_particle`] in 2D, packing specialisation: along a row, v^{n+1} and v^n side by
-/// side in one `Vec4`, then the two gradient columns (Σ_i ∂w_i v_i^{n+1}) w_j and
-/// (Σ_i w_i v_i^{n+1}) ∂w_j side by side in another.
+/// [`gather_particle`] in 2D, packing specialisation: along a row, (v^{n+1} w_i, v^n w_i) —
+/// or for PIC (v^{n+1} w_i, v^{n+1} ∂w_i) — in one `Vec4`, then the two gradient columns
+/// (Σ_i ∂w_i v_i^{n+1}) w_j and (Σ_i w_i v_i^{n+1}) ∂w_j side by side in another.
 #[inline(always)]
-pub fn gather_2d_packed<D: Dim, const S: usize>(
+pub fn gather_2d_packed<D: Dim, const S: usize, const OLD: bool>(
     nodes: &[Node<D::Vector>],
     p: usize,
     st: &Stencil<S>,
@@ -330,19 +355,38 @@ pub fn gather_2d_packed<D: Dim, const S: usize>(
     let (mut vel, mut grad) = (Vec4::ZERO, Vec4::ZERO);
     for j in 0..S {
         let row = &nodes[j * p..j * p + S];
-        let (mut rv, mut rd) = (Vec4::ZERO, Vec2::ZERO);
-        for i in 0..S {
-            let (n, o) = (row[i].new_vel, row[i].vel());
-            rv += Vec4::new(n[0], n[1], o[0], o[1]) * st.w[i][0];
-            rd += Vec2::new(n[0], n[1]) * st.dw[i][0];
-        }
-        vel += rv * st.w[j][1];
-        grad += Vec4::new(rd.x, rd.y, rv.x, rv.y)
+        // rn: Σ_i w_i v_i^{n+1}, rd: Σ_i ∂w_i v_i^{n+1}, ro: Σ_i w_i v_i^n.
+        let (rn, rd, ro) = if OLD {
+            let (mut rv, mut rd) = (Vec4::ZERO, Vec2::ZERO);
+            for i in 0..S {
+                let (n, o) = (row[i].new_vel, row[i].vel());
+                rv += Vec4::new(n[0], n[1], o[0], o[1]) * st.w[i][0];
+                rd += Vec2::new(n[0], n[1]) * st.dw[i][0];
+            }
+            (Vec2::new(rv.x, rv.y), rd, Vec2::new(rv.z, rv.w))
+        } else {
+            let mut r = Vec4::ZERO;
+            for i in 0..S {
+                let n = row[i].new_vel;
+                r += Vec4::new(n[0], n[1], n[0], n[1])
+                    * Vec4::new(st.w[i][0], st.w[i][0], st.dw[i][0], st.dw[i][0]);
+            }
+            let rn = Vec2::new(r.x, r.y);
+            (rn, Vec2::new(r.z, r.w), rn)
+        };
+        vel += Vec4::new(rn.x, rn.y, ro.x, ro.y) * st.w[j][1];
+        grad += Vec4::new(rd.x, rd.y, rn.x, rn.y)
             * Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
     }
+    let new = D::vector([vel.x, vel.y, 0.0]);
+    let old = if OLD {
+        D::vector([vel.z, vel.w, 0.0])
+    } else {
+        new
+    };
     (
-        D::vector([vel.x, vel.y, 0.0]),
-        D::vector([vel.z, vel.w, 0.0]),
+        new,
+        old,
         D::from_columns([
             D::vector([grad.x, grad.y, 0.0]),
             D::vector([grad.z, grad.w, 0.0]),
@@ -466,8 +510,29 @@ mod tests {
         let p = 10;
         let (nodes, stencils) = random_stencils::<D2, K, S>(50, p);
         for st in &stencils {
-            let (n, o, g) = gather_particle::<D2, S>(&nodes, p, st);
-            let (n2, o2, g2) = gather_2d_packed::<D2, S>(&nodes, p, st);
+            let (n, o, g) = gather_particle::<D2, S, true>(&nodes, p, st);
+            let (n2, o2, g2) = gather_2d_packed::<D2, S, true>(&nodes, p, st);
+            // PIC: v^{n+1} twice and the same gradient up to rounding; the velocity-only walks
+            // as the full ones.
+            let (n3, o3, g3) = gather_2d_packed::<D2, S, false>(&nodes, p, st);
+            let (n4, o4) = gather_velocity_2d_packed::<D2, S, true>(&nodes, p, st);
+            let (n5, o5) = gather_velocity::<D2, S, true>(&nodes, p, st);
+            let big = 1.0
+                + g2.abs()
+                    .to_cols_array()
+                    .iter()
+                    .fold(0.0, |m: Real, x| m.max(*x));
+            let dg3 = (g3 - g2)
+                .abs()
+                .to_cols_array()
+                .iter()
+                .fold(0.0, |m: Real, x| m.max(*x));
+            assert!(
+                n3 == n2 && o3 == n3 && dg3 <= 1e-5 * big,
+                "PIC {g3} vs {g2}"
+            );
+            assert!((n4 - n5).length() <= 1e-6 && (o4 - o5).length() <= 1e-6);
+            assert!((n4 - n).length() <= 1e-6 && (o4 - o).length() <= 1e-6);
             let scale = 1.0
                 + g.abs()
                     .to_cols_array()
