@@ -5,7 +5,7 @@
 //!   v_i^n interpolated at the particle, by the body's transfer ([`super::transfer`]):
 //!   v_p ← (1 − α) Σ_i w_ip v_i^{n+1} + α (v_p + Σ_i w_ip (v_i^{n+1} − v_i^n)), and with APIC
 //!   C_p = B_p D_p⁻¹, B_p = Σ_i w_ip v_i^{n+1} (x_i − x_p)ᵀ;
-//! - with the C¹ kernels (the stress updated last, [`super::StressOrder`]), steps 2–3: the
+//! - for bodies whose stress is updated last ([`super::StressOrder`]), steps 2–3: the
 //!   velocity gradient ∇v_p = Σ_i v_i^{n+1} ⊗ ∇w_ip of the same walk, and with it the stress
 //!   and volume ([`super::stress`]), for the next step's forces;
 //! - step 7, the particle-side walls: a particle whose material (a cube of half-width
@@ -34,7 +34,6 @@ impl<D: Dim> Simulation<D> {
     /// Steps 6–8 (and 2–3 when the stress is updated last) for every body.
     pub(super) fn gather_and_update(&mut self, dt: Real) -> Vec<GatherReport<D>> {
         let w = self.world;
-        let last = w.stress_order() == StressOrder::Last;
         let p = &mut self.particles;
         let mut reports = Vec::with_capacity(self.bodies.len());
         for body in &mut self.bodies {
@@ -81,6 +80,7 @@ impl<D: Dim> Simulation<D> {
                     g.with_plastic_strain(after.state.plastic_strain)
                 }};
             }
+            let last = body.stress_order(w.kernel) == StressOrder::Last;
             let report = match (&body.model, last) {
                 (_, false) => {
                     let g = with_kernel!(w.kernel, K, S => gather::<D, K, _, S>(&pass, state, &mut StressUpdatedFirst));

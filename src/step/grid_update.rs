@@ -12,13 +12,12 @@ use crate::math::{Dim, Real, VectorOps};
 use crate::sim::Simulation;
 
 impl<D: Dim> Simulation<D> {
-    /// v_i^n on every body's grid (with the stress updated first, the halos too: the stress
-    /// pass reads them).
+    /// v_i^n on every body's grid (for bodies whose stress is updated first, the halos too:
+    /// the stress pass reads them).
     pub(super) fn grid_velocities(&mut self) {
-        let fill = self.world.stress_order() == StressOrder::First;
         for body in &mut self.bodies {
             grid_velocities(&mut body.grid);
-            if fill {
+            if body.stress_order(self.world.kernel) == StressOrder::First {
                 body.grid.fill_nodes(|h, o| h.vm = o.vm);
             }
         }

@@ -2,8 +2,8 @@
 //!
 //! m_i = Σ_p w_ip m_p,   (mv)_i = Σ_p w_ip m_p (v_p + C_p (x_i − x_p)),
 //!
-//! with C_p the APIC affine velocity (zero without APIC; see [`super::transfer`]). With the
-//! stress updated last ([`super::StressOrder`]), the same walk also scatters the internal
+//! with C_p the APIC affine velocity (zero without APIC; see [`super::transfer`]). For bodies
+//! whose stress is updated last ([`super::StressOrder`]) the same walk also scatters the internal
 //! forces of step 4, f_i = −Σ_p V_p σ_p ∇w_ip, from the stress and volume the previous step's
 //! gather left. Bodies that may touch another body also scatter the mass gradient
 //! ∇m_i = Σ_p m_p ∇w_ip, the contact normal of Eq. 20.
@@ -20,8 +20,8 @@ impl<D: Dim> Simulation<D> {
     pub(super) fn scatter_to_grid(&mut self) {
         let p = &self.particles;
         let inv_h = self.world.inv_h;
-        let last = self.world.stress_order() == super::StressOrder::Last;
         for body in &mut self.bodies {
+            let last = body.stress_order(self.world.kernel) == super::StressOrder::Last;
             let r = body.range.clone();
             let state = ScatterState {
                 x: &p.x[r.clone()],

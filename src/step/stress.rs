@@ -7,14 +7,14 @@
 //!   rate: first order the same as V_p (1 + Δt tr ε̇), but never zero or negative however
 //!   violent the compression.
 //!
-//! When they run depends on the kernel ([`super::StressOrder`]):
+//! When they run depends on the kernel and the material ([`super::StressOrder`]):
 //!
-//! - **first**, Sec. 4.2's order, with the linear kernel: [`update_stress_first`] takes ∇v
-//!   from the grid velocities v_i^n of step 1, updates the stress and scatters the internal
+//! - **first**, Sec. 4.2's order (the linear kernel, and sand): [`update_stress_first`] takes
+//!   ∇v from the grid velocities v_i^n of step 1, updates the stress and scatters the internal
 //!   forces f_i = −Σ_p V_p σ_p ∇w_ip of step 4;
-//! - **last**, with the C¹ kernels: the gather takes ∇v from the new grid velocities v_i^{n+1}
-//!   in its own walk and calls [`UpdateStressLast`] on each chunk of particles; the next
-//!   step's scatter turns the stress into forces.
+//! - **last** (solids with the C¹ kernels): the gather takes ∇v from the new grid velocities
+//!   v_i^{n+1} in its own walk and calls [`UpdateStressLast`] on each chunk of particles; the
+//!   next step's scatter turns the stress into forces.
 //!
 //! [`update_one`] updates one particle and is the reference; [`update_chunk`], the one the
 //! gather runs, is its SIMD specialisation: four particles per model call in SIMD lanes (the
@@ -33,18 +33,15 @@ use crate::sim::Simulation;
 use std::ops::Range;
 
 impl<D: Dim> Simulation<D> {
-    /// Steps 2–4, particle side, in Sec. 4.2's order (the linear kernel; with the others the
-    /// gather updates the stress, and this does nothing).
+    /// Steps 2–4, particle side, in Sec. 4.2's order, for the bodies that take it (the
+    /// others' stress is updated in the gather).
     pub(super) fn update_stress_first(&mut self, dt: Real) {
-        if self.world.stress_order() != super::StressOrder::First {
-            return;
-        }
         let inv_h = self.world.inv_h;
         let kernel = self.world.kernel;
         let p = &mut self.particles;
         for body in &mut self.bodies {
             body.stress_report = StressReport::default();
-            if body.kinematic {
+            if body.kinematic || body.stress_order(kernel) != super::StressOrder::First {
                 continue;
             }
             let r = body.range.clone();
