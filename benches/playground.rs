@@ -36,13 +36,13 @@ fn main() {
     let warm = Instant::now();
     let mut i = 0;
     while i < 30 || warm.elapsed().as_secs_f64() < 3.0 {
-        pg.step().expect("step");
+        pg.step(|| 0.0).expect("step");
         i += 1;
     }
     let mut times = Vec::with_capacity(steps);
     for _ in 0..steps {
         let t = Instant::now();
-        pg.step().expect("step");
+        pg.step(|| 0.0).expect("step");
         times.push(t.elapsed().as_secs_f64() * 1e3);
     }
     let mean = times.iter().sum::<f64>() / steps as f64;

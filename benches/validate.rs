@@ -3,8 +3,8 @@
 //! `docs/validation-report.md`.
 //!
 //! `taskset -c 0 cargo bench --bench validate` (or `cargo xtask validate`; about 10 minutes
-//! on one core). Arguments filter the cases: `bar`, `wave`, `squeeze`, `collapse`, `repose`,
-//! `steep`, `resting`.
+//! on one core). Arguments filter the cases: `bar`, `wave`, `squeeze`, `collapse`, `axi`,
+//! `repose`, `slopes`, `flip`, `resting`.
 
 #[path = "support/report.rs"]
 mod report;
@@ -29,6 +29,8 @@ fn main() {
         "# Validation report (generated)\n\nRegenerate with `taskset -c 0 cargo bench --bench validate` (or `cargo xtask validate`). Written by `benches/validate.rs`; the cases, references and discussion are in [validation.md](validation.md). Run times are wall-clock seconds on one core.\n"
     );
     let gimp = |h: f64| Numerics::new(h, KernelKind::Gimp);
+    // the report is rewritten after each case, so that an interrupted run keeps its results
+    let path = filters.report_path("validation-report");
     if want("bar") {
         let mut rows = Vec::new();
         for (dim, h, alpha) in [
@@ -75,6 +77,7 @@ fn main() {
             )
         );
     }
+    std::fs::write(&path, &md).unwrap();
     if want("wave") {
         let mut rows = Vec::new();
         for h in [0.02, 0.01, 0.005] {
@@ -106,6 +109,7 @@ fn main() {
             )
         );
     }
+    std::fs::write(&path, &md).unwrap();
     if want("squeeze") {
         let mut rows = Vec::new();
         let mut curves = String::new();
@@ -167,6 +171,7 @@ fn main() {
             )
         );
     }
+    std::fs::write(&path, &md).unwrap();
     if want("collapse") {
         let mut rows = Vec::new();
         for h in [0.01, 0.005] {
@@ -213,21 +218,82 @@ fn main() {
             )
         );
     }
+    std::fs::write(&path, &md).unwrap();
+    if want("axi") {
+        let mut rows = Vec::new();
+        for h in [0.02, 0.01] {
+            for (file, a) in [
+                ("column_collapse_axi_a0.5_3d.json", 0.5),
+                ("column_collapse_axi_a1_3d.json", 1.0),
+                ("column_collapse_axi_a2_3d.json", 2.0),
+            ] {
+                let n = gimp(h);
+                let c = axisymmetric_collapse(file, &n, 4.0);
+                println!("axisymmetric collapse a={a} {}: {c:?}", n.label());
+                rows.push(vec![
+                    format!("{a}"),
+                    n.label(),
+                    format!("{:.3}", c.runout),
+                    format!("{:.2}", lube_axisymmetric_runout(a)),
+                    pct(c.runout / lube_axisymmetric_runout(a) - 1.0),
+                    format!("{:.3}", c.height),
+                    format!("{:.3}", lube_axisymmetric_height(a)),
+                    pct(c.height / lube_axisymmetric_height(a) - 1.0),
+                    format!("{:.3}", lajeunesse_axisymmetric_height(a)),
+                    pct(c.height / lajeunesse_axisymmetric_height(a) - 1.0),
+                    format!("{:.2}", c.spread),
+                    format!("{:.2}", c.settled_at),
+                    format!("{:.1}", c.cost.wall_seconds),
+                ]);
+            }
+        }
+        let _ = writeln!(
+            md,
+            "## Granular column collapse (axisymmetric, 3D), φ = 32°, floor μ = 0.625\n\n{}",
+            table(
+                &[
+                    "a",
+                    "numerics",
+                    "(R∞−R0)/R0",
+                    "Lube 2004",
+                    "error",
+                    "H∞/H0",
+                    "Lube 2004",
+                    "error",
+                    "Lajeunesse 2004",
+                    "error",
+                    "front spread / R0",
+                    "at rest (s)",
+                    "s"
+                ],
+                &rows
+            )
+        );
+    }
+    std::fs::write(&path, &md).unwrap();
     if want("repose") {
         let mut rows = Vec::new();
-        for (h, phi) in [(0.01, 20.0), (0.01, 32.0), (0.01, 45.0), (0.005, 32.0)] {
-            let n = gimp(h);
-            let p = repose_pile(&n, 10.0, Some(phi));
-            println!("repose φ={phi} {}: {p:?}", n.label());
-            rows.push(vec![
-                n.label(),
-                format!("{phi}"),
-                format!("{:.1}", p.plane_strain_angle),
-                format!("{:.1} ({:.1}, {:.1})", p.angle, p.flanks[0], p.flanks[1]),
-                format!("{:+.1}°", p.angle - p.plane_strain_angle),
-                format!("{:.2}", p.settled_at),
-                format!("{:.1}", p.cost.wall_seconds),
-            ]);
+        for phi in [20.0, 32.0, 45.0] {
+            for (h, lift) in [
+                (0.02, LIFT_SPEED),
+                (0.01, LIFT_SPEED),
+                (0.005, LIFT_SPEED),
+                (0.01, SLOW_LIFT_SPEED),
+            ] {
+                let n = gimp(h);
+                let p = repose_pile(&n, 1.2 * 0.24 / lift + 6.0, Some(phi), lift);
+                println!("repose φ={phi} lift {lift} {}: {p:?}", n.label());
+                rows.push(vec![
+                    n.label(),
+                    format!("{lift}"),
+                    format!("{phi}"),
+                    format!("{:.1}", p.plane_strain_angle),
+                    format!("{:.1} ({:.1}, {:.1})", p.angle, p.flanks[0], p.flanks[1]),
+                    format!("{:+.1}°", p.angle - p.plane_strain_angle),
+                    format!("{:.2}", p.settled_at),
+                    format!("{:.1}", p.cost.wall_seconds),
+                ]);
+            }
         }
         let _ = writeln!(
             md,
@@ -235,6 +301,7 @@ fn main() {
             table(
                 &[
                     "numerics",
+                    "lift (m/s)",
                     "φ (°)",
                     "φ_ps (°)",
                     "heap angle (°) (left, right)",
@@ -246,28 +313,43 @@ fn main() {
             )
         );
     }
-    if want("steep") {
+    std::fs::write(&path, &md).unwrap();
+    if want("slopes") {
+        // per friction angle: a slope 5° gentler than φ_ps (must stand) and one about 10°
+        // steeper (must fail), with the defaults; then the steep slope under other numerics
+        let mut cases: Vec<(f64, f64, f64, Numerics)> = Vec::new();
+        for (phi, gentle, steep) in [(20.0, 15.0, 30.0), (32.0, 25.0, 40.0), (45.0, 35.0, 50.0)] {
+            cases.push((phi, gentle, 3.5e5, gimp(0.01)));
+            cases.push((phi, steep, 3.5e5, gimp(0.01)));
+        }
+        // just under φ_ps
+        cases.push((32.0, 29.5, 3.5e5, gimp(0.01)));
+        cases.push((45.0, 38.0, 3.5e5, gimp(0.01)));
+        cases.push((32.0, 40.0, 3.5e5, gimp(0.005)));
+        cases.push((32.0, 40.0, 3.5e7, gimp(0.01)));
+        for alpha in [0.0, 0.5, 1.0] {
+            cases.push((32.0, 40.0, 3.5e5, gimp(0.01).flip(alpha)));
+        }
+        cases.push((
+            32.0,
+            40.0,
+            3.5e5,
+            Numerics::new(0.01, KernelKind::QuadraticBspline),
+        ));
         let mut rows = Vec::new();
-        let cases: [(f64, f64, f64, f64, KernelKind); 7] = [
-            (32.0, 40.0, 3.5e5, 0.05, KernelKind::Gimp),
-            (32.0, 40.0, 3.5e5, 0.0, KernelKind::Gimp),
-            (32.0, 40.0, 3.5e5, 0.5, KernelKind::Gimp),
-            (32.0, 40.0, 3.5e5, 1.0, KernelKind::Gimp),
-            (32.0, 40.0, 3.5e7, 0.05, KernelKind::Gimp),
-            (32.0, 40.0, 3.5e5, 0.05, KernelKind::QuadraticBspline),
-            (20.0, 30.0, 3.5e5, 0.05, KernelKind::Gimp),
-        ];
-        for (phi, slope, e, alpha, kernel) in cases {
-            let n = Numerics::new(0.01, kernel).flip(alpha);
-            let r = steep_heap(phi, slope, e, &n, 2.0);
-            println!("steep φ={phi} θ={slope} E={e} {}: {r:?}", n.label());
+        for (phi, slope, e, n) in cases {
+            let r = heap_slope(phi, slope, e, &n, 2.0);
+            println!("slope φ={phi} θ={slope} E={e} {}: {r:?}", n.label());
             rows.push(vec![
                 format!("{phi}"),
                 format!("{:.1}", r.plane_strain_angle),
-                format!("{slope}"),
+                format!("{slope} ({:.1})", r.initial_angle),
                 format!("{e:.1e}"),
                 n.label(),
+                r.failed_at.map_or("—".to_string(), |t| format!("{t:.2}")),
                 format!("{:.1}", r.angle),
+                format!("{:+.1}°", r.angle - r.plane_strain_angle),
+                format!("{:.2}", 1e3 * r.creep),
                 format!("{:.1}", 1e3 * r.widening),
                 format!("{:.2e}", r.peak_speed),
                 format!("{:.2e}", r.final_speed),
@@ -276,15 +358,18 @@ fn main() {
         }
         let _ = writeln!(
             md,
-            "## A heap steeper than its friction angle, after 2 s\n\n{}",
+            "## Slopes that stand and slopes that fail (2 s)\n\nA trapezoidal heap 0.1 m high released on a floor with μ = tan φ. *Failed at*: when the flanks had come halfway down from their initial angle to φ_ps. *Creep*: the largest particle displacement from {CREEP_FROM} s to the end.\n\n{}",
             table(
                 &[
                     "φ (°)",
                     "φ_ps (°)",
-                    "initial flanks (°)",
+                    "flanks at start (°) (fitted)",
                     "E (Pa)",
                     "numerics",
+                    "failed at (s)",
                     "flanks after 2 s (°)",
+                    "vs φ_ps",
+                    "creep (mm)",
                     "widening (mm)",
                     "peak speed (m/s)",
                     "final speed (m/s)",
@@ -294,6 +379,59 @@ fn main() {
             )
         );
     }
+    std::fs::write(&path, &md).unwrap();
+    if want("flip") {
+        let mut rows = Vec::new();
+        let alphas = [0.0, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95, 1.0];
+        let cases: [(KernelKind, f64, bool); 6] = [
+            (KernelKind::Gimp, 0.01, false),
+            (KernelKind::Gimp, 0.05, false),
+            (KernelKind::Gimp, 0.01, true),
+            (KernelKind::Linear, 0.01, false),
+            (KernelKind::Linear, 0.01, true),
+            (KernelKind::QuadraticBspline, 0.01, true),
+        ];
+        for (dim, (k, h, two)) in cases.iter().map(|c| (2, *c)).chain([
+            (3, (KernelKind::Gimp, 0.02, false)),
+            (3, (KernelKind::Gimp, 0.02, true)),
+        ]) {
+            let n = Numerics::new(h, k);
+            let mut row = vec![
+                format!("{dim}D"),
+                if two { "two boxes" } else { "one box, walls" }.to_string(),
+                kernel_name(k).to_string(),
+                format!("{:.1}", 0.08 / h),
+            ];
+            for &alpha in &alphas {
+                let r = if dim == 2 {
+                    flip_impacts::<D2>(&n, alpha, two, IMPACT_TIME)
+                } else {
+                    flip_impacts::<D3>(&n, alpha, two, IMPACT_TIME)
+                };
+                println!("flip {dim}D {} two={two} α={alpha}: {r:?}", n.label());
+                row.push(if r.failure.is_some() {
+                    "diverged".to_string()
+                } else {
+                    format!("{:+.1} % / {:.2}", 100.0 * r.energy_rise, r.energy_kept)
+                });
+            }
+            rows.push(row);
+        }
+        let mut header = vec![
+            "dim".to_string(),
+            "case".to_string(),
+            "kernel".to_string(),
+            "cells across".to_string(),
+        ];
+        header.extend(alphas.iter().map(|a| format!("α = {a}")));
+        let header: Vec<&str> = header.iter().map(|s| s.as_str()).collect();
+        let _ = writeln!(
+            md,
+            "## FLIP at walls and between bodies\n\nStiff elastic boxes (0.08 m, E = 10.5 MPa) in zero gravity thrown at the ceiling (9.14 m/s) or at each other (±5 m/s), for {IMPACT_TIME} s: the largest rise of the total energy above its initial value / the fraction of the energy left at the end. A rise above zero is energy that walls or contacts created.\n\n{}",
+            table(&header, &rows)
+        );
+    }
+    std::fs::write(&path, &md).unwrap();
     if want("resting") {
         let mut rows = Vec::new();
         for k in [
@@ -335,7 +473,6 @@ fn main() {
             )
         );
     }
-    let path = filters.report_path("validation-report");
     std::fs::write(&path, md).unwrap();
     println!("wrote {}", path.display());
 }

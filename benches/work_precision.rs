@@ -161,12 +161,12 @@ fn bar_study(md: &mut String) {
                 format!("{:.2}", log_slope(&s.hs, &s.errors)),
                 format!("{:.2}", log_slope(&s.hs[1..], &s.errors[1..])),
             ]);
-            series.push(Series {
-                label: format!("{} α={alpha}", kernel_name(k)),
-                colour: COLOURS[kk],
-                points: s.points,
-                dashed: ka == 1,
-            });
+            series.push(Series::sweep(
+                format!("{} α={alpha}", kernel_name(k)),
+                COLOURS[kk],
+                s.points,
+                ka == 1,
+            ));
         }
     }
     // particles per cell and CFL at a middle resolution
@@ -207,104 +207,156 @@ fn bar_study(md: &mut String) {
 // ---------------------------------------------------------------------------------------------
 
 fn column_study(md: &mut String) {
-    let file = "column_collapse_a2_2d.json";
+    let (file, a) = ("column_collapse_a2_2d.json", 2.0);
     let reference = column_reference(file);
     println!("column reference: {reference:?}");
+    let (lube_r, lube_h) = (lube_runout(a), lube_height(a));
     let _ = writeln!(
         md,
-        "## Column collapse (2D, a = 2, `scenes/validation/{file}`)\n\nNo closed form: the error is measured against a reference run (GIMP, h = 0.0025 m, ppc 2, α = 0.05, CFL 0.4, {} particles, {:.0} s): max of the relative errors of the normalised run-out (L∞ − L0)/L0 = {:.3} and final height H∞/H0 = {:.3} (Lube et al. 2005: {:.2} and {:.3}).\n",
-        reference.cost.particles,
-        reference.cost.wall_seconds,
-        reference.runout,
-        reference.height,
-        lube_runout(2.0),
-        lube_height(2.0)
+        "## Column collapse (2D, a = 2, `scenes/validation/{file}`)\n\nTwo errors, each the larger of the relative errors of the normalised run-out (L∞ − L0)/L0 and of the final height H∞/H0: **against experiment**, Lube et al. (2005): {lube_r:.2} and {lube_h:.3}; and **self-convergence**, against the finest run (GIMP, h = 0.0025 m, ppc 2, the scene's α, CFL 0.4, {} particles, {:.0} s): {:.3} and {:.3}. A method can converge to the wrong answer: the second error hides what the first shows.\n",
+        reference.cost.particles, reference.cost.wall_seconds, reference.runout, reference.height,
     );
-    let run = |n: Numerics| {
+    let errors = |c: &Collapse| -> (f64, f64) {
+        if c.failure.is_some() {
+            return (f64::INFINITY, f64::INFINITY);
+        }
+        let e = |r: f64, h: f64| (c.runout / r - 1.0).abs().max((c.height / h - 1.0).abs());
+        (e(lube_r, lube_h), e(reference.runout, reference.height))
+    };
+    // (row with the error against experiment, the error against the reference)
+    let run = |n: Numerics| -> (Row, f64) {
         let c = column_collapse(file, &n, 4.0);
-        let e = if c.failure.is_some() {
-            f64::INFINITY
-        } else {
-            ((c.runout / reference.runout - 1.0).abs())
-                .max((c.height / reference.height - 1.0).abs())
-        };
+        let (e_lube, e_ref) = errors(&c);
         println!(
-            "column {}: {e:.3e} in {:.2} s",
+            "column {}: {e_lube:.3e} (Lube), {e_ref:.3e} (reference) in {:.2} s",
             n.label(),
             c.cost.wall_seconds
         );
-        Row {
+        let row = Row {
             n,
             seconds: c.cost.wall_seconds,
             particles: c.cost.particles,
             steps: c.cost.steps,
-            error: e,
+            error: e_lube,
             extra: match &c.failure {
                 Some(f) => format!("FAILED: {f}"),
                 None => format!(
-                    "run-out {:.3} ({:+.0} % vs Lube), height {:.3}, at rest at {:.2} s",
+                    "run-out {:.3} ({:+.0} % vs Lube), height {:.3} ({:+.0} %); vs reference {:.3e}; at rest at {:.2} s",
                     c.runout,
-                    100.0 * (c.runout / lube_runout(2.0) - 1.0),
+                    100.0 * (c.runout / lube_r - 1.0),
                     c.height,
+                    100.0 * (c.height / lube_h - 1.0),
+                    e_ref,
                     c.settled_at
                 ),
             },
-        }
+        };
+        (row, e_ref)
     };
     let mut rows = Vec::new();
-    let mut series = Vec::new();
+    let (mut vs_lube, mut vs_ref) = (Vec::new(), Vec::new());
     let mut orders = Vec::new();
     for (kk, &k) in KERNELS.iter().enumerate() {
-        let s = sweep(
-            &[0.02, 0.01, 0.005],
-            |h| run(Numerics::new(h, k)),
-            &mut rows,
-        );
+        let hs = [0.02, 0.01, 0.005];
+        let (mut el, mut er, mut pl, mut pr) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for &h in &hs {
+            let (row, e_ref) = run(Numerics::new(h, k));
+            el.push(row.error);
+            er.push(e_ref);
+            pl.push((row.seconds, row.error));
+            pr.push((row.seconds, e_ref));
+            rows.push(row);
+        }
         orders.push(vec![
             kernel_name(k).to_string(),
-            format!("{:.2}", log_slope(&s.hs, &s.errors)),
+            el.iter()
+                .map(|e| format!("{:.1} %", 100.0 * e))
+                .collect::<Vec<_>>()
+                .join(", "),
+            format!("{:.2}", log_slope(&hs, &er)),
         ]);
-        series.push(Series {
-            label: kernel_name(k).to_string(),
-            colour: COLOURS[kk],
-            points: s.points,
-            dashed: false,
-        });
+        vs_lube.push(Series::sweep(
+            kernel_name(k).to_string(),
+            COLOURS[kk],
+            pl,
+            false,
+        ));
+        vs_ref.push(Series::sweep(
+            kernel_name(k).to_string(),
+            COLOURS[kk],
+            pr,
+            false,
+        ));
     }
-    let mut other = Vec::new();
+    // configurations that are not a sweep: labelled points at h = 0.01
+    let mut variants: Vec<(String, Numerics)> = Vec::new();
     for alpha in [0.0, 0.5, 0.8, 0.9, 0.95, 0.99, 1.0] {
-        other.push(run(Numerics::new(0.01, KernelKind::Gimp).flip(alpha)));
+        variants.push((
+            format!("α {alpha}"),
+            Numerics::new(0.01, KernelKind::Gimp).flip(alpha),
+        ));
     }
     for ppc in [1, 3] {
-        other.push(run(Numerics::new(0.01, KernelKind::Gimp).ppc(ppc)));
+        variants.push((
+            format!("ppc {ppc}"),
+            Numerics::new(0.01, KernelKind::Gimp).ppc(ppc),
+        ));
     }
     for cfl in [0.2, 0.8] {
-        other.push(run(Numerics::new(0.01, KernelKind::Gimp).cfl(cfl)));
+        variants.push((
+            format!("CFL {cfl}"),
+            Numerics::new(0.01, KernelKind::Gimp).cfl(cfl),
+        ));
     }
-    series.push(Series {
-        label: "gimp h=0.01, other α/ppc/CFL".into(),
-        colour: COLOURS[4],
-        points: other.iter().map(|r| (r.seconds, r.error)).collect(),
-        dashed: true,
-    });
-    rows.extend(other);
+    let (mut pl, mut pr, mut labels) = (Vec::new(), Vec::new(), Vec::new());
+    for (label, n) in variants {
+        let (row, e_ref) = run(n);
+        pl.push((row.seconds, row.error));
+        pr.push((row.seconds, e_ref));
+        labels.push(label);
+        rows.push(row);
+    }
+    let other = "gimp h=0.01, other α / ppc / CFL".to_string();
+    vs_lube.push(Series::labelled(
+        other.clone(),
+        COLOURS[4],
+        pl,
+        labels.clone(),
+    ));
+    vs_ref.push(Series::labelled(other, COLOURS[4], pr, labels));
     let _ = writeln!(
         md,
-        "Convergence order against the reference (h = 0.02, 0.01, 0.005):\n\n{}",
-        table(&["kernel", "order"], &orders)
+        "Errors against experiment over h = 0.02, 0.01, 0.005 m, and the order of convergence against the reference:\n\n{}",
+        table(
+            &[
+                "kernel",
+                "error vs Lube et al. (h = 0.02, 0.01, 0.005)",
+                "self-convergence order"
+            ],
+            &orders
+        )
     );
     let _ = writeln!(
         md,
-        "All runs:\n\n{}\n![column](work-precision-column.svg)\n",
+        "All runs (error: against Lube et al.; the error against the reference is in the details):\n\n{}\n![column, against experiment](work-precision-column.svg)\n\n![column, self-convergence](work-precision-column-self.svg)\n",
         table(&HEADER, &rows.iter().map(row_cells).collect::<Vec<_>>())
     );
     save_svg(
         "work-precision-column.svg",
         loglog_svg(
-            "Column collapse a = 2: error against run time",
+            "Column collapse a = 2: error against Lube et al. (2005) vs run time",
+            "run time (s, one core)",
+            "relative error of run-out / height vs experiment",
+            &vs_lube,
+        ),
+    );
+    save_svg(
+        "work-precision-column-self.svg",
+        loglog_svg(
+            "Column collapse a = 2: self-convergence (vs the h = 0.0025 m run)",
             "run time (s, one core)",
             "relative error of run-out / height vs reference",
-            &series,
+            &vs_ref,
         ),
     );
 }
@@ -327,6 +379,7 @@ fn column_reference(file: &str) -> Collapse {
                 aspect_ratio: v[0],
                 runout: v[1],
                 height: v[2],
+                spread: 0.0,
                 settled_at: v[3],
                 failure: None,
                 cost: Cost {
@@ -394,12 +447,12 @@ fn resting_study(md: &mut String) {
                 }
                 rows.push(row);
             }
-            series.push(Series {
-                label: format!("{} CFL {cfl}", kernel_name(k)),
-                colour: COLOURS[kk],
-                points: pts,
-                dashed: kc == 1,
-            });
+            series.push(Series::sweep(
+                format!("{} CFL {cfl}", kernel_name(k)),
+                COLOURS[kk],
+                pts,
+                kc == 1,
+            ));
         }
     }
     let _ = writeln!(

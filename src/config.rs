@@ -105,6 +105,11 @@ pub struct BodyConfig {
     /// Needs the `gimp` or `quadratic_bspline` kernel.
     #[serde(default, skip_serializing_if = "is_false")]
     pub apic: bool,
+    /// When the body enters (s of simulated time): it is sampled when the scene is built and
+    /// added, with its shape and `velocity`, once the simulation reaches this time. Absent or
+    /// 0: from the start. A playground's saved scene gives each dropped body its drop time.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub appear_at: Option<f64>,
 }
 
 fn is_false(x: &bool) -> bool {
@@ -116,6 +121,11 @@ fn is_zero(x: &f64) -> bool {
 }
 fn is_zero_u64(x: &u64) -> bool {
     *x == 0
+}
+
+/// A PIC/FLIP ratio α must lie in [0, 1]; `field` names it.
+pub fn check_flip(field: impl std::fmt::Display, alpha: f64) -> Result<()> {
+    check_range(field, alpha, 0.0, 1.0, false, "")
 }
 
 /// At most this many lattice points are tested when a shape is sampled (a clear error instead
@@ -146,7 +156,17 @@ impl BodyConfig {
             seed: 0,
             kinematic: false,
             apic: false,
+            appear_at: None,
         }
+    }
+    /// Makes the body enter when the simulation reaches time `t` (s).
+    pub fn appearing_at(mut self, t: f64) -> Self {
+        self.appear_at = Some(t);
+        self
+    }
+    /// When the body enters (s): its `appear_at`, or 0.
+    pub fn appear_time(&self) -> f64 {
+        self.appear_at.unwrap_or(0.0)
     }
     /// Transfers this body's velocities with APIC.
     pub fn with_apic(mut self) -> Self {
@@ -198,7 +218,10 @@ impl BodyConfig {
             ));
         }
         if let Some(a) = self.flip {
-            check_range(format!("{path}.flip"), a, 0.0, 1.0, false, "")?;
+            check_flip(format!("{path}.flip"), a)?;
+        }
+        if let Some(t) = self.appear_at {
+            check_non_negative(format!("{path}.appear_at"), t, "s")?;
         }
         check_range(
             format!("{path}.jitter"),

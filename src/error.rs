@@ -46,6 +46,19 @@ impl Error {
     }
 }
 
+/// `value` of `field` is none of `choices`: the error lists them.
+pub fn not_one_of<S: AsRef<str>>(
+    field: impl Into<String>,
+    value: impl Display,
+    choices: impl IntoIterator<Item = S>,
+) -> Error {
+    let names: Vec<String> = choices
+        .into_iter()
+        .map(|c| c.as_ref().to_string())
+        .collect();
+    Error::invalid(field, value, format!("must be one of {}", names.join(", ")))
+}
+
 /// `value` must be finite and `> 0`.
 pub fn check_positive(field: impl Display, value: f64, unit: &str) -> Result<()> {
     if value.is_finite() && value > 0.0 {

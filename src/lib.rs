@@ -32,8 +32,10 @@ pub mod grid;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod io;
 pub mod kernel;
+pub mod lesson;
 pub mod material;
 pub mod math;
+pub mod params;
 pub mod playground;
 pub mod sim;
 pub mod step;

@@ -45,6 +45,19 @@ pub fn asset_paths(scene_json: &str) -> Result<Vec<String>, JsError> {
     crate::playground::asset_paths(scene_json).map_err(js_err)
 }
 
+/// The live parameters, material models and droppable objects, as JSON
+/// `{"params": [...], "models": [...], "objects": [...]}`: each parameter's name, model,
+/// label, symbol, unit, slider range and scale, default, help text and terminal key (see
+/// `crate::params`). The page builds its sliders from it.
+#[wasm_bindgen(js_name = parameterTable)]
+pub fn parameter_table() -> String {
+    json(&serde_json::json!({
+        "params": crate::params::table(),
+        "models": crate::params::MODELS,
+        "objects": crate::playground::OBJECTS,
+    }))
+}
+
 /// A simulation with its presets, live parameters and render buffers.
 #[wasm_bindgen]
 pub struct Playground {
@@ -116,8 +129,9 @@ impl Playground {
         self.core.failure()
     }
 
-    /// Advances by up to `sim_time` seconds within `budget_ms` of wall-clock time; returns a
-    /// JSON report (substeps, sim_time, wall_ms, fell_behind, ms_per_step, stable_dt).
+    /// Advances by up to `sim_time` seconds within `budget_ms` of wall-clock time, stopping at
+    /// the next drop to come, which then lands; returns a JSON report (substeps, sim_time,
+    /// requested, wall_ms, fell_behind, ms_per_step, stable_dt, and the drops refused).
     pub fn frame(&mut self, sim_time: f64, budget_ms: f64) -> Result<String, JsError> {
         let r = self
             .core
@@ -125,12 +139,12 @@ impl Playground {
             .map_err(js_err)?;
         Ok(json(&r))
     }
-    /// One time step.
-    pub fn step(&mut self) -> Result<(), JsError> {
-        self.core.step().map_err(js_err)
+    /// One time step; returns the JSON report of `frame`.
+    pub fn step(&mut self) -> Result<String, JsError> {
+        Ok(json(&self.core.step(performance_now).map_err(js_err)?))
     }
 
-    /// Sets a live parameter (`gravity`, `wall_friction`, `cfl`, or `<model>.<field>`),
+    /// Sets a live parameter (a name of `parameterTable`, or `bodies[i].<model>.<field>`),
     /// validated like a scene file; throws naming the parameter and its range, state unchanged.
     #[wasm_bindgen(js_name = setParameter)]
     pub fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), JsError> {
@@ -175,17 +189,70 @@ impl Playground {
             .add_object(object, model, center, velocity, size)
             .map_err(js_err)
     }
+    /// Drops an object aimed at `point` (3D: on the floor; 2D: in the box) from above whatever
+    /// lies there, falling at `speed` m/s, and records it in the session.
+    #[wasm_bindgen(js_name = dropAt)]
+    pub fn drop_at(
+        &mut self,
+        object: &str,
+        model: &str,
+        point: &[f64],
+        speed: f64,
+        size: f64,
+    ) -> Result<usize, JsError> {
+        self.core
+            .drop_at(object, model, point, speed, size)
+            .map_err(js_err)
+    }
+    /// The sizes a dropped object may have, as JSON: `allowed` [lo, hi], `offered` [lo, hi]
+    /// for a slider, and a `default` (m).
+    #[wasm_bindgen(js_name = sizeRange)]
+    pub fn size_range(&self) -> String {
+        json(&self.core.size_range())
+    }
+    /// Throws unless `size` (m) is a size an object may be dropped at.
+    #[wasm_bindgen(js_name = checkSize)]
+    pub fn check_size(&self, size: f64) -> Result<(), JsError> {
+        self.core.check_size(size).map_err(js_err)
+    }
+    /// Simulated time since the scene started or was cleared: the clock of the drops (s).
+    #[wasm_bindgen(js_name = dropClock)]
+    pub fn drop_clock(&self) -> f64 {
+        self.core.drop_clock()
+    }
+    /// The session so far, as JSON `{params: [[name, value], …], cleared, drops: [{t, object,
+    /// material, size, centre, velocity, applied_at}, …]}`.
+    pub fn session(&self) -> String {
+        json(&self.core.session())
+    }
+    /// Repeats a session given as JSON (the form `session` returns; `applied_at` is ignored):
+    /// returns JSON `{rejected: [message, …], refused: [{drop, error}, …]}`, what did not apply.
+    pub fn replay(&mut self, session_json: &str) -> Result<String, JsError> {
+        let replay: crate::playground::Replay =
+            serde_json::from_str(session_json).map_err(|e| js_err(format!("session: {e}")))?;
+        let (rejected, refused) = self.core.replay(replay);
+        Ok(json(
+            &serde_json::json!({ "rejected": rejected, "refused": refused }),
+        ))
+    }
     /// Adds a body given as JSON (a scene file's `bodies[i]`).
     #[wasm_bindgen(js_name = addBodyJson)]
     pub fn add_body_json(&mut self, body_json: &str) -> Result<usize, JsError> {
         let body: crate::BodyConfig = serde_json::from_str(body_json).map_err(js_err)?;
         self.core.add_body(body).map_err(js_err)
     }
-    /// Removes every body.
+    /// The session as a scene file (JSON) that the CLI runs unchanged: the parameters as set,
+    /// and each dropped body entering at its drop time (`appear_at`). The meshes and outlines
+    /// it references (`assetPaths` of it) must lie beside the file.
+    #[wasm_bindgen(js_name = saveScene)]
+    pub fn save_scene(&self) -> Result<String, JsError> {
+        self.core.saved_scene_json().map_err(js_err)
+    }
+    /// Removes every body (recorded in the session; the drops so far are forgotten).
     pub fn clear(&mut self) {
         self.core.clear();
     }
-    /// Reloads the scene with the current parameter overrides.
+    /// Reloads the scene with the current parameter overrides; forgets the drops and a Clear.
     pub fn reset(&mut self) -> Result<(), JsError> {
         self.core.reset().map_err(js_err)
     }

@@ -315,6 +315,29 @@ fn every_bad_scene_gives_the_expected_error() {
             "bodies[0].flip = 1.2: must be in [0, 1]",
         ),
         (
+            "negative appear_at",
+            scene2(|v| v["bodies"][0]["appear_at"] = (-0.5).into()),
+            "bodies[0].appear_at = -0.5: must be a finite number >= 0 (s)",
+        ),
+        (
+            "appear_at of the wrong type",
+            scene2(|v| v["bodies"][0]["appear_at"] = "soon".into()),
+            "bodies[0].appear_at: invalid type: string \"soon\", expected f64",
+        ),
+        (
+            // the bodies to come are sampled up front and named by their place in the file
+            "a body to come without particles",
+            scene2(|v| {
+                let mut late = v["bodies"][0].clone();
+                late["shape"] =
+                    serde_json::json!({"ball": {"center": [0.5, 0.5], "radius": 0.001}});
+                late["appear_at"] = 2.0.into();
+                v["bodies"][0]["appear_at"] = 1.0.into();
+                v["bodies"].as_array_mut().unwrap().push(late);
+            }),
+            "bodies[1].shape = a shape with no particle",
+        ),
+        (
             "no particles per cell",
             scene2(|v| v["bodies"][0]["particles_per_cell"] = 0.into()),
             "bodies[0].particles_per_cell = 0: must be an integer in [1, 8]",

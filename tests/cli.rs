@@ -275,6 +275,50 @@ fn check_reports_counts_memory_and_time_step() {
         s.contains(&format!("stable dt: {dt:.4e} s")),
         "{s} (expected dt {dt:.4e})"
     );
+    // --set as the page's slider: four times stiffer sand carries waves twice as fast.
+    let out = mpm(
+        &[
+            "check",
+            "tiny.json",
+            "--set",
+            "drucker_prager.youngs_modulus=1.4e6",
+        ],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let s = text(&out.stdout);
+    let dt = dt / 2.0;
+    assert!(
+        s.contains(&format!("stable dt: {dt:.4e} s")),
+        "{s} (expected dt {dt:.4e})"
+    );
+}
+
+/// `mpm check SCENE | head`: the reader closes the pipe before the command has written
+/// everything; the command ends quietly (success, nothing on stderr), not with a panic on
+/// the closed pipe.
+#[test]
+fn a_closed_output_ends_the_command_quietly() {
+    use std::process::Stdio;
+    let dir = tempfile::tempdir().unwrap();
+    fs::write(dir.path().join("tiny.json"), TINY_2D).unwrap();
+    for args in [
+        vec!["check", "tiny.json"],
+        vec!["run", "tiny.json", "-q", "-t", "0.01", "--summary", "-"],
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_mpm"))
+            .args(&args)
+            .current_dir(dir.path())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take()); // closed before the scene is even read
+        let out = child.wait_with_output().unwrap();
+        let err = text(&out.stderr);
+        assert!(out.status.success(), "{args:?}: {:?} {err}", out.status);
+        assert!(err.is_empty(), "{args:?}: {err}");
+    }
 }
 
 #[test]
@@ -333,6 +377,19 @@ fn errors_go_to_stderr_with_a_non_zero_exit() {
             vec!["play", "tiny.json"],
             "play needs an interactive terminal",
         ),
+        (
+            vec![
+                "check",
+                "tiny.json",
+                "--set",
+                "drucker_prager.friction_angle=95",
+            ],
+            "--set: bodies[0].material.drucker_prager.friction_angle = 95: must be in [0, 90)",
+        ),
+        (
+            vec!["run", "tiny.json", "-t", "1", "--set", "warp=9"],
+            "--set: parameter = warp: must be one of gravity, wall_friction, cfl",
+        ),
         (vec!["frobnicate"], "unrecognized subcommand"),
     ] {
         let out = mpm(&args, dir.path());
@@ -341,4 +398,91 @@ fn errors_go_to_stderr_with_a_non_zero_exit() {
         let err = text(&out.stderr);
         assert!(err.contains(needle), "{args:?}: {err}");
     }
+}
+
+/// A body with `appear_at` enters at its time in `mpm run`, and `mpm check` lists it.
+#[test]
+fn run_adds_bodies_at_their_times() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene: serde_json::Value = serde_json::from_str(TINY_2D).unwrap();
+    let mut late = scene["bodies"][0].clone();
+    late["name"] = "late".into();
+    late["shape"] = serde_json::json!({"box": {"min": [0.7, 0.6], "max": [0.9, 0.8]}});
+    late["appear_at"] = 0.05.into();
+    scene["bodies"].as_array_mut().unwrap().push(late);
+    fs::write(dir.path().join("late.json"), scene.to_string()).unwrap();
+    let summary = |t: &str| -> serde_json::Value {
+        let out = mpm(
+            &["run", "late.json", "-t", t, "-q", "--summary", "-"],
+            dir.path(),
+        );
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let before = summary("0.04");
+    assert_eq!(before["bodies"].as_array().unwrap().len(), 1);
+    let after = summary("0.06");
+    let bodies = after["bodies"].as_array().unwrap();
+    assert_eq!(bodies.len(), 2);
+    assert_eq!(bodies[1]["name"], "late");
+    // 0.2 m × 0.2 m at 0.025 m spacing (the top particles at 0.7875 m), in for 0.01 s
+    assert_eq!(bodies[1]["particles"], 64);
+    let top = bodies[1]["bbox_max"][1].as_f64().unwrap();
+    assert!(top < 0.7875 && top > 0.786, "{top}");
+    let out = mpm(&["check", "late.json"], dir.path());
+    let shown = text(&out.stdout);
+    assert!(
+        shown.contains("body 1 \"late\": drucker_prager, 64 particles, enters at t = 0.05 s"),
+        "{shown}"
+    );
+    assert!(shown.contains("64 to come"), "{shown}");
+}
+
+/// A playground session saved as a scene runs in `mpm run` as it is, beside the bunny's file:
+/// the dropped bodies enter at their drop times.
+#[test]
+fn a_saved_playground_session_runs_in_the_cli() {
+    use mpm::playground::{BunnyAssets, Playground};
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let read = |f: &str| fs::read_to_string(scenes.join(f)).unwrap();
+    let mut pg = Playground::from_json(&read("column_collapse_2d.json")).unwrap();
+    pg.set_bunny(BunnyAssets::parse(None, Some(&read("bunny2d.txt"))).unwrap());
+    pg.set_parameter("drucker_prager.friction_angle", 22.0)
+        .unwrap();
+    pg.frame(0.02, 1e9, || 0.0).unwrap();
+    pg.drop_at("bunny", "elastic", &[0.8, 0.3], 0.5, 0.1)
+        .unwrap();
+    let t = pg.session().drops[0].t;
+    let dir = tempfile::tempdir().unwrap();
+    let saved = pg.saved_scene_json().unwrap();
+    fs::write(dir.path().join("saved.json"), &saved).unwrap();
+    let out = mpm(&["check", "saved.json"], dir.path());
+    assert!(
+        !out.status.success(),
+        "the bunny's outline must lie beside the file"
+    );
+    assert!(
+        text(&out.stderr).contains("bodies[1].shape.polygon.path"),
+        "{}",
+        text(&out.stderr)
+    );
+    fs::copy(scenes.join("bunny2d.txt"), dir.path().join("bunny2d.txt")).unwrap();
+    let run = |time: f64| -> serde_json::Value {
+        let time = format!("{time}");
+        let out = mpm(
+            &["run", "saved.json", "-t", &time, "-q", "--summary", "-"],
+            dir.path(),
+        );
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    assert_eq!(run(t - 0.001)["bodies"].as_array().unwrap().len(), 1);
+    let s = run(t + 0.001);
+    let bodies = s["bodies"].as_array().unwrap();
+    assert_eq!(bodies.len(), 2);
+    assert_eq!(
+        s["particles"].as_u64().unwrap() as usize,
+        pg.particle_count()
+    );
+    assert!(saved.contains("\"friction_angle\": 22.0"), "{saved}");
 }

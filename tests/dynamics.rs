@@ -6,6 +6,8 @@
 #![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
 
 mod common;
+#[path = "support/validation.rs"]
+mod validation;
 
 use common::*;
 use mpm::math::SymTensor;
@@ -99,59 +101,44 @@ fn momentum_is_conserved_in_free_flight_for_every_alpha() {
 }
 
 /// Stiff elastic boxes in zero gravity, thrown at the ceiling (one box) or at each other (two
-/// boxes, head on): over at least two impacts (wall or contact) the total energy never rises
-/// above its initial value by more than 1 %. The B-spline kernel keeps this for every FLIP
-/// ratio; the GIMP and linear kernels for α ≤ 0.6 — above about 0.7 they gain energy at each
-/// impact (docs/stability.md, "FLIP at walls and contacts").
+/// boxes, head on): over [`validation::IMPACT_TIME`] (several impacts on walls or between the
+/// bodies) the total energy never rises above its initial value by more than 1 %. The B-spline kernel keeps this for every FLIP ratio;
+/// the GIMP and linear kernels for α ≤ 0.6 — above about 0.7 they gain energy at each impact
+/// (docs/stability.md, "FLIP at walls and contacts").
 fn bouncing_boxes<D: Dim>(kernel: KernelKind, alpha: f64, h: f64, two: bool) {
-    let box_at = |name: &str, x: f64, vx: f64, vy: f64| {
-        body(
-            name,
-            [x, 0.285, 0.21],
-            [x + 0.08, 0.365, 0.29],
-            elastic(1.05e7, 0.0, 300.0),
-            D::DIM,
-        )
-        .with_velocity(&cut::<D>([vx, vy, 0.0]))
-        .with_flip(alpha)
-    };
-    let mut builder = Simulation::<D>::builder(&cut::<D>([0.5, 0.5, 0.5]), h)
-        .gravity(&vec![0.0; D::DIM])
-        .kernel(kernel);
-    builder = if two {
-        builder
-            .body(box_at("left", 0.1, 5.0, 0.0))
-            .body(box_at("right", 0.32, -5.0, 0.0))
-    } else {
-        builder.body(box_at("box", 0.21, 0.0, 9.14))
-    };
-    let mut sim = builder.build().unwrap();
-    let e0 = sim.diagnostics().total_energy();
-    // impacts: sign changes of the first body's momentum along the motion
-    let axis = if two { 0 } else { 1 };
-    let momentum = |sim: &Simulation<D>| sim.bodies()[0].stats().momentum[axis];
-    let (mut worst, mut impacts, mut last) = (0.0f64, 0, momentum(&sim));
-    // until the second impact is over (or 1 s)
-    while impacts < 3 && sim.time() < 1.0 {
-        let d = sim.step().unwrap();
-        worst = worst.max(d.total_energy() / e0 - 1.0);
-        let now = momentum(&sim);
-        if now * last < 0.0 {
-            impacts += 1;
-        }
-        last = now;
-    }
+    let r = validation::flip_impacts::<D>(
+        &validation::Numerics::new(h, kernel),
+        alpha,
+        two,
+        validation::IMPACT_TIME,
+    );
     let what = format!(
         "{}D {kernel:?} α={alpha} h={h} {}",
         D::DIM,
         if two { "two boxes" } else { "one box" }
     );
-    assert!(impacts >= 2, "{what}: only {impacts} impacts in 1 s");
+    assert!(r.failure.is_none(), "{what}: {:?}", r.failure);
+    assert!(r.impacts >= 2, "{what}: only {} impacts", r.impacts);
     assert!(
-        worst < 0.01,
-        "{what}: the total energy rose by {:.1} % over {impacts} impacts",
-        100.0 * worst
+        r.energy_rise < 0.01,
+        "{what}: the total energy rose by {:.1} % over {} impacts",
+        100.0 * r.energy_rise,
+        r.impacts
     );
+}
+
+/// The FLIP slider's whole range with the default kernel: GIMP at α = 1 (and 0.9, 0.95)
+/// against the walls and between bodies, 2D and 3D.
+#[test]
+#[ignore = "FLIP safety at walls for the GIMP kernel lands with the rebuilt step: today GIMP gains energy above α ≈ 0.7 (docs/stability.md)"]
+fn the_whole_flip_range_is_safe_with_the_default_kernel() {
+    for alpha in [0.9, 0.95, 1.0] {
+        for two in [false, true] {
+            bouncing_boxes::<D2>(KernelKind::Gimp, alpha, 0.01, two);
+            bouncing_boxes::<D3>(KernelKind::Gimp, alpha, 0.02, two);
+        }
+        bouncing_boxes::<D2>(KernelKind::Gimp, alpha, 0.05, false);
+    }
 }
 
 #[test]

@@ -164,7 +164,12 @@ fn column_collapse_runout_and_height() {
 /// A heap left by slowly lifted walls stands at about the friction angle.
 #[test]
 fn angle_of_repose() {
-    let p = repose_pile(&Numerics::new(0.01, KernelKind::Gimp), 8.0, None);
+    let p = repose_pile(
+        &Numerics::new(0.01, KernelKind::Gimp),
+        8.0,
+        None,
+        LIFT_SPEED,
+    );
     eprintln!("pile: {p:?}");
     // A cohesionless Mohr–Coulomb slope cannot stand steeper than its friction angle (here
     // the plane-strain angle of the model's cone, 30.4° for φ = 32°); the surface fit on a
@@ -185,4 +190,114 @@ fn angle_of_repose() {
         (p.flanks[0] - p.flanks[1]).abs() < 4.0,
         "asymmetric heap {p:?}"
     );
+}
+
+/// A cohesionless slope gentler than its plane-strain friction angle stands: a heap with 25°
+/// flanks of φ = 32° sand (φ_ps = 30.4°) released on a rough floor neither creeps nor
+/// flattens over 2 s (beyond the elastic settling of its stress-free release).
+#[test]
+fn a_slope_gentler_than_the_friction_angle_stands() {
+    let r = heap_slope(
+        32.0,
+        25.0,
+        3.5e5,
+        &Numerics::new(0.01, KernelKind::Gimp),
+        2.0,
+    );
+    eprintln!("gentle slope: {r:?}");
+    assert!(
+        r.creep < 1e-3,
+        "the 25° slope crept by {:.2} mm after {CREEP_FROM} s",
+        1e3 * r.creep
+    );
+    assert!(
+        (r.angle - r.initial_angle).abs() < 1.0,
+        "the 25° slope went from {:.1}° to {:.1}°",
+        r.initial_angle,
+        r.angle
+    );
+    assert!(
+        r.final_speed < 1e-3,
+        "still moving at {} m/s",
+        r.final_speed
+    );
+}
+
+/// A cohesionless slope steeper than its plane-strain friction angle cannot stand: a heap
+/// with 40° flanks of φ = 32° sand (φ_ps = 30.4°) avalanches (its flanks come halfway down to
+/// φ_ps within half a second) and comes to rest near φ_ps.
+#[test]
+#[ignore = "the sand's default transfer (issue 16) lands with the rebuilt step: with PIC/FLIP α = 0.05 the 40° slope creeps at mm/s (docs/validation.md)"]
+fn a_slope_steeper_than_the_friction_angle_fails() {
+    let r = heap_slope(
+        32.0,
+        40.0,
+        3.5e5,
+        &Numerics::new(0.01, KernelKind::Gimp),
+        2.0,
+    );
+    eprintln!("steep slope: {r:?}");
+    let t = r.failed_at.expect("the 40° slope did not fail");
+    assert!(t < 0.5, "the 40° slope took {t:.2} s to fail");
+    assert!(
+        (r.angle - r.plane_strain_angle).abs() < 3.0,
+        "the avalanche stopped at {:.1}°, φ_ps = {:.1}°",
+        r.angle,
+        r.plane_strain_angle
+    );
+}
+
+/// Axisymmetric collapse of a column with a = 1 against Lube et al. (2004): run-out within
+/// 25 %, final height within 15 % of Lube et al.'s or Lajeunesse et al.'s (2004) law, and a
+/// round deposit, at a coarse resolution (R0 = 5 cells).
+#[test]
+#[ignore = "the sand's default transfer (issue 16) lands with the rebuilt step: with PIC/FLIP α = 0.05 the run-out is 56-62 % short (docs/validation.md)"]
+fn axisymmetric_column_collapse() {
+    let a = 1.0;
+    let c = axisymmetric_collapse(
+        "column_collapse_axi_a1_3d.json",
+        &Numerics::new(0.02, KernelKind::Gimp),
+        3.0,
+    );
+    eprintln!("axisymmetric collapse a = {a}: {c:?}");
+    assert!(c.failure.is_none(), "{:?}", c.failure);
+    assert!(c.spread < 0.2, "the deposit is not round: {c:?}");
+    let r = lube_axisymmetric_runout(a);
+    assert!(
+        (c.runout / r - 1.0).abs() < 0.25,
+        "run-out {:.3}, Lube et al. {r:.2}",
+        c.runout
+    );
+    // the two published final-height laws differ by 20 % at a = 1 (0.88 and 0.74)
+    let (h1, h2) = (
+        lube_axisymmetric_height(a),
+        lajeunesse_axisymmetric_height(a),
+    );
+    assert!(
+        (c.height / h1 - 1.0).abs() < 0.15 || (c.height / h2 - 1.0).abs() < 0.15,
+        "H∞/H0 = {:.3}, Lube et al. {h1:.3}, Lajeunesse et al. {h2:.3}",
+        c.height
+    );
+}
+
+/// Sand sheets one and two cells thick (two and four particle rows) thrown along a floor with
+/// μ = 0.5 stop after v0²/(2 μ g): the floor's friction is proportional to the weight it
+/// carries, for the rows that straddle the floor nodes too (the particles' half-width).
+#[test]
+fn sand_sheets_slide_the_coulomb_distance() {
+    for thickness in [0.01, 0.02] {
+        let r = sand_sheet_slide(thickness, 0.5, 1.0, &Numerics::new(0.01, KernelKind::Gimp));
+        eprintln!("sheet {thickness} m: {r:?}");
+        assert!(
+            (r.travel / r.travel_exact - 1.0).abs() < 0.02,
+            "a {thickness} m sheet slid {:.4} m, Coulomb {:.4} m",
+            r.travel,
+            r.travel_exact
+        );
+        assert!(
+            r.final_speed < 0.01,
+            "still sliding at {} m/s",
+            r.final_speed
+        );
+    }
 }

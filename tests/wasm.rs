@@ -349,6 +349,68 @@ fn bodies_are_added_and_cleared() {
     }
 }
 
+/// The page builds its sliders from `parameterTable` and keeps a session as JSON that
+/// `replay` takes back: both cross the boundary intact.
+#[wasm_bindgen_test]
+fn the_parameter_table_and_a_session_cross_as_json() {
+    let table: serde_json::Value = serde_json::from_str(&mpm::wasm::parameter_table()).unwrap();
+    let names: Vec<&str> = table["params"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["name"].as_str().unwrap())
+        .collect();
+    for &(name, ..) in PARAMETERS {
+        assert!(names.contains(&name), "{name} in {names:?}");
+    }
+    let phi = &table["params"][names
+        .iter()
+        .position(|n| *n == "drucker_prager.friction_angle")
+        .unwrap()];
+    assert_eq!(
+        (
+            phi["unit"].as_str(),
+            phi["default"].as_f64(),
+            phi["key"].as_str()
+        ),
+        (Some("°"), Some(35.0), Some("f"))
+    );
+    assert_eq!(table["models"][2]["id"], "drucker_prager");
+    assert_eq!(table["objects"][0]["id"], "bunny");
+
+    let mut pg = Playground::new(&mpm::wasm::sandbox_scene(2), None).unwrap();
+    pg.set_parameter("gravity", 4.0).unwrap();
+    pg.drop_at("box", "von_mises", &[1.0, 0.5], 0.5, 0.3)
+        .unwrap();
+    pg.frame(0.05, 1e9).unwrap();
+    pg.drop_at("ball", "elastic", &[0.5, 0.5], 0.0, 0.2)
+        .unwrap();
+    let session = pg.session();
+    let mut again = Playground::new(&mpm::wasm::sandbox_scene(2), None).unwrap();
+    let out: serde_json::Value = serde_json::from_str(&again.replay(&session).unwrap()).unwrap();
+    assert_eq!(out, serde_json::json!({"rejected": [], "refused": []}));
+    // The first drop lands at once (the box is empty, its time stands still), the second when
+    // the simulation reaches its time.
+    assert_eq!(again.body_count(), 1);
+    while again.body_count() < 2 {
+        again.frame(0.02, 1e9).unwrap();
+    }
+    let times = |pg: &Playground| -> Vec<f64> {
+        let s: serde_json::Value = serde_json::from_str(&pg.session()).unwrap();
+        s["drops"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|d| d["applied_at"].as_f64().unwrap())
+            .collect()
+    };
+    let (a, b) = (times(&pg), times(&again));
+    assert!(a.len() == 2 && (a[1] - b[1]).abs() < 1e-9, "{a:?} {b:?}");
+    assert_eq!(again.scene_json(), pg.scene_json());
+    let e = message(again.replay("{\"drops\": 3}").unwrap_err());
+    assert!(e.starts_with("session: "), "{e}");
+}
+
 /// The wasm build computes stencils in four SIMD lanes (`kernel::F4`); they must equal, bit
 /// for bit, what the one-axis scalar kernel gives (the native build's arithmetic).
 #[wasm_bindgen_test]
@@ -396,4 +458,32 @@ fn simd_stencils_equal_the_scalar_kernel_bit_for_bit() {
     for lp in [0.125, 0.25, 0.5] {
         check::<3, Gimp>(lp);
     }
+}
+
+/// `saveScene` gives a scene file in which the dropped body enters at its drop time: a new
+/// playground made from it has the same bodies once that time comes.
+#[wasm_bindgen_test]
+fn a_saved_scene_replays_the_drops() {
+    let scene = read_file_sync(&format!("{ROOT}/scenes/column_collapse_2d.json"), "utf8").unwrap();
+    let mut pg = Playground::new(&scene, None).unwrap();
+    pg.set_parameter("drucker_prager.friction_angle", 28.0)
+        .unwrap();
+    pg.frame(0.02, 1e9).unwrap();
+    pg.drop_at("box", "elastic", &[0.8, 0.3], 0.0, 0.06)
+        .unwrap();
+    let saved = pg.save_scene().unwrap();
+    let v: serde_json::Value = serde_json::from_str(&saved).unwrap();
+    let t = v["bodies"][1]["appear_at"].as_f64().unwrap();
+    assert!(t > 0.0199 && t < 0.021, "{t}");
+    assert_eq!(
+        v["bodies"][0]["material"]["drucker_prager"]["friction_angle"],
+        28.0
+    );
+    let mut again = Playground::new(&saved, None).unwrap();
+    assert_eq!((again.body_count(), again.particle_count() > 0), (2, true));
+    let before = again.particle_count();
+    again.frame(t + 0.001, 1e9).unwrap();
+    assert_eq!(again.particle_count(), pg.particle_count());
+    assert!(again.particle_count() > before);
+    assert_eq!(again.scene_json(), pg.scene_json());
 }

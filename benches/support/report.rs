@@ -68,12 +68,48 @@ pub fn log_slope(x: &[f64], y: &[f64]) -> f64 {
     sxy / sxx
 }
 
-/// One series of a plot: points (x, y), drawn as markers joined by a line.
+/// One series of a plot: points (x, y), drawn as markers joined by a line (a sweep), or as
+/// separate markers each with its own label (configurations that are not a sweep).
 pub struct Series {
     pub label: String,
     pub colour: &'static str,
     pub points: Vec<(f64, f64)>,
     pub dashed: bool,
+    /// When not empty: one label per point, drawn beside it, and no line between the points.
+    pub point_labels: Vec<String>,
+}
+
+impl Series {
+    /// A sweep: markers joined by a line.
+    pub fn sweep(
+        label: String,
+        colour: &'static str,
+        points: Vec<(f64, f64)>,
+        dashed: bool,
+    ) -> Self {
+        Series {
+            label,
+            colour,
+            points,
+            dashed,
+            point_labels: Vec::new(),
+        }
+    }
+    /// Separate configurations: labelled markers, not joined.
+    pub fn labelled(
+        label: String,
+        colour: &'static str,
+        points: Vec<(f64, f64)>,
+        point_labels: Vec<String>,
+    ) -> Self {
+        Series {
+            label,
+            colour,
+            points,
+            dashed: false,
+            point_labels,
+        }
+    }
 }
 
 pub const COLOURS: [&str; 8] = [
@@ -185,17 +221,14 @@ pub fn loglog_svg(title: &str, xlabel: &str, ylabel: &str, series: &[Series]) ->
         esc(ylabel)
     );
     for (k, se) in series.iter().enumerate() {
-        let p: Vec<(f64, f64)> = se
-            .points
-            .iter()
-            .cloned()
-            .filter(|(x, y)| *x > 0.0 && *y > 0.0 && x.is_finite() && y.is_finite())
-            .collect();
+        let keep = |&(x, y): &(f64, f64)| x > 0.0 && y > 0.0 && x.is_finite() && y.is_finite();
+        let p: Vec<(f64, f64)> = se.points.iter().cloned().filter(keep).collect();
+        let labelled = !se.point_labels.is_empty();
         let path: Vec<String> = p
             .iter()
             .map(|&(x, y)| format!("{:.1},{:.1}", sx(x), sy(y)))
             .collect();
-        if path.len() > 1 {
+        if path.len() > 1 && !labelled {
             let _ = writeln!(
                 s,
                 r#"<polyline points="{}" fill="none" stroke="{}" stroke-width="1.5"{}/>"#,
@@ -217,19 +250,40 @@ pub fn loglog_svg(title: &str, xlabel: &str, ylabel: &str, series: &[Series]) ->
                 se.colour
             );
         }
+        for (&pt, text) in se.points.iter().zip(&se.point_labels) {
+            if keep(&pt) {
+                let _ = writeln!(
+                    s,
+                    r#"<text x="{:.1}" y="{:.1}" font-size="10" fill="{}">{}</text>"#,
+                    sx(pt.0) + 5.0,
+                    sy(pt.1) - 4.0,
+                    se.colour,
+                    esc(text)
+                );
+            }
+        }
         let ly = top + 10.0 + 18.0 * k as f64;
         let lx = left + pw + 12.0;
-        let _ = writeln!(
-            s,
-            r#"<line x1="{lx}" y1="{ly}" x2="{}" y2="{ly}" stroke="{}" stroke-width="2"{}/>"#,
-            lx + 22.0,
-            se.colour,
-            if se.dashed {
-                r#" stroke-dasharray="5,3""#
-            } else {
-                ""
-            }
-        );
+        if labelled {
+            let _ = writeln!(
+                s,
+                r#"<circle cx="{}" cy="{ly}" r="3.5" fill="{}"/>"#,
+                lx + 11.0,
+                se.colour
+            );
+        } else {
+            let _ = writeln!(
+                s,
+                r#"<line x1="{lx}" y1="{ly}" x2="{}" y2="{ly}" stroke="{}" stroke-width="2"{}/>"#,
+                lx + 22.0,
+                se.colour,
+                if se.dashed {
+                    r#" stroke-dasharray="5,3""#
+                } else {
+                    ""
+                }
+            );
+        }
         let _ = writeln!(
             s,
             r#"<text x="{}" y="{}">{}</text>"#,

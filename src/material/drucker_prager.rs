@@ -72,6 +72,23 @@ impl DruckerPragerParams {
         }
         check_non_negative(format!("{path}.cohesion"), self.cohesion, "Pa")
     }
+    /// f = √J2 + α_φ I1 − k_c = 0 with I1 = −3p and √J2 = q/√3: q = √3 (k_c + 3 α_φ p), a cone
+    /// whose apex is at p = −k_c / (3 α_φ) (the model's apex I1 = k_c/α_φ).
+    pub fn pq_surface(&self) -> super::PqSurface {
+        let m = self.model();
+        let (a, k) = (m.alpha_phi as f64, m.k_c as f64);
+        super::PqSurface {
+            kind: "drucker_prager",
+            label: "Drucker–Prager cone",
+            slope: 3f64.sqrt() * 3.0 * a,
+            intercept: 3f64.sqrt() * k,
+            apex_p: if a > 0.0 {
+                -k / (3.0 * a)
+            } else {
+                f64::NEG_INFINITY
+            },
+        }
+    }
     pub fn model(&self) -> DruckerPrager {
         let t = self.friction_angle.to_radians().tan();
         let alpha_phi = alpha(self.friction_angle);

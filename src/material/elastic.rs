@@ -31,7 +31,7 @@ impl ElasticParams {
     }
     /// √((K + 4G/3)/ρ) in m/s.
     pub fn wave_speed(&self) -> f64 {
-        ((self.bulk_modulus() + 4.0 / 3.0 * self.shear_modulus()) / self.density).sqrt()
+        self.model().wave_speed(self.density)
     }
     pub fn validate(&self, path: &str) -> Result<()> {
         check_positive(format!("{path}.youngs_modulus"), self.youngs_modulus, "Pa")?;
@@ -44,6 +44,10 @@ impl ElasticParams {
             "",
         )?;
         check_positive(format!("{path}.density"), self.density, "kg/m³")
+    }
+    /// An elastic model never yields.
+    pub fn pq_surface(&self) -> super::PqSurface {
+        super::PqSurface::NONE
     }
     pub fn model(&self) -> Elastic {
         Elastic::new(self.shear_modulus() as Real, self.bulk_modulus() as Real)
@@ -67,6 +71,12 @@ impl Elastic {
             inv_4g: 0.25 / g,
             inv_2k: 0.5 / k,
         }
+    }
+
+    /// The dilatational wave speed √((K + 4G/3)/ρ) at density ρ (kg/m³), in m/s: what bounds
+    /// the stable time step.
+    pub fn wave_speed(&self, density: f64) -> f64 {
+        ((self.k + 4.0 * self.g / 3.0) as f64 / density).sqrt()
     }
 
     /// The stored elastic energy per unit volume of a stress: s:s/(4G) + P²/(2K).

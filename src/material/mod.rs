@@ -161,6 +161,15 @@ impl Material {
         self.elastic_params().wave_speed()
     }
 
+    /// Where the yield surface lies in p–q space (see [`PqSurface`]).
+    pub fn pq_surface(&self) -> PqSurface {
+        match self {
+            Material::Elastic(m) => m.pq_surface(),
+            Material::VonMises(m) => m.pq_surface(),
+            Material::DruckerPrager(m) => m.pq_surface(),
+        }
+    }
+
     /// Builds the runtime model (valid parameters assumed).
     pub fn model(&self) -> Model {
         match self {
@@ -169,6 +178,57 @@ impl Material {
             Material::DruckerPrager(m) => Model::DruckerPrager(m.model()),
         }
     }
+}
+
+/// A model's yield surface in the meridian plane, for teaching views (the page's stress-path
+/// plot and its yield colouring): pressure p = −tr σ / 3 (compression positive) against the
+/// von Mises equivalent stress q = √(3 J2) (both Pa). The surface is the line
+/// q = slope · p + intercept for p ≥ `apex_p`; an elastic model has none.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct PqSurface {
+    /// `none`, `von_mises` (a cylinder about the hydrostatic axis) or `drucker_prager` (a cone).
+    pub kind: &'static str,
+    /// How a plot labels it.
+    pub label: &'static str,
+    pub slope: f64,
+    pub intercept: f64,
+    /// The apex's pressure (Pa): where the cone closes; very negative when there is none.
+    #[serde(serialize_with = "finite_or_lowest")]
+    pub apex_p: f64,
+}
+
+fn finite_or_lowest<S: serde::Serializer>(x: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.serialize_f64(if x.is_finite() { *x } else { -1e300 })
+}
+
+impl PqSurface {
+    /// No yield surface (an elastic model).
+    pub const NONE: PqSurface = PqSurface {
+        kind: "none",
+        label: "elastic: no yield surface",
+        slope: 0.0,
+        intercept: 0.0,
+        apex_p: f64::NEG_INFINITY,
+    };
+
+    /// Whether a stress state (p, q) lies on the surface (within 2 % of it) or beyond it, or
+    /// past the apex. False without a surface.
+    pub fn reached(&self, p: f64, q: f64) -> bool {
+        if self.kind == PqSurface::NONE.kind {
+            return false;
+        }
+        let limit = self.slope * p + self.intercept;
+        let scale = limit.abs().max(1e-3 * (q + p.abs())).max(1e-9);
+        q >= limit - 0.02 * scale || p <= self.apex_p
+    }
+}
+
+/// The (p, q) of a stress: p = −tr σ / 3, q = √(3 J2).
+pub fn pq<S: SymTensor<Scalar = Real>>(stress: S) -> (f64, f64) {
+    (
+        -stress.trace() as f64 / 3.0,
+        (3.0 * stress.j2() as f64).sqrt(),
+    )
 }
 
 /// The runtime form of a [`Material`], with derived constants.
@@ -385,6 +445,59 @@ mod tests {
             };
             check_lanes(&m);
         }
+    }
+
+    /// Each model's p–q surface is where its own return mapping puts a yielding stress: a
+    /// stress driven far into plastic flow lies on the line (and counts as reached), a small
+    /// elastic one does not; the cone's apex is where Drucker–Prager's yield function is zero
+    /// at zero shear.
+    #[test]
+    fn the_pq_surface_is_where_each_model_returns_a_yielding_stress() {
+        let (e, nu, rho) = (1.0e6, 0.3, 1000.0);
+        // Compression, then shear on top of it.
+        let squeeze = [[-0.5, 0.0, 0.0], [0.0, -0.5, 0.0], [0.0, 0.0, -0.5]];
+        let shear = [[0.0, 2.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]];
+        let check = |m: Material, model: &dyn Fn(&mut Sym3, [[Real; 3]; 3])| {
+            let surface = m.pq_surface();
+            let mut s = Sym3::ZERO;
+            model(&mut s, squeeze);
+            let (p, q) = pq(s);
+            assert!(p > 0.0 && !surface.reached(p, q + 1.0), "{m:?}: {p} {q}");
+            for _ in 0..200 {
+                model(&mut s, shear);
+            }
+            let (p, q) = pq(s);
+            let on = surface.slope * p + surface.intercept;
+            assert!(
+                (q - on).abs() <= 2e-3 * on && surface.reached(p, q),
+                "{m:?}: q = {q}, the surface {on} at p = {p}"
+            );
+        };
+        let vm = Material::von_mises(e, nu, rho, 2.0e3);
+        let Model::VonMises(v) = vm.model() else {
+            unreachable!()
+        };
+        check(vm.clone(), &|s, l| {
+            test_util::drive(&v, *s, l, 1e-3, 1, |_, x| *s = *x);
+        });
+        for c in [0.0, 500.0] {
+            let dp = Material::drucker_prager(e, nu, rho, 30.0, 0.0, c);
+            let Model::DruckerPrager(d) = dp.model() else {
+                unreachable!()
+            };
+            check(dp.clone(), &|s, l| {
+                test_util::drive(&d, *s, l, 1e-3, 1, |_, x| *s = *x);
+            });
+            let apex = dp.pq_surface().apex_p;
+            let at_apex = Sym3::iso(-apex as Real);
+            assert!(
+                d.yield_function(at_apex).abs() <= 1e-3 * (1.0 + c as Real),
+                "{c}"
+            );
+        }
+        let el = Material::elastic(e, nu, rho);
+        assert_eq!(el.pq_surface(), PqSurface::NONE);
+        assert!(!PqSurface::NONE.reached(1e9, 1e9));
     }
 
     #[test]

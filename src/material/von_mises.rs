@@ -34,6 +34,17 @@ impl VonMisesParams {
         self.elastic().validate(path)?;
         check_positive(format!("{path}.yield_stress"), self.yield_stress, "Pa")
     }
+    /// √J2 = Y = σ_y/√3, so q = √3 √J2 = σ_y at every pressure: a cylinder about the
+    /// hydrostatic axis.
+    pub fn pq_surface(&self) -> super::PqSurface {
+        super::PqSurface {
+            kind: "von_mises",
+            label: "von Mises: q = σ_y",
+            slope: 0.0,
+            intercept: self.yield_stress,
+            apex_p: f64::NEG_INFINITY,
+        }
+    }
     pub fn model(&self) -> VonMises {
         VonMises {
             elastic: self.elastic().model(),

@@ -95,15 +95,31 @@ impl<D: Dim> Body<D> {
         if self.kinematic {
             return 0.0;
         }
-        let (g, k) = self.model.moduli();
-        ((k + 4.0 * g / 3.0) as f64 * self.max_volume as f64 / self.min_mass as f64).sqrt()
+        let lowest_density = self.min_mass as f64 / self.max_volume as f64;
+        self.model.elastic().wave_speed(lowest_density)
     }
 }
 
+/// A body's shape sampled into particle positions (3 components, unused ones zero) and the
+/// volume of each.
+#[derive(Clone, Debug)]
+pub(crate) struct Sampled {
+    points: Vec<[f64; 3]>,
+    volume: f64,
+}
+
 /// An MPM simulation in dimension `D` ([`D2`] plane strain or [`D3`]).
+///
+/// Its scene holds the bodies in the simulation, then those still to come (bodies whose
+/// `appear_at` lies ahead), in order of appearance: `scene().bodies[i]` is `bodies()[i]` for
+/// every body present. [`Simulation::step`] and [`Simulation::advance_until`] stop at the time
+/// a body is due and add it; [`Simulation::step_at_most`] steps only.
 #[derive(Clone, Debug)]
 pub struct Simulation<D: Dim> {
     pub(crate) scene: SceneConfig,
+    /// The particles of the bodies still to come, `scene.bodies[bodies.len()..]`, sampled when
+    /// they were added (so that a shape without particles is an error up front).
+    pub(crate) to_come: Vec<Sampled>,
     pub(crate) world: World<D>,
     pub(crate) particles: Particles<D>,
     pub(crate) bodies: Vec<Body<D>>,
@@ -160,6 +176,7 @@ impl<D: Dim> Simulation<D> {
                 bodies: Vec::new(),
                 ..scene
             },
+            to_come: Vec::new(),
             particles: Particles::default(),
             bodies: Vec::new(),
             contacts: Vec::new(),
@@ -171,8 +188,18 @@ impl<D: Dim> Simulation<D> {
             sort_interval: 16,
             timings: None,
         };
-        for b in bodies {
-            sim.add_body(b)?;
+        // Every body is sampled first, so that an error names it by its place in the file;
+        // those present from the start keep the file's order, the others follow by time.
+        let mut sampled = Vec::with_capacity(bodies.len());
+        let mut total = 0;
+        for (i, b) in bodies.into_iter().enumerate() {
+            let s = sim.sample_body(&b, &format!("bodies[{i}]"), total)?;
+            total += s.points.len();
+            sampled.push((b, s));
+        }
+        sampled.sort_by(|a, b| a.0.appear_time().total_cmp(&b.0.appear_time()));
+        for (b, s) in sampled {
+            sim.insert(b, s);
         }
         Ok(sim)
     }
@@ -185,13 +212,20 @@ impl<D: Dim> Simulation<D> {
         }
     }
 
-    /// Samples a body's shape into particles and adds it; returns its index.
+    /// Samples a body's shape into particles and adds it, or schedules it when its `appear_at`
+    /// lies ahead; returns its index in [`Simulation::scene`].
     pub fn add_body(&mut self, config: BodyConfig) -> Result<usize> {
-        let i = self.bodies.len();
-        let path = format!("bodies[{i}]");
-        config.validate(&path, D::DIM, &self.scene.domain.size)?;
-        self.scene.check_transfer(&config, &path)?;
-        let (points, volume) = config.sample(&path, D::DIM, self.scene.cell_size)?;
+        let path = format!("bodies[{}]", self.scene.bodies.len());
+        let sampled = self.sample_body(&config, &path, self.particle_total())?;
+        Ok(self.insert(config, sampled))
+    }
+
+    /// Validates a body (named `path` in errors) and samples its shape; `existing` particles
+    /// are already in the simulation or to come.
+    fn sample_body(&self, config: &BodyConfig, path: &str, existing: usize) -> Result<Sampled> {
+        config.validate(path, D::DIM, &self.scene.domain.size)?;
+        self.scene.check_transfer(config, path)?;
+        let (points, volume) = config.sample(path, D::DIM, self.scene.cell_size)?;
         if points.is_empty() {
             return Err(Error::invalid(
                 format!("{path}.shape"),
@@ -199,13 +233,45 @@ impl<D: Dim> Simulation<D> {
                 "must hold at least one particle at this cell_size and particles_per_cell",
             ));
         }
-        if self.particles.len() + points.len() > MAX_PARTICLES {
+        if existing + points.len() > MAX_PARTICLES {
             return Err(Error::invalid(
                 format!("{path}.shape"),
                 format!("{} more particles", points.len()),
                 format!("the simulation holds at most {MAX_PARTICLES} particles"),
             ));
         }
+        Ok(Sampled { points, volume })
+    }
+
+    /// Particles in the simulation and to come.
+    fn particle_total(&self) -> usize {
+        self.particles.len() + self.to_come.iter().map(|s| s.points.len()).sum::<usize>()
+    }
+
+    /// Whether simulated time `t` has been reached (to rounding).
+    fn reached(&self, t: f64) -> bool {
+        t <= self.time + 1e-12 * self.time.abs().max(1.0)
+    }
+
+    /// Adds a sampled body now, or among those to come when its time lies ahead; returns its
+    /// index in the scene.
+    fn insert(&mut self, config: BodyConfig, sampled: Sampled) -> usize {
+        let present = self.bodies.len();
+        if self.reached(config.appear_time()) {
+            self.scene.bodies.insert(present, config);
+            self.activate(sampled);
+            return present;
+        }
+        let t = config.appear_time();
+        let k = self.scene.bodies[present..].partition_point(|b| b.appear_time() <= t);
+        self.scene.bodies.insert(present + k, config);
+        self.to_come.insert(k, sampled);
+        present + k
+    }
+
+    /// Puts the particles of `scene.bodies[bodies.len()]` into the simulation.
+    fn activate(&mut self, Sampled { points, volume }: Sampled) {
+        let config = &self.scene.bodies[self.bodies.len()];
         let density = config.material.density();
         let v0 = config
             .velocity
@@ -242,19 +308,56 @@ impl<D: Dim> Simulation<D> {
             contact_impulse: [0.0; 3],
             stress_report: StressReport::default(),
         });
-        self.scene.bodies.push(config);
         self.refresh_diagnostics();
-        Ok(i)
     }
 
-    /// Removes body `i` and its particles.
+    /// Adds the bodies whose time has come; returns how many.
+    pub fn land_due_bodies(&mut self) -> usize {
+        let mut n = 0;
+        while self.next_appearance().is_some_and(|t| self.reached(t)) {
+            let sampled = self.to_come.remove(0);
+            self.activate(sampled);
+            n += 1;
+        }
+        n
+    }
+
+    /// Records `t` as the `appear_at` of body `i`, which is present: the time it entered on a
+    /// front end's clock (a playground's drop clock restarts at a Clear), for saving the scene.
+    pub(crate) fn record_appearance(&mut self, i: usize, t: Option<f64>) {
+        if i < self.bodies.len() {
+            self.scene.bodies[i].appear_at = t;
+        }
+    }
+
+    /// The bodies still to come, in order of appearance, with their particle counts.
+    pub fn bodies_to_come(&self) -> impl Iterator<Item = (&BodyConfig, usize)> {
+        self.scene.bodies[self.bodies.len()..]
+            .iter()
+            .zip(self.to_come.iter().map(|s| s.points.len()))
+    }
+
+    /// The time the next body to come enters (s), if any.
+    pub fn next_appearance(&self) -> Option<f64> {
+        self.scene
+            .bodies
+            .get(self.bodies.len())
+            .map(|b| b.appear_time())
+    }
+
+    /// Removes body `i` (of the scene: present or to come) and its particles.
     pub fn remove_body(&mut self, i: usize) -> Result<()> {
-        if i >= self.bodies.len() {
+        if i >= self.scene.bodies.len() {
             return Err(Error::invalid(
                 "body",
                 i,
-                format!("must be a body index below {}", self.bodies.len()),
+                format!("must be a body index below {}", self.scene.bodies.len()),
             ));
+        }
+        if i >= self.bodies.len() {
+            self.to_come.remove(i - self.bodies.len());
+            self.scene.bodies.remove(i);
+            return Ok(());
         }
         let r = self.bodies[i].range.clone();
         self.particles.remove(r.clone());
@@ -267,8 +370,9 @@ impl<D: Dim> Simulation<D> {
         Ok(())
     }
 
-    /// Removes every body.
+    /// Removes every body, those to come too.
     pub fn clear(&mut self) {
+        self.to_come.clear();
         self.particles.clear();
         self.bodies.clear();
         self.scene.bodies.clear();
@@ -279,8 +383,8 @@ impl<D: Dim> Simulation<D> {
 
     /// Changes parameters while running: `f` edits a copy of the scene; the copy is validated
     /// like a scene file and applied, or rejected with the state unchanged. World settings,
-    /// materials and PIC/FLIP ratios may change; dimension, domain and the bodies' shapes,
-    /// sampling and initial velocities may not.
+    /// materials and PIC/FLIP ratios may change (of the bodies to come too); dimension, domain
+    /// and the bodies' shapes, sampling, initial velocities and times of appearance may not.
     pub fn configure(&mut self, f: impl FnOnce(&mut SceneConfig)) -> Result<()> {
         let mut next = self.scene.clone();
         f(&mut next);
@@ -315,10 +419,11 @@ impl<D: Dim> Simulation<D> {
                 || a.jitter != b.jitter
                 || a.seed != b.seed
                 || a.kinematic != b.kinematic
+                || a.appear_at != b.appear_at
             {
                 return Err(Error::invalid(
                     format!("bodies[{i}]"),
-                    "a new shape, sampling or initial velocity",
+                    "a new shape, sampling, initial velocity or time of appearance",
                     "cannot change while running: add a new body instead",
                 ));
             }
@@ -339,7 +444,8 @@ impl<D: Dim> Simulation<D> {
         Ok(())
     }
 
-    /// The scene as it stands: world settings and the bodies' parameters.
+    /// The scene as it stands: world settings and the bodies' parameters, the bodies present
+    /// first, then those to come.
     pub fn scene(&self) -> &SceneConfig {
         &self.scene
     }
@@ -381,37 +487,61 @@ impl<D: Dim> Simulation<D> {
                 .sum::<usize>()
     }
 
+    /// The largest wave speed of the bodies (m/s), see [`Body::wave_speed`].
+    pub fn max_wave_speed(&self) -> f64 {
+        self.bodies
+            .iter()
+            .map(|b| b.wave_speed())
+            .fold(0.0, f64::max)
+    }
+
     /// The time step the next step will take: dt = CFL · h / max(c + |v|), capped by max_dt,
     /// with c = √((K + 4G/3)/ρ) at each body's lowest density.
     pub fn stable_dt(&self) -> f64 {
-        let c = self
-            .bodies
-            .iter()
-            .map(|b| b.wave_speed())
-            .fold(0.0, f64::max);
-        let speed = c + self.diagnostics.max_speed;
-        if speed > 0.0 {
-            (self.world.cfl * self.world.h as f64 / speed).min(self.world.max_dt)
-        } else {
-            self.world.max_dt
-        }
+        cfl_time_step(
+            self.world.cfl,
+            self.world.h as f64,
+            self.max_wave_speed() + self.diagnostics.max_speed,
+            self.world.max_dt,
+        )
     }
 
-    /// Advances by `duration` seconds (the last step is shortened to land on it); returns the
-    /// number of steps taken.
+    /// Advances by `duration` seconds (the last step is shortened to land on it, and the bodies
+    /// due on the way enter at their times); returns the number of steps taken.
     pub fn advance(&mut self, duration: f64) -> Result<usize> {
-        let end = self.time + duration;
+        self.advance_until(self.time + duration, |_| true)
+    }
+
+    /// Steps towards simulated time `end` (the last step is shortened to land on it) while
+    /// `go_on`, shown the latest diagnostics, allows another step (a wall-clock budget, a
+    /// progress report); returns the number of steps taken. A step never passes the time a
+    /// body is due: it ends there and the body enters. The one driver loop of every front end.
+    pub fn advance_until(
+        &mut self,
+        end: f64,
+        mut go_on: impl FnMut(&Diagnostics) -> bool,
+    ) -> Result<usize> {
         let mut n = 0;
-        while self.time < end - 1e-12 * end.abs().max(1.0) {
-            self.step_at_most(end - self.time)?;
+        self.land_due_bodies();
+        while self.time < end - 1e-12 * end.abs().max(1.0) && go_on(&self.diagnostics) {
+            let stop = self.next_appearance().map_or(end, |t| t.min(end));
+            self.step_at_most(stop - self.time)?;
+            self.land_due_bodies();
             n += 1;
         }
         Ok(n)
     }
 
-    /// One time step of the adaptive size.
+    /// One time step of the adaptive size, ending at the time the next body is due if that
+    /// comes sooner (then it enters).
     pub fn step(&mut self) -> Result<&Diagnostics> {
-        self.step_at_most(f64::INFINITY)
+        self.land_due_bodies();
+        let limit = self
+            .next_appearance()
+            .map_or(f64::INFINITY, |t| t - self.time);
+        self.step_at_most(limit)?;
+        self.land_due_bodies();
+        Ok(&self.diagnostics)
     }
 
     /// Sums the reports into the diagnostics; fails on the first non-finite particle.
@@ -421,6 +551,7 @@ impl<D: Dim> Simulation<D> {
         stress: &[StressReport],
         gathered: &[GatherReport<D>],
     ) -> Result<()> {
+        let c = self.max_wave_speed();
         let d = &mut self.diagnostics;
         d.time = self.time;
         d.step = self.steps;
@@ -457,11 +588,6 @@ impl<D: Dim> Simulation<D> {
         d.elastic = elastic;
         d.momentum = momentum;
         d.max_speed = max_speed;
-        let c = self
-            .bodies
-            .iter()
-            .map(|b| b.wave_speed())
-            .fold(0.0, f64::max);
         d.cfl = dt * (c + max_speed) / self.world.h as f64;
         for i in 0..self.bodies.len() {
             let bad = stress[i]
@@ -608,6 +734,16 @@ pub enum AnySimulation {
     D3(Simulation<D3>),
 }
 
+/// The CFL condition: dt = `cfl` · `h` / `speed` (the fastest signal, m/s), at most `max_dt`
+/// (which a world where nothing moves or carries stress takes).
+pub fn cfl_time_step(cfl: f64, h: f64, speed: f64, max_dt: f64) -> f64 {
+    if speed > 0.0 {
+        (cfl * h / speed).min(max_dt)
+    } else {
+        max_dt
+    }
+}
+
 macro_rules! delegate {
     ($self:ident, $s:ident => $e:expr) => {
         match $self {
@@ -637,6 +773,14 @@ impl AnySimulation {
     pub fn advance(&mut self, duration: f64) -> Result<usize> {
         delegate!(self, s => s.advance(duration))
     }
+    /// See [`Simulation::advance_until`].
+    pub fn advance_until(
+        &mut self,
+        end: f64,
+        go_on: impl FnMut(&Diagnostics) -> bool,
+    ) -> Result<usize> {
+        delegate!(self, s => s.advance_until(end, go_on))
+    }
     pub fn diagnostics(&self) -> &Diagnostics {
         delegate!(self, s => s.diagnostics())
     }
@@ -654,6 +798,17 @@ impl AnySimulation {
     }
     pub fn remove_body(&mut self, i: usize) -> Result<()> {
         delegate!(self, s => s.remove_body(i))
+    }
+    pub(crate) fn record_appearance(&mut self, i: usize, t: Option<f64>) {
+        delegate!(self, s => s.record_appearance(i, t))
+    }
+    /// See [`Simulation::next_appearance`].
+    pub fn next_appearance(&self) -> Option<f64> {
+        delegate!(self, s => s.next_appearance())
+    }
+    /// The number of bodies present (the scene's first ones; the rest are to come).
+    pub fn bodies_present(&self) -> usize {
+        delegate!(self, s => s.bodies().len())
     }
     pub fn clear(&mut self) {
         delegate!(self, s => s.clear())

@@ -1,28 +1,32 @@
 // The page state in the URL hash, so that a link reproduces a demo exactly:
 // #scene=column_collapse&dim=3&colour=speed&object=bunny&material=drucker_prager&time=1
 //  &drucker_prager.friction_angle=25&gravity=9.81&drop=0.0412:ball:elastic:0.25:0.8,0.55,0.5
-// Parameters keep the order in which they were set (ψ ≤ φ checks depend on it).
-//
-// Each body dropped by a click is a `drop` entry, in the order they were dropped:
+// The view settings, then the session the solver records (`Playground::session`): parameters
+// in the order they were set (ψ ≤ φ checks depend on it), `cleared=1` when the scene's own
+// bodies were removed with Clear, and each body dropped by a click as a `drop` entry, in the
+// order they were dropped:
 //   drop=TIME:OBJECT:MATERIAL:SIZE:X,Y[,Z][:VX,VY[,VZ]]
-// TIME is the simulated time (s) of the drop, counted from the start of the scene or from
-// `cleared=1` (the scene's own bodies were removed with Clear before the drops); OBJECT one of
-// bunny, ball, box; MATERIAL the preset (elastic, von_mises, drucker_prager); SIZE (m) and
-// the centre (m) as given to addObject; the velocity (m/s) is left out when zero. The drop
-// entries are written unescaped (`:` and `,` are allowed in a fragment) to keep links short.
+// TIME is the simulated time (s) of the drop, counted from the start of the scene or from the
+// Clear; OBJECT one of bunny, ball, box; MATERIAL the preset (elastic, von_mises,
+// drucker_prager); SIZE (m) and the centre (m) as given to addObject; the velocity (m/s) is
+// left out when zero. The drop entries are written unescaped (`:` and `,` are allowed in a
+// fragment) to keep links short. Pure (tested under `node --test`) but for `writeHash`.
 
 const VIEW_KEYS = ['scene', 'dim', 'colour', 'object', 'material', 'time', 'size'];
-const NUMBER = /^-?\d+(\.\d+)?(e-?\d+)?$/;
+const NUMBER = /^-?\d+(\.\d+)?(e[-+]?\d+)?$/;
 
-/// The state of `hash`: { view, params, drops, cleared, errors }. A malformed entry is left
-/// out, with a message naming it in `errors` (never an exception).
-export function readHash(hash = location.hash) {
+/// The state of `hash`: { view, session: { params, cleared, drops }, errors }. `names` are the
+/// parameter names (the solver's table); without them every `name` or `model.field` key counts
+/// as a parameter. A malformed or unknown entry is left out, with a message naming it in
+/// `errors` (never an exception).
+export function readHash(hash, names) {
   const q = new URLSearchParams(hash.replace(/^#/, ''));
   const view = {};
   const params = [];
   const drops = [];
   const errors = [];
   let cleared = false;
+  const isParam = names ? (k) => names.includes(k) : (k) => /^[a-z_]+(\.[a-z_]+)?$/.test(k);
   for (const [k, v] of q) {
     if (VIEW_KEYS.includes(k)) view[k] = v;
     else if (k === 'drop') {
@@ -32,9 +36,12 @@ export function readHash(hash = location.hash) {
         errors.push(`drop=${v}: ${e.message}`);
       }
     } else if (k === 'cleared') cleared = v === '1';
-    else if (/^[a-z_]+(\.[a-z_]+)?$/.test(k)) params.push([k, Number(v)]);
+    else if (isParam(k)) {
+      if (NUMBER.test(v)) params.push([k, Number(v)]);
+      else errors.push(`${k}=${v}: not a number`);
+    } else errors.push(`${k}=${v}: not a setting of the page`);
   }
-  return { view, params, drops, cleared, errors };
+  return { view, session: { params, cleared, drops }, errors };
 }
 
 /// A `drop` entry: { t, object, material, size, centre, velocity }; throws on a malformed one.
@@ -76,13 +83,19 @@ export function formatDrop(d) {
   return fields.join(':');
 }
 
-export function writeHash(view, params, drops = [], cleared = false) {
+/// The hash of view settings `view` and session `{ params, cleared, drops }`.
+export function formatHash(view, { params = [], cleared = false, drops = [] } = {}) {
   const q = new URLSearchParams();
   for (const k of VIEW_KEYS) if (view[k] !== undefined && view[k] !== null && view[k] !== '') q.set(k, view[k]);
   for (const [k, v] of params) q.append(k, String(+v.toPrecision(6)));
   if (cleared) q.set('cleared', '1');
   const entries = [q.toString(), ...drops.map((d) => `drop=${formatDrop(d)}`)].filter((s) => s);
-  const hash = `#${entries.join('&')}`;
+  return `#${entries.join('&')}`;
+}
+
+/// Puts the state in the address bar (without a history entry); returns the hash.
+export function writeHash(view, session) {
+  const hash = formatHash(view, session);
   if (hash !== location.hash) history.replaceState(null, '', hash);
   return hash;
 }

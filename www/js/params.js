@@ -1,54 +1,33 @@
-// The live parameters the page offers: labels, units and slider ranges. The names are those
-// of the wasm API (`gravity`, `wall_friction`, `cfl`, `<model>.<field>`); the values are
-// validated in Rust exactly like scene files, so the slider ranges here are only what the
-// sliders offer, not what is allowed (a typed value outside them gets the scene-file check).
+// The live parameters as the page shows them. Their names, labels, symbols, units, slider
+// ranges, defaults and help texts come from the solver's parameter table (`parameterTable()`
+// of the wasm module, `src/params.rs`); the values are validated in Rust exactly like scene
+// files, so a slider's range is only what it offers, not what is allowed. Here: looking the
+// table up, slider scaling and number formatting (pure, tested under `node --test`).
 
-export const MODELS = [
-  { id: 'elastic', label: 'Elastic', hint: 'jelly: bounces back' },
-  { id: 'von_mises', label: 'Plastic', hint: 'clay/metal: von Mises' },
-  { id: 'drucker_prager', label: 'Sand', hint: 'granular: Drucker–Prager' },
-];
-
-export const OBJECTS = [
-  { id: 'bunny', label: 'Bunny' },
-  { id: 'ball', label: 'Ball' },
-  { id: 'box', label: 'Box' },
-];
-
-// scale: 'lin' or 'log'; unit shown after the value.
-const FIELDS = {
-  youngs_modulus: { label: "Young's modulus", symbol: 'E', unit: 'Pa', min: 1e3, max: 1e8, scale: 'log' },
-  poisson_ratio: { label: 'Poisson ratio', symbol: 'ν', unit: '', min: 0, max: 0.49, step: 0.01 },
-  density: { label: 'Density', symbol: 'ρ', unit: 'kg/m³', min: 100, max: 8000, scale: 'log' },
-  yield_stress: { label: 'Yield stress', symbol: 'σ_y', unit: 'Pa', min: 1e2, max: 1e6, scale: 'log' },
-  friction_angle: { label: 'Friction angle', symbol: 'φ', unit: '°', min: 0, max: 60, step: 0.5 },
-  dilatancy_angle: { label: 'Dilatancy angle', symbol: 'ψ', unit: '°', min: 0, max: 60, step: 0.5, maxFrom: 'friction_angle' },
-  cohesion: { label: 'Cohesion', symbol: 'c', unit: 'Pa', min: 0, max: 5000, step: 10 },
-  flip: { label: 'FLIP ratio', symbol: 'α', unit: '', min: 0, max: 1, step: 0.01, hint: '0 = PIC (damped), 1 = FLIP (lively, noisy)' },
-};
-
-export const MODEL_FIELDS = {
-  elastic: ['youngs_modulus', 'poisson_ratio', 'density', 'flip'],
-  von_mises: ['yield_stress', 'youngs_modulus', 'poisson_ratio', 'density', 'flip'],
-  drucker_prager: ['friction_angle', 'dilatancy_angle', 'cohesion', 'youngs_modulus', 'poisson_ratio', 'density', 'flip'],
-};
-
-export const WORLD = [
-  { name: 'gravity', label: 'Gravity', symbol: 'g', unit: 'm/s²', min: 0, max: 30, step: 0.01 },
-  { name: 'wall_friction', label: 'Wall friction', symbol: 'μ', unit: '', min: 0, max: 1.5, step: 0.01 },
-  { name: 'cfl', label: 'CFL number', symbol: 'C', unit: '', min: 0.05, max: 1, step: 0.01, hint: 'time step = C · h / (wave speed + |v|max)' },
-];
-
-/// The spec of parameter `name`.
-export function spec(name) {
-  const world = WORLD.find((p) => p.name === name);
-  if (world) return world;
-  const [model, field] = name.split('.');
-  return { ...FIELDS[field], name, model, field };
+/// The table of `parameterTable()` (JSON text or parsed) with lookups: `params` in display
+/// order, `world` (the world's), `models` [{id, label, hint}], `objects` [{id, label}].
+export function paramTable(json) {
+  const t = typeof json === 'string' ? JSON.parse(json) : json;
+  const byName = new Map(t.params.map((p) => [p.name, p]));
+  return {
+    params: t.params,
+    models: t.models,
+    objects: t.objects,
+    world: t.params.filter((p) => !p.model),
+    names: t.params.map((p) => p.name),
+    /// The spec of parameter `name`; undefined if there is none.
+    spec: (name) => byName.get(name),
+    /// The parameters of material model `model`, in display order.
+    ofModel: (model) => t.params.filter((p) => p.model === model),
+  };
 }
 
-export function materialParams(model) {
-  return MODEL_FIELDS[model].map((f) => spec(`${model}.${f}`));
+/// The upper bound of a parameter whose range depends on another (ψ ≤ φ): `values` holds the
+/// current values by name. Returns the slider maximum to show.
+export function boundedMax(spec, values) {
+  if (!spec.at_most) return spec.max;
+  const bound = values[`${spec.model}.${spec.at_most}`];
+  return bound === undefined ? spec.max : Math.max(0.5, bound);
 }
 
 // Slider positions are integers in [0, ticks(s)]: one tick per step on a linear scale, 200

@@ -2,6 +2,7 @@
 // p–q space against its material's yield surface.
 
 import { format } from './params.js';
+import { energyWindow, pqWindow, surfaceLine, ticks } from './plot-scale.js';
 
 function setup(canvas) {
   const dpr = Math.min(2, window.devicePixelRatio || 1);
@@ -14,17 +15,6 @@ function setup(canvas) {
   ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
   ctx.clearRect(0, 0, w, h);
   return { ctx, w, h };
-}
-
-/// Round tick values covering [lo, hi].
-function ticks(lo, hi, n = 4) {
-  const span = hi - lo || 1;
-  const raw = span / n;
-  const p = 10 ** Math.floor(Math.log10(raw));
-  const step = [1, 2, 5, 10].map((m) => m * p).find((s) => s >= raw);
-  const out = [];
-  for (let t = Math.ceil(lo / step) * step; t <= hi + 1e-9 * span; t += step) out.push(Number(t.toPrecision(12)));
-  return out;
 }
 
 function axes(ctx, box, xr, yr, xlabel, ylabel, fmtX, fmtY) {
@@ -109,11 +99,7 @@ export class EnergyPlot {
       ctx.fillText('energies appear here while the simulation runs', w / 2, h / 2);
       return;
     }
-    const xr = [S[0].time, S[S.length - 1].time];
-    let lo = 0, hi = 0;
-    for (const s of S) for (const k of ENERGY_SERIES) { lo = Math.min(lo, s[k.key]); hi = Math.max(hi, s[k.key]); }
-    const pad = 0.05 * (hi - lo || 1);
-    const yr = [lo - pad, hi + pad];
+    const { xr, yr } = energyWindow(S, ENERGY_SERIES.map((k) => k.key));
     axes(ctx, box, xr, yr, 'time (s)', unit, (t) => `${+t.toPrecision(3)}`, (v) => format(v));
     const X = (t) => box.x0 + ((t - xr[0]) / (xr[1] - xr[0] || 1)) * (box.x1 - box.x0);
     const Y = (v) => box.y1 - ((v - yr[0]) / (yr[1] - yr[0])) * (box.y1 - box.y0);
@@ -130,8 +116,8 @@ export class EnergyPlot {
 }
 
 /// A particle's stress path in p–q space (p = −tr σ/3, q = √(3 J2), kPa) with the current
-/// yield surface of its material: the Drucker–Prager cone q = slope·p + intercept (from its
-/// apex), or the von Mises cylinder q = σ_y.
+/// yield surface of its material, as the solver reports it (the Drucker–Prager cone from its
+/// apex, the von Mises cylinder q = σ_y, or none).
 export class StressPlot {
   constructor(canvas, capacity = 1500) {
     this.canvas = canvas;
@@ -161,55 +147,37 @@ export class StressPlot {
       ctx.fillText('to follow its stress path', w / 2, h / 2 + 10);
       return;
     }
-    // kPa, or Pa when the stresses are small (a particle near a free surface).
-    let big = Math.abs(sp.intercept) >= 1e3;
-    for (const [p, q] of this.path) big ||= Math.max(Math.abs(p), q) >= 1e3;
-    const k = big ? 1e-3 : 1;
-    const unit = big ? 'kPa' : 'Pa';
-    let pMax = 0, qMax = 0, pMin = 0;
-    for (const [p, q] of this.path) { pMax = Math.max(pMax, p * k); pMin = Math.min(pMin, p * k); qMax = Math.max(qMax, q * k); }
-    if (sp.surface === 'von_mises') qMax = Math.max(qMax, sp.intercept * k);
-    if (sp.surface === 'drucker_prager') {
-      pMin = Math.min(pMin, Math.max(sp.apex_p * k, -0.25 * (pMax || 1)));
-      qMax = Math.max(qMax, sp.slope * pMax + sp.intercept * k);
-    }
-    pMax = Math.max(pMax * 1.15, big ? 0.1 : 10);
-    qMax = Math.max(qMax * 1.15, big ? 0.1 : 10);
-    pMin = pMin < 0 ? pMin * 1.15 : 0;
+    const surface = sp.surface;
+    const win = pqWindow(this.path, surface);
+    const { k, unit, pMin, pMax, qMax } = win;
     const box = { x0: 60, y0: 8, x1: w - 10, y1: h - 34 };
     const tick = (v) => `${+v.toPrecision(3)}`;
     axes(ctx, box, [pMin, pMax], [0, qMax], `pressure p (${unit})`, `q = √(3 J₂) (${unit})`, tick, tick);
     const X = (p) => box.x0 + ((p - pMin) / (pMax - pMin)) * (box.x1 - box.x0);
     const Y = (q) => box.y1 - (q / qMax) * (box.y1 - box.y0);
     // The yield surface, with the inadmissible side shaded.
-    ctx.fillStyle = 'rgba(224, 49, 49, 0.08)';
-    ctx.strokeStyle = '#e03131';
-    ctx.lineWidth = 2.5;
-    if (sp.surface !== 'none') {
-      const p0 = sp.surface === 'drucker_prager' ? Math.max(pMin, sp.apex_p * k) : pMin;
-      const q = (p) => (sp.slope * p + sp.intercept * k);
+    const line = surfaceLine(surface, win);
+    ctx.font = '12px system-ui, sans-serif';
+    ctx.textAlign = 'left';
+    if (line) {
+      const [[p0, q0], [p1, q1]] = line;
+      ctx.fillStyle = 'rgba(224, 49, 49, 0.08)';
       ctx.beginPath();
-      ctx.moveTo(X(p0), Y(Math.max(0, q(p0))));
-      ctx.lineTo(X(pMax), Y(q(pMax)));
-      ctx.lineTo(X(pMax), box.y0);
+      ctx.moveTo(X(p0), Y(q0));
+      ctx.lineTo(X(p1), Y(q1));
+      ctx.lineTo(X(p1), box.y0);
       ctx.lineTo(X(p0), box.y0);
       ctx.closePath();
       ctx.fill();
+      ctx.strokeStyle = '#e03131';
+      ctx.lineWidth = 2.5;
       ctx.beginPath();
-      ctx.moveTo(X(p0), Y(Math.max(0, q(p0))));
-      ctx.lineTo(X(pMax), Y(q(pMax)));
+      ctx.moveTo(X(p0), Y(q0));
+      ctx.lineTo(X(p1), Y(q1));
       ctx.stroke();
       ctx.fillStyle = '#c92a2a';
-      ctx.font = '12px system-ui, sans-serif';
-      ctx.textAlign = 'left';
-      const label = sp.surface === 'drucker_prager' ? 'Drucker–Prager cone' : 'von Mises: q = σ_y';
-      ctx.fillText(label, box.x0 + 6, box.y0 + 12);
-    } else {
-      ctx.fillStyle = '#5b6577';
-      ctx.font = '12px system-ui, sans-serif';
-      ctx.textAlign = 'left';
-      ctx.fillText('elastic: no yield surface', box.x0 + 6, box.y0 + 12);
-    }
+    } else ctx.fillStyle = '#5b6577';
+    ctx.fillText(surface.label, box.x0 + 6, box.y0 + 12);
     ctx.strokeStyle = '#1c7ed6';
     ctx.lineWidth = 1.5;
     ctx.beginPath();

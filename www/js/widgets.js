@@ -13,7 +13,7 @@ export function el(tag, attrs = {}, ...children) {
   return e;
 }
 
-/// A slider for parameter `spec` ({name, label, symbol, unit, min, max, scale, step, hint}).
+/// A slider for parameter `spec` ({name, label, symbol, unit, min, max, scale, step, help}).
 /// `apply(value)` sets it and returns an error message or '' on success.
 export function paramSlider(spec, apply) {
   const range = el('input', {
@@ -27,7 +27,7 @@ export function paramSlider(spec, apply) {
   const unit = el('span', { class: 'unit' });
   const lo = el('span', {}, format(spec.min, spec.unit));
   const hi = el('span', {}, format(spec.max, spec.unit));
-  const root = el('div', { class: 'param', title: spec.hint || '' },
+  const root = el('div', { class: 'param', title: spec.help || '' },
     el('div', { class: 'row' },
       el('span', { class: 'name' }, el('span', { class: 'sym' }, spec.symbol || ''), spec.label),
       box, unit),

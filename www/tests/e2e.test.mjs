@@ -137,7 +137,7 @@ test('3D: the default scene runs, a click drops a bunny, the friction slider cha
   const r = await stats(again.page);
   assert.equal(r.particles, s1.particles, 'the same particle count as where the link was taken');
   assert.equal(await bodyJson(again.page, 2), dropped, 'the same body');
-  const appliedAt = await again.page.evaluate(() => mpm.drops[0].appliedAt);
+  const appliedAt = await again.page.evaluate(() => mpm.drops[0].applied_at);
   assert.ok(Math.abs(appliedAt - t) < 1e-6, `dropped when the simulation reached ${t} s, not at ${appliedAt} s`);
   assert.equal(r.hash, s1.hash, 'the page keeps the link it was opened with');
   // Reset forgets the drops, in the page and in the link.

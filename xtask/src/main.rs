@@ -4,9 +4,15 @@
 //!   wasm-bindgen-cli at the version in Cargo.lock if that version is not on PATH, builds the
 //!   release wasm with simd128, runs `wasm-bindgen --target web` into `www/pkg/` and writes
 //!   the scene list `www/pkg/scenes.json` from the files in `scenes/`.
+//!   It also writes the lesson list `www/pkg/lessons.json` from the files in `lessons/`.
 //! - `serve`     — `build`, then serves the repository root on http://127.0.0.1:8080.
-//! - `test`      — every test: formatting, clippy (native and wasm), the native test suite, the
-//!   wasm tests in Node and the end-to-end test in headless Chromium.
+//! - `dist`      — `build`, then writes the page as a self-contained static folder,
+//!   `target/dist/` (or `--out DIR`): the page, the wasm, the scenes, the lessons and their
+//!   files, every URL relative, for any static web host as it is.
+//! - `test`      — every test: formatting, clippy (native and wasm), the page's pure modules
+//!   under `node --test`, the native test suite, the wasm tests in Node, the end-to-end
+//!   tests in headless Chromium and Firefox, and the `dist` folder served alone by a plain
+//!   static server under a sub-path and loaded in Chromium.
 //! - `bench-web` — benchmarks that print figures: wasm in Node against native on the same
 //!   scene, and the page's frame rate in headless Chromium.
 //! - `validate`  — the long validation runs; writes docs/validation-report.md.
@@ -14,6 +20,7 @@
 //!   docs/work-precision-report.md and the SVG diagrams.
 //! - `passes`    — the cost of each pass for scenes that need different work; writes
 //!   docs/passes-report.md.
+//! - `screenshot` — the README's picture of the page in headless Chromium: docs/playground.jpg.
 //! - `stress`    — the long stability sweep (`MPM_LONG=1`: more random scenes, longer resting
 //!   runs, more fuzzing).
 //!
@@ -46,21 +53,26 @@ fn main() -> ExitCode {
     let result = match args.first().map(String::as_str) {
         Some("build") => build().map(|_| ()),
         Some("serve") => serve_task(rest),
+        Some("dist") => dist_task(rest),
         Some("test") => test(),
         Some("bench-web") => bench_web(rest),
         Some("validate") => report_bench("validate", rest),
         Some("work-precision") => report_bench("work_precision", rest),
         Some("passes") => report_bench("passes", rest),
         Some("stress") => stress(),
+        Some("screenshot") => screenshot(),
         _ => {
             eprintln!(
-                "usage: cargo xtask <build|serve|test|bench-web|validate|work-precision|passes|stress>"
+                "usage: cargo xtask <build|serve|dist|test|bench-web|validate|work-precision|passes|stress|screenshot>"
             );
             eprintln!(
                 "  build              build the browser playground into www/pkg/ (wasm, simd128)"
             );
             eprintln!(
                 "  serve [--port N]   build, then serve the playground on http://127.0.0.1:8080"
+            );
+            eprintln!(
+                "  dist [--out DIR]   build, then write the page as a static folder (target/dist/)"
             );
             eprintln!(
                 "  test               run every test (fmt, clippy, native, wasm in Node, browser)"
@@ -73,6 +85,9 @@ fn main() -> ExitCode {
             );
             eprintln!("  passes             cost of each pass -> docs/passes-report.md");
             eprintln!("  stress             the long stability sweep (MPM_LONG=1)");
+            eprintln!(
+                "  screenshot         the README's picture of the page -> docs/playground.jpg"
+            );
             return ExitCode::from(2);
         }
     };
@@ -250,6 +265,135 @@ fn write_scene_list() -> Result<usize, String> {
     Ok(n)
 }
 
+/// The lesson list of the page: every `lessons/*.json`, with its title, as
+/// `[{"id", "path", "title"}]` in file-name order.
+fn write_lesson_list() -> Result<usize, String> {
+    let mut entries = Vec::new();
+    for p in files_in(&root().join("lessons"), &["json"])? {
+        let file = p.file_name().unwrap().to_string_lossy().into_owned();
+        let text = std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))?;
+        let v: serde_json::Value =
+            serde_json::from_str(&text).map_err(|e| format!("lessons/{file}: not JSON: {e}"))?;
+        entries.push(serde_json::json!({
+            "id": file.trim_end_matches(".json"),
+            "path": format!("lessons/{file}"),
+            "title": v.get("title").and_then(|t| t.as_str()).unwrap_or(&file),
+        }));
+    }
+    let out = root().join("www/pkg/lessons.json");
+    std::fs::write(
+        &out,
+        serde_json::to_string_pretty(&entries).expect("serialisable"),
+    )
+    .map_err(|e| format!("{}: {e}", out.display()))?;
+    Ok(entries.len())
+}
+
+/// The files directly in `dir` whose extension is one of `exts`, sorted; none if `dir` is
+/// missing.
+fn files_in(dir: &Path, exts: &[&str]) -> Result<Vec<PathBuf>, String> {
+    let read = match std::fs::read_dir(dir) {
+        Ok(r) => r,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(e) => return Err(format!("{}: {e}", dir.display())),
+    };
+    let mut files: Vec<PathBuf> = read
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.is_file())
+        .filter(|p| {
+            p.extension()
+                .and_then(|e| e.to_str())
+                .is_some_and(|e| exts.contains(&e))
+        })
+        .collect();
+    files.sort();
+    Ok(files)
+}
+
+/// What the static folder holds, relative to the repository root and to the folder alike:
+/// the page, its scripts and styles, the built solver and its lists, the scenes with their
+/// meshes and outlines, and the lessons.
+fn dist_files() -> Result<Vec<PathBuf>, String> {
+    let r = root();
+    let mut files = vec![PathBuf::from("index.html"), PathBuf::from("www/app.css")];
+    for (dir, exts) in [
+        ("www/js", &["js"][..]),
+        ("www/pkg", &["js", "wasm", "json"][..]),
+        ("scenes", &["json", "obj", "txt", "md"][..]),
+        ("lessons", &["json"][..]),
+    ] {
+        for p in files_in(&r.join(dir), exts)? {
+            files.push(p.strip_prefix(&r).expect("under the root").to_path_buf());
+        }
+    }
+    for needed in [
+        "www/pkg/mpm.js",
+        "www/pkg/mpm_bg.wasm",
+        "www/pkg/scenes.json",
+    ] {
+        if !files.iter().any(|f| f == Path::new(needed)) {
+            return Err(format!(
+                "{needed} is missing: build first (cargo xtask build)"
+            ));
+        }
+    }
+    Ok(files)
+}
+
+/// Writes the static folder `out` from the built page (see [`dist_files`]), replacing an
+/// earlier one; refuses a non-empty directory that is not one.
+fn write_dist(out: &Path) -> Result<(), String> {
+    if out.exists() {
+        let earlier = out.join("index.html").is_file() && out.join("www/pkg/mpm_bg.wasm").is_file();
+        let empty = std::fs::read_dir(out)
+            .map(|mut d| d.next().is_none())
+            .unwrap_or(false);
+        if !earlier && !empty {
+            return Err(format!(
+                "{} exists and is not a static folder of the playground: choose another --out",
+                out.display()
+            ));
+        }
+        std::fs::remove_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    }
+    let files = dist_files()?;
+    let mut bytes = 0;
+    for f in &files {
+        let to = out.join(f);
+        if let Some(dir) = to.parent() {
+            std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        }
+        bytes += std::fs::copy(root().join(f), &to)
+            .map_err(|e| format!("{} → {}: {e}", f.display(), to.display()))?;
+    }
+    eprintln!(
+        "xtask: wrote {} ({} files, {:.1} MB): serve it as it is from any static web host, at any path",
+        out.display(),
+        files.len(),
+        bytes as f64 / 1e6
+    );
+    Ok(())
+}
+
+/// The static folder's default place.
+fn dist_dir() -> PathBuf {
+    root().join("target/dist")
+}
+
+fn dist_task(args: &[String]) -> Result<(), String> {
+    let out = flag(args, "--out").map_or_else(dist_dir, |o| {
+        let p = PathBuf::from(o);
+        if p.is_absolute() {
+            p
+        } else {
+            std::env::current_dir().unwrap_or_default().join(p)
+        }
+    });
+    build()?;
+    write_dist(&out)
+}
+
 /// Builds the playground into `www/pkg/`; returns the size of the wasm file.
 fn build() -> Result<u64, String> {
     ensure_wasm_tools()?;
@@ -276,6 +420,7 @@ fn build() -> Result<u64, String> {
         ],
     )?;
     let scenes = write_scene_list()?;
+    write_lesson_list()?;
     let size = std::fs::metadata(pkg.join("mpm_bg.wasm"))
         .map(|m| m.len())
         .unwrap_or(0);
@@ -329,9 +474,10 @@ fn ensure_browser_tools() -> Result<String, String> {
         .next()
         .and_then(|m| m.parse().ok())
         .unwrap_or(0);
-    if major < 18 {
+    // The oldest Node the locked npm packages support (package-lock.json's `engines`).
+    if major < 20 {
         return Err(format!(
-            "Node.js 18 or newer is needed, found {}",
+            "Node.js 20 or newer is needed, found {}",
             node.trim()
         ));
     }
@@ -412,6 +558,7 @@ fn test() -> Result<(), String> {
             "warnings",
         ],
     )?;
+    page_unit_tests()?;
     run("cargo", &["test", "--workspace"])?;
     // the f64 build option: the unit tests (constitutive models, kernels, grid) in double precision
     run("cargo", &["test", "--lib", "--features", "f64"])?;
@@ -449,6 +596,14 @@ fn test() -> Result<(), String> {
         .env("CHROMIUM", &chromium)
         .env("MPM_OUT", root().join("target/e2e"));
     run_cmd(e2e)?;
+    // The static folder alone, served by a plain static server under a sub-path.
+    write_dist(&dist_dir())?;
+    let mut dist = command(
+        "node",
+        &["--test", "--test-reporter=spec", "www/tests/dist.test.mjs"],
+    );
+    dist.env("MPM_DIST", dist_dir()).env("CHROMIUM", &chromium);
+    run_cmd(dist)?;
     // The same page in Firefox (Debian's firefox-esr through puppeteer-core), WebGL2 drawn by
     // llvmpipe on an Xvfb display the test starts.
     let (firefox, xvfb) = ensure_firefox()?;
@@ -467,6 +622,23 @@ fn test() -> Result<(), String> {
     run_cmd(ff)?;
     eprintln!("xtask: every test passed");
     Ok(())
+}
+
+/// The page's pure modules (the link's format, slider scales, plot scales, the quality
+/// governor) under `node --test`, without a browser or the wasm build.
+fn page_unit_tests() -> Result<(), String> {
+    let dir = root().join("www/tests/unit");
+    let mut files: Vec<String> = std::fs::read_dir(&dir)
+        .map_err(|e| format!("{}: {e}", dir.display()))?
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".test.mjs"))
+        .map(|n| format!("www/tests/unit/{n}"))
+        .collect();
+    files.sort();
+    let mut args = vec!["--test", "--test-reporter=spec"];
+    args.extend(files.iter().map(String::as_str));
+    run("node", &args)
 }
 
 fn median(v: &mut [f64]) -> f64 {
@@ -573,6 +745,16 @@ fn report_bench(name: &str, filters: &[String]) -> Result<(), String> {
     } else {
         run("cargo", &args)
     }
+}
+
+/// The README's picture: the page in headless Chromium, written to docs/playground.jpg.
+fn screenshot() -> Result<(), String> {
+    build()?;
+    let chromium = ensure_browser_tools()?;
+    let url = background_server()?;
+    let mut shot = command("node", &["www/tools/screenshot.mjs", "docs/playground.jpg"]);
+    shot.env("MPM_URL", &url).env("CHROMIUM", &chromium);
+    run_cmd(shot)
 }
 
 /// The long stability sweep: `MPM_LONG=1 cargo test --test stability -- --nocapture`.

@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 
 /// Material point method playground: elastic and plastic solids and sand (Jiang et al.).
 ///
-/// Scene files are JSON (see the README); units are SI, angles in degrees. Meshes and vertex
+/// Scene files are JSON (see docs/scenes.md); units are SI, angles in degrees. Meshes and vertex
 /// lists that a scene references are read relative to the scene file.
 #[derive(Parser, Debug)]
 #[command(name = "mpm", version, propagate_version = true)]
@@ -39,6 +39,10 @@ pub struct SceneArgs {
     /// whole number of cells.
     #[arg(long, value_name = "METRES", allow_negative_numbers = true)]
     pub cell_size: Option<f64>,
+    /// Set a live parameter as the page's sliders do, e.g. drucker_prager.friction_angle=25
+    /// (repeatable; --help lists the names).
+    #[arg(long = "set", value_name = "NAME=VALUE", allow_hyphen_values = true, long_help = set_help())]
+    pub set: Vec<String>,
 }
 
 #[derive(Args, Debug)]
@@ -113,6 +117,27 @@ enum CameraArg {
     Orthographic,
 }
 
+/// The long help of `--set`: every name of the parameter table.
+fn set_help() -> String {
+    let names: Vec<String> = mpm::params::table()
+        .into_iter()
+        .map(|p| {
+            let unit = match p.field.unit {
+                "" => String::new(),
+                u => format!(" ({u})"),
+            };
+            format!("  {}{unit}: {}", p.name, p.field.help)
+        })
+        .collect();
+    format!(
+        "Set a live parameter as the page's sliders and the terminal player's keys do: \
+         NAME=VALUE, validated like the scene file. Repeatable, applied in order. NAME is one of \
+         the names below (a material's applies to every body of that model), or \
+         bodies[<i>].<model>.<field> for body i alone:\n{}",
+        names.join("\n")
+    )
+}
+
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s
         .split_once(['x', 'X'])
@@ -131,6 +156,35 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
 /// A failure to report: the message goes to stderr, the code is the exit status.
 pub struct Failure(pub String);
 
+/// The message of a write to a closed standard output (`mpm check … | head`): not a failure,
+/// the reader has what it wanted, so the command ends quietly.
+const CLOSED: &str = "output closed";
+
+/// Writes to standard output; a closed pipe ends the command quietly (see [`CLOSED`]).
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        writeln!(std::io::stdout().lock(), $($arg)*).map_err(crate::cli::write_failure)?
+    }};
+}
+
+/// A failed write to standard output: quiet when the reader went away.
+pub fn write_failure(e: std::io::Error) -> Failure {
+    if e.kind() == std::io::ErrorKind::BrokenPipe {
+        Failure(CLOSED.into())
+    } else {
+        Failure(format!("cannot write to standard output: {e}"))
+    }
+}
+
+/// Writes to standard error, ignoring a closed one (there is nowhere left to report to).
+macro_rules! note {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr().lock(), $($arg)*);
+    }};
+}
+
 impl From<Error> for Failure {
     fn from(e: Error) -> Self {
         Failure(e.to_string())
@@ -146,8 +200,9 @@ pub fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(Failure(msg)) if msg == CLOSED => ExitCode::SUCCESS,
         Err(Failure(msg)) => {
-            eprintln!("mpm: error: {msg}");
+            note!("mpm: error: {msg}");
             ExitCode::FAILURE
         }
     }
@@ -166,6 +221,8 @@ pub fn load_scene(args: &SceneArgs) -> Result<SceneConfig, Failure> {
             .validate()
             .map_err(|e| Failure(format!("--cell-size: {e}")))?;
     }
+    mpm::params::apply_assignments(&mut scene, &args.set)
+        .map_err(|e| Failure(format!("--set: {e}")))?;
     Ok(scene)
 }
 
@@ -232,21 +289,22 @@ fn run(a: RunArgs) -> Result<(), Failure> {
     let mut last_draw = Instant::now() - Duration::from_secs(1);
     let segments = frames.max(1);
     let mut result: Result<(), Failure> = Ok(());
-    'frames: for k in 1..=segments {
+    for k in 1..=segments {
         let target = a.time * k as f64 / segments as f64;
-        while sim.time() < target - 1e-12 * target.max(1.0) {
-            if let Err(e) = sim.step_at_most(target - sim.time()) {
-                result = Err(Failure(format!(
-                    "{}: the simulation stopped at t = {:.6} s: {e}",
-                    a.scene.scene.display(),
-                    sim.time()
-                )));
-                break 'frames;
-            }
+        let stepped = sim.advance_until(target, |d| {
             if last_draw.elapsed() > Duration::from_millis(50) {
                 last_draw = Instant::now();
-                progress(&bar, &sim, a.time, started);
+                progress(&bar, d, a.time, started);
             }
+            true
+        });
+        if let Err(e) = stepped {
+            result = Err(Failure(format!(
+                "{}: the simulation stopped at t = {:.6} s: {e}",
+                a.scene.scene.display(),
+                sim.time()
+            )));
+            break;
         }
         if write_frames
             && k <= frames
@@ -256,14 +314,15 @@ fn run(a: RunArgs) -> Result<(), Failure> {
             break;
         }
     }
-    progress(&bar, &sim, a.time, started);
+    progress(&bar, sim.diagnostics(), a.time, started);
     bar.finish();
     let wall = started.elapsed().as_secs_f64();
     if let Some(path) = &a.summary {
         let summary = Summary::of(&sim, wall);
         let text = serde_json::to_string_pretty(&summary).expect("the summary serialises") + "\n";
         if path.as_os_str() == "-" {
-            print!("{text}");
+            std::io::Write::write_all(&mut std::io::stdout().lock(), text.as_bytes())
+                .map_err(write_failure)?;
         } else {
             fs::write(path, text)
                 .map_err(|e| Failure(format!("cannot write {}: {e}", path.display())))?;
@@ -271,7 +330,7 @@ fn run(a: RunArgs) -> Result<(), Failure> {
     }
     if !a.quiet {
         let d = sim.diagnostics();
-        eprintln!(
+        note!(
             "{} particles, {} steps to t = {:.4} s in {:.2} s ({:.0} steps/s, {:.2} M particle-steps/s)",
             sim.particle_count(),
             sim.steps(),
@@ -280,7 +339,7 @@ fn run(a: RunArgs) -> Result<(), Failure> {
             sim.steps() as f64 / wall.max(1e-9),
             sim.steps() as f64 * sim.particle_count() as f64 / wall.max(1e-9) / 1e6
         );
-        eprintln!(
+        note!(
             "energy: kinetic {:.4e}, gravitational {:.4e}, elastic {:.4e}, dissipated {:.4e} J{}",
             d.kinetic,
             d.gravitational,
@@ -292,15 +351,15 @@ fn run(a: RunArgs) -> Result<(), Failure> {
     result
 }
 
-fn progress(bar: &ProgressBar, sim: &AnySimulation, total: f64, started: Instant) {
+fn progress(bar: &ProgressBar, d: &mpm::Diagnostics, total: f64, started: Instant) {
     let wall = started.elapsed().as_secs_f64().max(1e-9);
-    bar.set_position((sim.time() * 1e6).round() as u64);
+    bar.set_position((d.time * 1e6).round() as u64);
     bar.set_message(format!(
         "t = {:.3}/{:.3} s, {} steps, {:.0} steps/s",
-        sim.time(),
+        d.time,
         total,
-        sim.steps(),
-        sim.steps() as f64 / wall
+        d.step,
+        d.step as f64 / wall
     ));
 }
 
@@ -338,7 +397,7 @@ fn check(a: CheckArgs) -> Result<(), Failure> {
     let sampling = Instant::now();
     let sim = build(scene, path)?;
     let sampling = sampling.elapsed().as_secs_f64();
-    println!("{}: valid", path.display());
+    out!("{}: valid", path.display());
     match &sim {
         AnySimulation::D2(s) => report(s, sampling),
         AnySimulation::D3(s) => report(s, sampling),
@@ -354,7 +413,7 @@ fn report<D: Dim>(sim: &Simulation<D>, sampling: f64) -> Result<(), Failure> {
         .map(|s| format!("{}", (s / scene.cell_size).round()))
         .collect();
     let sizes: Vec<String> = scene.domain.size.iter().map(|s| format!("{s}")).collect();
-    println!(
+    out!(
         "scene {:?}: {}D{}, domain {} m, cell {} m ({} cells), kernel {:?}",
         scene.name,
         D::DIM,
@@ -366,7 +425,7 @@ fn report<D: Dim>(sim: &Simulation<D>, sampling: f64) -> Result<(), Failure> {
     );
     let per_depth = if D::DIM == 2 { "/m" } else { "" };
     for (i, (b, cfg)) in sim.bodies().iter().zip(&scene.bodies).enumerate() {
-        println!(
+        out!(
             "  body {i} {:?}: {}, {} particles, mass {:.4} kg{per_depth}, wave speed {:.2} m/s, flip {}",
             cfg.name,
             cfg.material.kind(),
@@ -376,28 +435,44 @@ fn report<D: Dim>(sim: &Simulation<D>, sampling: f64) -> Result<(), Failure> {
             cfg.flip_ratio()
         );
     }
+    let present = sim.bodies().len();
+    let mut later = 0;
+    for (k, (cfg, n)) in sim.bodies_to_come().enumerate() {
+        out!(
+            "  body {} {:?}: {}, {n} particles, enters at t = {} s",
+            present + k,
+            cfg.name,
+            cfg.material.kind(),
+            cfg.appear_time()
+        );
+        later += n;
+    }
     let n = sim.particles().len();
-    println!("particles: {n} (sampled in {:.3} s)", sampling);
+    if later > 0 {
+        out!("particles: {n} at the start, {later} to come (sampled in {sampling:.3} s)");
+    } else {
+        out!("particles: {n} (sampled in {:.3} s)", sampling);
+    }
     // one step on a copy allocates the grids: the memory that the run will need at first
     let mut probe = sim.clone();
     let step_wall = Instant::now();
     let stepped = probe.step().map(|_| ());
     let step_wall = step_wall.elapsed().as_secs_f64();
     let particle_bytes = n * mpm::sim::Particles::<D>::bytes_per_particle();
-    println!(
+    out!(
         "memory: about {} ({} of particles, {} of grid after the first step)",
         bytes(probe.memory_bytes()),
         bytes(particle_bytes),
         bytes(probe.memory_bytes().saturating_sub(particle_bytes))
     );
     let dt = sim.stable_dt();
-    println!(
+    out!(
         "stable dt: {dt:.4e} s (CFL {}, max_dt {} s): about {:.0} steps per simulated second",
         scene.cfl,
         scene.max_dt,
         1.0 / dt
     );
-    println!(
+    out!(
         "first step: {:.1} ms ({:.2} M particle-steps/s)",
         step_wall * 1e3,
         n as f64 / step_wall.max(1e-9) / 1e6

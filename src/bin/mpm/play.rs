@@ -1,10 +1,12 @@
 //! `mpm play`: the scene in the terminal, drawn with braille dots (orthographic in 2D, an
-//! orbiting projection in 3D), with keys to pause, step, reset and nudge the parameters.
-//! Every change goes through `Simulation::configure`, which validates it like a scene file;
-//! a rejected value leaves the simulation as it was and its message is shown.
+//! orbiting projection in 3D), with keys to pause, step, reset and nudge the parameters. It
+//! drives a [`Playground`], as the browser page does: the keys and their steps come from the
+//! parameter table (`mpm::params`), and every change is validated like a scene file; a
+//! rejected value leaves the simulation as it was and its message is shown.
 
-use crate::cli::{Failure, PlayArgs, build, load_scene};
-use mpm::{AnySimulation, Material, SceneConfig};
+use crate::cli::{Failure, PlayArgs, load_scene};
+use mpm::params::{MODELS, Param, WORLD, model_index};
+use mpm::playground::{ColourMode, Playground};
 use ratatui::Frame;
 use ratatui::crossterm::event::{self, Event, KeyCode, KeyEventKind, KeyModifiers};
 use ratatui::layout::{Constraint, Layout, Rect};
@@ -19,13 +21,14 @@ use std::time::{Duration, Instant};
 pub fn play(a: PlayArgs) -> Result<(), Failure> {
     mpm::error::check_range("--speed", a.speed, 1e-4, 100.0, false, "")?;
     let scene = load_scene(&a.scene)?;
-    let sim = build(scene.clone(), &a.scene.scene)?;
+    let pg =
+        Playground::new(scene).map_err(|e| Failure(format!("{}: {e}", a.scene.scene.display())))?;
     if !std::io::stdout().is_terminal() || !std::io::stdin().is_terminal() {
         return Err(Failure(
             "play needs an interactive terminal (use `mpm run` to write frames instead)".into(),
         ));
     }
-    let mut app = App::new(scene, sim, a.speed);
+    let mut app = App::new(pg, a.speed);
     let mut terminal =
         ratatui::try_init().map_err(|e| Failure(format!("cannot set up the terminal: {e}")))?;
     let result = (|| -> std::io::Result<()> {
@@ -48,18 +51,15 @@ pub fn play(a: PlayArgs) -> Result<(), Failure> {
     result.map_err(|e| Failure(format!("terminal: {e}")))
 }
 
-/// What the colours show.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Colouring {
-    Body,
-    PlasticStrain,
-    Speed,
-}
+/// What the colours show, in the order `m` cycles through them.
+const COLOURINGS: [ColourMode; 3] = [
+    ColourMode::Body,
+    ColourMode::PlasticStrain,
+    ColourMode::Speed,
+];
 
 pub struct App {
-    /// The scene as loaded (for a full reset).
-    original: SceneConfig,
-    sim: AnySimulation,
+    pg: Playground,
     paused: bool,
     quit: bool,
     /// Simulated seconds per real second wanted.
@@ -68,7 +68,7 @@ pub struct App {
     selected: usize,
     azimuth: f64,
     elevation: f64,
-    colouring: Colouring,
+    colouring: ColourMode,
     status: (String, bool),
     /// Achieved simulated/real time ratio over the latest frame.
     achieved: f64,
@@ -90,18 +90,32 @@ const RAMP: [Color; 5] = [
     Color::Red,
 ];
 
+/// Milliseconds since `t0`: the wall clock the playground reads.
+fn clock(t0: Instant) -> impl FnMut() -> f64 {
+    move || t0.elapsed().as_secs_f64() * 1e3
+}
+
+/// A value with its unit, as the panel shows it.
+fn show(v: f64, unit: &str) -> String {
+    match unit {
+        "Pa" => format!("{v:.3e} Pa"),
+        "°" => format!("{v:.1}°"),
+        "" => format!("{v:.2}"),
+        u => format!("{v:.3} {u}"),
+    }
+}
+
 impl App {
-    pub fn new(original: SceneConfig, sim: AnySimulation, speed: f64) -> Self {
+    pub fn new(pg: Playground, speed: f64) -> Self {
         App {
-            original,
-            sim,
+            pg,
             paused: false,
             quit: false,
             speed,
             selected: 0,
             azimuth: 30.0,
             elevation: 20.0,
-            colouring: Colouring::Body,
+            colouring: ColourMode::Body,
             status: (
                 "space pause · s step · r reset · q quit · h help".into(),
                 false,
@@ -110,43 +124,41 @@ impl App {
         }
     }
 
+    fn stopped(&mut self, e: impl std::fmt::Display) {
+        self.status = (format!("stopped: {e} (r to reset)"), true);
+    }
+
     /// Advances the simulation for one frame of `frame` real time (within that wall budget).
     pub fn tick(&mut self, frame: Duration) {
-        if self.paused || self.sim.failure().is_some() {
-            self.achieved = 0.0;
+        self.achieved = 0.0;
+        if self.paused || self.pg.failure().is_some() {
             return;
         }
-        let start = Instant::now();
-        let t0 = self.sim.time();
-        let target = t0 + self.speed * frame.as_secs_f64();
-        while self.sim.time() < target - 1e-12 && start.elapsed() < frame {
-            if let Err(e) = self.sim.step_at_most(target - self.sim.time()) {
-                self.status = (format!("stopped: {e} (r to reset)"), true);
-                break;
-            }
-        }
-        self.achieved = (self.sim.time() - t0) / frame.as_secs_f64();
-    }
-
-    fn step_once(&mut self) {
-        if let Err(e) = self.sim.step() {
-            self.status = (format!("stopped: {e} (r to reset)"), true);
+        let seconds = frame.as_secs_f64();
+        match self
+            .pg
+            .frame(self.speed * seconds, seconds * 1e3, clock(Instant::now()))
+        {
+            Ok(r) => self.achieved = r.sim_time / seconds,
+            Err(e) => self.stopped(e),
         }
     }
 
-    /// Applies `f` to the scene through the validated `configure`; reports the outcome.
-    fn nudge(&mut self, what: &str, f: impl FnOnce(&mut SceneConfig)) {
-        match self.sim.configure(f) {
-            Ok(()) => self.status = (format!("{what} changed"), false),
-            Err(e) => self.status = (format!("rejected: {e}"), true),
+    /// The parameter key `key` changes: a world parameter, or a field of the selected body's
+    /// model (named for that body alone).
+    fn keyed(&self, key: char) -> Option<(String, &'static mpm::params::Field)> {
+        if let Some(f) = WORLD.iter().find(|f| f.key == Some(key)) {
+            return Some((f.field.to_string(), *f));
         }
+        let body = self.pg.scene().bodies.get(self.selected)?;
+        let m = model_index(body.material.kind()).ok()?;
+        let f = MODELS[m].fields.iter().find(|f| f.key == Some(key))?;
+        let name = format!("bodies[{}].{}.{}", self.selected, MODELS[m].id, f.field);
+        Some((name, *f))
     }
 
-    /// Handles a key; `shift` raises instead of lowering.
+    /// Handles a key; `shift` (or an upper-case letter) raises instead of lowering.
     pub fn key(&mut self, code: KeyCode, shift: bool) {
-        let b = self.selected;
-        let up = shift;
-        let factor = if up { 1.25 } else { 0.8 };
         match code {
             KeyCode::Char('q') | KeyCode::Esc => self.quit = true,
             KeyCode::Char(' ') | KeyCode::Char('p') => {
@@ -155,20 +167,19 @@ impl App {
             }
             KeyCode::Char('s') | KeyCode::Char('.') => {
                 self.paused = true;
-                self.step_once();
+                if let Err(e) = self.pg.step(clock(Instant::now())) {
+                    self.stopped(e);
+                }
             }
             KeyCode::Char('r') => self.reset(false),
             KeyCode::Char('R') => self.reset(true),
             KeyCode::Tab => {
-                let n = self.sim.scene().bodies.len().max(1);
+                let n = self.pg.body_count().max(1);
                 self.selected = (self.selected + 1) % n;
             }
             KeyCode::Char('m') => {
-                self.colouring = match self.colouring {
-                    Colouring::Body => Colouring::PlasticStrain,
-                    Colouring::PlasticStrain => Colouring::Speed,
-                    Colouring::Speed => Colouring::Body,
-                }
+                let i = COLOURINGS.iter().position(|&c| c == self.colouring);
+                self.colouring = COLOURINGS[i.map_or(0, |i| (i + 1) % COLOURINGS.len())];
             }
             KeyCode::Char('+') => self.speed = (self.speed * 2.0).min(100.0),
             KeyCode::Char('-') => self.speed = (self.speed / 2.0).max(1e-4),
@@ -176,100 +187,38 @@ impl App {
             KeyCode::Right => self.azimuth += 10.0,
             KeyCode::Up => self.elevation = (self.elevation + 10.0).min(89.0),
             KeyCode::Down => self.elevation = (self.elevation - 10.0).max(-89.0),
-            KeyCode::Char('h') | KeyCode::Char('?') => {
-                self.status = (
-                    "e/E Young's modulus, n/N Poisson ratio, y/Y yield stress, f/F friction angle, \
-                     d/D dilatancy, c/C cohesion, a/A FLIP ratio, w/W wall friction, Tab next body, \
-                     m colours, +/- speed, arrows orbit, r reset (R: as in the file)"
-                        .into(),
-                    false,
-                );
-            }
+            KeyCode::Char('h') | KeyCode::Char('?') => self.status = (help(), false),
             KeyCode::Char(ch) => {
-                let key = ch.to_ascii_lowercase();
-                let up = up || ch.is_ascii_uppercase();
-                let factor = if ch.is_ascii_uppercase() {
-                    1.25
-                } else {
-                    factor
-                };
-                let delta = |step: f64| if up { step } else { -step };
-                if b >= self.sim.scene().bodies.len() && key != 'w' {
+                let up = shift || ch.is_ascii_uppercase();
+                let Some((name, field)) = self.keyed(ch.to_ascii_lowercase()) else {
                     return;
-                }
-                match key {
-                    'e' => self.nudge("Young's modulus", |s| {
-                        set_elastic(&mut s.bodies[b].material, |e, _| *e *= factor)
-                    }),
-                    'n' => self.nudge("Poisson ratio", |s| {
-                        set_elastic(&mut s.bodies[b].material, |_, nu| {
-                            *nu = round(*nu + delta(0.02))
-                        })
-                    }),
-                    'y' => self.nudge("yield stress", |s| {
-                        if let Material::VonMises(m) = &mut s.bodies[b].material {
-                            m.yield_stress *= factor;
-                        }
-                    }),
-                    'f' => self.nudge("friction angle", |s| {
-                        if let Material::DruckerPrager(m) = &mut s.bodies[b].material {
-                            m.friction_angle = round(m.friction_angle + delta(2.0));
-                        }
-                    }),
-                    'd' => self.nudge("dilatancy angle", |s| {
-                        if let Material::DruckerPrager(m) = &mut s.bodies[b].material {
-                            m.dilatancy_angle = round(m.dilatancy_angle + delta(2.0));
-                        }
-                    }),
-                    'c' => self.nudge("cohesion", |s| {
-                        if let Material::DruckerPrager(m) = &mut s.bodies[b].material {
-                            m.cohesion = if up {
-                                (m.cohesion * 1.5).max(10.0)
-                            } else if m.cohesion <= 10.0 {
-                                0.0
-                            } else {
-                                m.cohesion / 1.5
-                            };
-                        }
-                    }),
-                    'a' => self.nudge("FLIP ratio", |s| {
-                        let body = &mut s.bodies[b];
-                        body.flip = Some(round(body.flip_ratio() + delta(0.05)));
-                    }),
-                    'w' => self.nudge("wall friction", |s| {
-                        s.boundary.friction = round(s.boundary.friction + delta(0.05));
-                    }),
-                    _ => {}
-                }
+                };
+                let value = self.pg.parameter(&name).unwrap_or(0.0);
+                let next = field.nudge.apply(value, up);
+                self.status = match self.pg.set_parameter(&name, next) {
+                    Ok(()) => (format!("{} changed", field.label), false),
+                    Err(e) => (format!("rejected: {e}"), true),
+                };
             }
             _ => {}
         }
     }
 
     fn reset(&mut self, to_file: bool) {
-        let scene = if to_file {
-            self.original.clone()
+        let done = if to_file {
+            self.pg.reset_to_scene()
         } else {
-            self.sim.scene().clone()
+            self.pg.reset()
         };
-        match AnySimulation::new(scene) {
-            Ok(sim) => {
-                self.sim = sim;
-                self.status = (
-                    if to_file {
-                        "reset to the scene file"
-                    } else {
-                        "reset with the current parameters"
-                    }
-                    .into(),
-                    false,
-                );
-            }
-            Err(e) => self.status = (format!("cannot reset: {e}"), true),
-        }
+        self.status = match done {
+            Ok(()) if to_file => ("reset to the scene file".into(), false),
+            Ok(()) => ("reset with the current parameters".into(), false),
+            Err(e) => (format!("cannot reset: {e}"), true),
+        };
     }
 
-    pub fn draw(&self, f: &mut Frame) {
+    pub fn draw(&mut self, f: &mut Frame) {
+        self.pg.update_colours(self.colouring);
         let [main, side] =
             Layout::horizontal([Constraint::Min(20), Constraint::Length(38)]).areas(f.area());
         let [view, status] =
@@ -304,7 +253,7 @@ impl App {
     }
 
     fn draw_view(&self, f: &mut Frame, area: Rect) {
-        let snap = mpm::io::Snapshot::of(&self.sim);
+        let snap = mpm::io::Snapshot::of(self.pg.simulation());
         let dim = snap.dim;
         let dom = snap.domain;
         let corners: Vec<[f64; 3]> = (0..8usize)
@@ -332,38 +281,26 @@ impl App {
         y1 = cy + per_dot * 2.0 * rows;
 
         let groups = match self.colouring {
-            Colouring::Body => BODY_COLOURS.len(),
+            ColourMode::Body => BODY_COLOURS.len(),
             _ => RAMP.len(),
         };
         let mut buckets: Vec<Vec<(f64, f64)>> = vec![Vec::new(); groups];
-        let max_speed = snap
-            .velocity
-            .iter()
-            .map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
-            .fold(1e-6, f32::max);
-        for i in 0..snap.len() {
-            let p = snap.position[i].map(|x| x as f64);
+        let [_, hi] = self.pg.colour_range();
+        for (&p, &c) in snap.position.iter().zip(self.pg.colours()) {
             let g = match self.colouring {
-                Colouring::Body => snap.body[i] as usize % groups,
-                Colouring::PlasticStrain => bucket(snap.plastic_strain[i] / 0.5, groups),
-                Colouring::Speed => {
-                    let v = snap.velocity[i];
-                    bucket(
-                        (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt() / max_speed,
-                        groups,
-                    )
-                }
+                ColourMode::Body => c as usize % groups,
+                _ => bucket(c / hi.max(1e-9), groups),
             };
-            buckets[g].push(self.project(p, dim));
+            buckets[g].push(self.project(p.map(|x| x as f64), dim));
         }
         let edges: Vec<(usize, usize)> = (0..corners.len())
             .flat_map(|i| (0..corners.len()).map(move |j| (i, j)))
             .filter(|&(i, j)| i < j && (i ^ j).count_ones() == 1)
             .collect();
-        let d = self.sim.diagnostics();
+        let d = self.pg.diagnostics();
         let title = format!(
             " {} · t = {:.3} s{} ",
-            self.sim.scene().name,
+            self.pg.scene().name,
             d.time,
             if self.paused { " · paused" } else { "" }
         );
@@ -386,7 +323,7 @@ impl App {
                 ctx.layer();
                 for (g, pts) in buckets.iter().enumerate() {
                     let color = match self.colouring {
-                        Colouring::Body => BODY_COLOURS[g],
+                        ColourMode::Body => BODY_COLOURS[g],
                         _ => RAMP[g],
                     };
                     ctx.draw(&Points { coords: pts, color });
@@ -396,8 +333,8 @@ impl App {
     }
 
     fn panel(&self) -> Paragraph<'_> {
-        let scene = self.sim.scene();
-        let d = self.sim.diagnostics();
+        let scene = self.pg.scene();
+        let d = self.pg.diagnostics();
         let unit = if scene.dim == 2 { " J/m" } else { " J" };
         let mut lines = vec![
             Line::from(vec![
@@ -413,8 +350,20 @@ impl App {
             Line::from(format!("elastic       {:>10.3e}{unit}", d.elastic)),
             Line::from(format!("dissipated    {:>10.3e}{unit}", d.dissipated())),
             Line::from(""),
-            Line::from(format!("wall friction w/W  {:.2}", scene.boundary.friction)),
         ];
+        let keyed = |f: &mpm::params::Field, v: f64| {
+            let k = f.key.unwrap_or(' ');
+            format!(
+                "{:<4}{k}/{}  {}",
+                f.symbol,
+                k.to_ascii_uppercase(),
+                show(v, f.unit)
+            )
+        };
+        for f in WORLD.iter().filter(|f| f.key.is_some()) {
+            let v = self.pg.parameter(f.field).unwrap_or(0.0);
+            lines.push(Line::from(format!("{}: {}", f.label, keyed(f, v))));
+        }
         for (i, b) in scene.bodies.iter().enumerate() {
             let sel = i == self.selected;
             let head = format!(
@@ -432,29 +381,35 @@ impl App {
             if !sel {
                 continue;
             }
-            let e = b.material.elastic_params();
-            lines.push(Line::from(format!(
-                "  E   e/E  {:.3e} Pa",
-                e.youngs_modulus
-            )));
-            lines.push(Line::from(format!("  ν   n/N  {:.2}", e.poisson_ratio)));
-            match &b.material {
-                Material::VonMises(m) => {
-                    lines.push(Line::from(format!("  σy  y/Y  {:.3e} Pa", m.yield_stress)))
-                }
-                Material::DruckerPrager(m) => {
-                    lines.push(Line::from(format!("  φ   f/F  {:.1}°", m.friction_angle)));
-                    lines.push(Line::from(format!("  ψ   d/D  {:.1}°", m.dilatancy_angle)));
-                    lines.push(Line::from(format!("  c   c/C  {:.3e} Pa", m.cohesion)));
-                }
-                Material::Elastic(_) => {}
+            for p in Param::all().filter(|p| p.applies_to(b) && p.field.key.is_some()) {
+                let v = p.material_value(&b.material, b.flip).unwrap_or(0.0);
+                lines.push(Line::from(format!("  {}", keyed(p.field, v))));
             }
-            lines.push(Line::from(format!("  α   a/A  {:.2}", b.flip_ratio())));
         }
         lines.push(Line::from(""));
         lines.push(Line::from(format!("colours (m): {:?}", self.colouring)).fg(Color::Gray));
         Paragraph::new(lines).block(Block::bordered().title(" mpm play "))
     }
+}
+
+/// The keys, from the parameter table.
+fn help() -> String {
+    let mut keys: Vec<String> = Vec::new();
+    let mut seen = Vec::new();
+    for p in Param::all() {
+        if let Some(k) = p.field.key.filter(|k| !seen.contains(k)) {
+            seen.push(k);
+            keys.push(format!(
+                "{k}/{} {}",
+                k.to_ascii_uppercase(),
+                p.field.label.to_lowercase()
+            ));
+        }
+    }
+    format!(
+        "{}, Tab next body, m colours, +/- speed, arrows orbit, r reset (R: as in the file)",
+        keys.join(", ")
+    )
 }
 
 fn bucket(t: f32, n: usize) -> usize {
@@ -464,24 +419,10 @@ fn bucket(t: f32, n: usize) -> usize {
     ((t.clamp(0.0, 1.0) * n as f32) as usize).min(n - 1)
 }
 
-/// Rounds away binary noise from repeated nudges.
-fn round(x: f64) -> f64 {
-    (x * 1e6).round() / 1e6
-}
-
-/// Edits E and ν of any material.
-fn set_elastic(m: &mut Material, f: impl FnOnce(&mut f64, &mut f64)) {
-    match m {
-        Material::Elastic(p) => f(&mut p.youngs_modulus, &mut p.poisson_ratio),
-        Material::VonMises(p) => f(&mut p.youngs_modulus, &mut p.poisson_ratio),
-        Material::DruckerPrager(p) => f(&mut p.youngs_modulus, &mut p.poisson_ratio),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use mpm::{BodyConfig, Shape};
+    use mpm::{BodyConfig, Material, SceneConfig, Shape};
     use ratatui::Terminal;
     use ratatui::backend::TestBackend;
 
@@ -493,12 +434,11 @@ mod tests {
             Shape::cuboid(&vec![0.2; dim], &vec![0.6; dim]),
             Material::drucker_prager(3.5e5, 0.3, 2200.0, 30.0, 0.0, 0.0),
         ));
-        let sim = AnySimulation::new(scene.clone()).unwrap();
-        App::new(scene, sim, 0.25)
+        App::new(Playground::new(scene).unwrap(), 0.25)
     }
 
     fn friction_angle(app: &App) -> f64 {
-        match &app.sim.scene().bodies[0].material {
+        match &app.pg.scene().bodies[0].material {
             Material::DruckerPrager(m) => m.friction_angle,
             _ => unreachable!(),
         }
@@ -510,9 +450,9 @@ mod tests {
         app.key(KeyCode::Char(' '), false);
         assert!(app.paused);
         app.tick(Duration::from_millis(30));
-        assert_eq!(app.sim.steps(), 0, "paused: no steps");
+        assert_eq!(app.pg.simulation().steps(), 0, "paused: no steps");
         app.key(KeyCode::Char('s'), false);
-        assert_eq!(app.sim.steps(), 1);
+        assert_eq!(app.pg.simulation().steps(), 1);
         app.key(KeyCode::Char('F'), true);
         assert_eq!(friction_angle(&app), 32.0);
         // push φ past 90°: rejected, unchanged, and the message names the field
@@ -529,13 +469,13 @@ mod tests {
             app.status.0
         );
         app.key(KeyCode::Char('r'), false);
-        assert_eq!(app.sim.steps(), 0);
+        assert_eq!(app.pg.simulation().steps(), 0);
         assert!(friction_angle(&app) > 80.0, "reset keeps the parameters");
         app.key(KeyCode::Char('R'), true);
         assert_eq!(friction_angle(&app), 30.0, "R goes back to the file");
         app.key(KeyCode::Char(' '), false);
         app.tick(Duration::from_millis(30));
-        assert!(app.sim.steps() > 0);
+        assert!(app.pg.simulation().steps() > 0);
         app.key(KeyCode::Char('q'), false);
         assert!(app.quit);
     }

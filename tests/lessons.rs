@@ -1,0 +1,278 @@
+//! Every lesson in `lessons/` loads, validates against its scene and runs; and where it is
+//! cheap, the physics its caption claims is checked: the heap at 40° is steeper than at 20°,
+//! a clay column below its yield height stands and one above it slumps, FLIP bounces higher
+//! and runs out further than PIC, the elastic bunny bounces while the clay one stays flat and
+//! the sand one spreads, and the inspected sand particle reaches the Drucker–Prager cone.
+#![cfg(not(target_arch = "wasm32"))]
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
+
+use mpm::lesson::Lesson;
+use mpm::playground::Playground;
+use mpm::{AnySimulation, Material, SceneConfig};
+use std::path::{Path, PathBuf};
+
+fn lessons_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("lessons")
+}
+
+fn load(name: &str) -> (Lesson, SceneConfig) {
+    let path = lessons_dir().join(name);
+    Lesson::load(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// The particle positions of body `b` (x, y, z; z = 0 in 2D).
+fn positions(sim: &AnySimulation, b: usize) -> Vec<[f64; 3]> {
+    fn of<D: mpm::Dim>(s: &mpm::Simulation<D>, b: usize) -> Vec<[f64; 3]> {
+        let x = &s.particles().x;
+        s.bodies()[b]
+            .range()
+            .map(|i| std::array::from_fn(|a| if a < D::DIM { x[i][a] as f64 } else { 0.0 }))
+            .collect()
+    }
+    match sim {
+        AnySimulation::D2(s) => of(s, b),
+        AnySimulation::D3(s) => of(s, b),
+    }
+}
+
+/// Runs a playground for `duration` seconds of simulated time, calling `each` after every
+/// frame of 1/60 s.
+fn run(pg: &mut Playground, duration: f64, mut each: impl FnMut(&Playground)) {
+    let frame: f64 = 1.0 / 60.0;
+    let mut t = 0.0;
+    while t < duration - 1e-9 {
+        let r = pg.frame(frame.min(duration - t), 1e12, || 0.0).unwrap();
+        assert!(pg.failure().is_none());
+        t += r.sim_time;
+        each(pg);
+    }
+}
+
+/// The slope angle (degrees) of a 2D heap's free surface: the top of each 2 cm column of
+/// particles, fitted by a line where it lies between 15 % and 85 % of the heap's height.
+fn heap_angle(p: &[[f64; 3]]) -> f64 {
+    let w = 0.02;
+    let mut tops = std::collections::BTreeMap::<i64, f64>::new();
+    for q in p {
+        let k = (q[0] / w).floor() as i64;
+        let t = tops.entry(k).or_insert(0.0);
+        *t = t.max(q[1]);
+    }
+    let top = tops.values().cloned().fold(0.0, f64::max);
+    let pts: Vec<(f64, f64)> = tops
+        .iter()
+        .map(|(&k, &y)| ((k as f64 + 0.5) * w, y))
+        .filter(|&(_, y)| y > 0.15 * top && y < 0.85 * top)
+        .collect();
+    assert!(pts.len() >= 4, "too few columns on the slope: {pts:?}");
+    let n = pts.len() as f64;
+    let (mx, my) = (
+        pts.iter().map(|p| p.0).sum::<f64>() / n,
+        pts.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    (sxy / sxx).abs().atan().to_degrees()
+}
+
+fn extent(p: &[[f64; 3]], a: usize) -> (f64, f64) {
+    p.iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), q| {
+            (lo.min(q[a]), hi.max(q[a]))
+        })
+}
+
+/// Every file in `lessons/` is a lesson that loads, validates and runs a little; the five of
+/// the classroom issue are there.
+#[test]
+fn every_lesson_loads_validates_and_runs() {
+    let mut names: Vec<String> = std::fs::read_dir(lessons_dir())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".json"))
+        .collect();
+    names.sort();
+    for want in [
+        "friction_angle.json",
+        "yield_stress.json",
+        "pic_flip.json",
+        "three_bunnies.json",
+        "stress_path.json",
+    ] {
+        assert!(names.iter().any(|n| n == want), "lessons/{want} is missing");
+    }
+    for name in &names {
+        let (lesson, scene) = load(name);
+        let mut pg = Playground::new(scene).unwrap();
+        let n = pg.particle_count();
+        assert!(
+            (1000..=60_000).contains(&n),
+            "{name}: {n} particles (a lesson runs live: 10³ to 6·10⁴)"
+        );
+        for p in &lesson.view.params {
+            pg.parameter(p).unwrap();
+        }
+        run(&mut pg, 0.02, |_| {});
+        assert!(pg.diagnostics().nonfinite == 0, "{name}");
+    }
+}
+
+/// The same sand column at 20° runs out further and leaves a flatter heap than at 40°.
+#[test]
+fn friction_angle_sets_the_heap() {
+    let (lesson, scene) = load("friction_angle.json");
+    let mut pg = Playground::new(scene).unwrap();
+    run(&mut pg, lesson.duration, |_| {});
+    let (low, high) = (positions(pg.simulation(), 0), positions(pg.simulation(), 1));
+    let (a20, a40) = (heap_angle(&low), heap_angle(&high));
+    let runout20 = extent(&low, 0).1;
+    let runout40 = 2.4 - extent(&high, 0).0;
+    println!("heap angles {a20:.1}° and {a40:.1}°, run-outs {runout20:.3} and {runout40:.3} m");
+    assert!(a40 > a20 + 5.0, "{a20} {a40}");
+    assert!(
+        a20 > 15.0 && a40 < 40.0,
+        "below the friction angles: {a20} {a40}"
+    );
+    assert!(runout20 > 1.1 * runout40, "{runout20} {runout40}");
+}
+
+/// Below its yield height Hy = 2σy/(√3ρg) a clay column stands; above it, its foot squeezes
+/// out and it sinks.
+#[test]
+fn a_clay_column_stands_below_its_yield_height_and_slumps_above() {
+    let (lesson, scene) = load("yield_stress.json");
+    let Material::VonMises(m) = &scene.bodies[0].material else {
+        panic!("von Mises columns")
+    };
+    let hy = 2.0 * m.yield_stress / (3f64.sqrt() * m.density * 9.81);
+    let mut pg = Playground::new(scene.clone()).unwrap();
+    let before: Vec<_> = (0..2).map(|b| positions(pg.simulation(), b)).collect();
+    run(&mut pg, lesson.duration, |_| {});
+    for (b, want) in [(0, 0.8), (1, 1.3)] {
+        let p0 = &before[b];
+        let p = positions(pg.simulation(), b);
+        let (h0, h) = (extent(p0, 1).1, extent(&p, 1).1);
+        let w0 = extent(p0, 0).1 - extent(p0, 0).0;
+        let w = extent(&p, 0).1 - extent(&p, 0).0;
+        let ratio = (h0 + 0.005) / hy;
+        println!(
+            "column {b}: H/Hy = {ratio:.2}, height {h0:.3} → {h:.3} m, width {w0:.3} → {w:.3} m"
+        );
+        assert!((ratio - want).abs() < 0.02, "{ratio}");
+        if want < 1.0 {
+            assert!(h > 0.97 * h0 && w < 1.05 * w0, "stands: {h} {w}");
+        } else {
+            assert!(h < 0.96 * h0 && w > 1.2 * w0, "slumps: {h} {w}");
+        }
+    }
+    // The caption's slider: at 2 kPa the left column is above its yield height too.
+    let mut pg = Playground::new(scene).unwrap();
+    pg.set_parameter("von_mises.yield_stress", 2000.0).unwrap();
+    run(&mut pg, lesson.duration, |_| {});
+    let p = positions(pg.simulation(), 0);
+    let w = extent(&p, 0).1 - extent(&p, 0).0;
+    let w0 = extent(&before[0], 0).1 - extent(&before[0], 0).0;
+    println!("left column at 2 kPa: width {w0:.3} → {w:.3} m");
+    assert!(w > 1.2 * w0, "slumps at 2 kPa: {w}");
+}
+
+/// FLIP (α = 0.6) bounces higher than PIC (α = 0), and its sand runs out about twice as far.
+#[test]
+fn flip_keeps_the_energy_that_pic_loses() {
+    let (lesson, scene) = load("pic_flip.json");
+    let mut pg = Playground::new(scene).unwrap();
+    // The lowest point of each bunny, and how far it rose after it.
+    let mut lowest = [f64::INFINITY; 2];
+    let mut rebound = [0.0f64; 2];
+    run(&mut pg, lesson.duration, |pg| {
+        for b in 0..2 {
+            let y = pg.simulation().body_stats()[b].center_of_mass[1];
+            lowest[b] = lowest[b].min(y);
+            rebound[b] = rebound[b].max(y - lowest[b]);
+        }
+    });
+    let sim = pg.simulation();
+    let pic_runout = extent(&positions(sim, 2), 0).1 - 1.35;
+    let flip_runout = 2.25 - extent(&positions(sim, 3), 0).0;
+    println!("rebounds {rebound:?} m; sand run-outs PIC {pic_runout:.3}, FLIP {flip_runout:.3} m");
+    // At least 10 % higher: measured 0.114 against 0.101 m with the solids' stress updated at
+    // the end of the step, which damps a PIC bounce less than the paper's order did.
+    assert!(rebound[1] > 1.10 * rebound[0], "{rebound:?}");
+    assert!(flip_runout > 1.5 * pic_runout, "{pic_runout} {flip_runout}");
+}
+
+/// The elastic bunny bounces and keeps its shape, the clay one flattens for good, the sand
+/// one spreads lower and wider still.
+#[test]
+fn elastic_plastic_and_granular_bunnies_differ() {
+    let (lesson, scene) = load("three_bunnies.json");
+    let mut pg = Playground::new(scene).unwrap();
+    let before: Vec<_> = (0..3).map(|b| positions(pg.simulation(), b)).collect();
+    let mut lowest = [f64::INFINITY; 3];
+    let mut rebound = [0.0f64; 3];
+    run(&mut pg, lesson.duration, |pg| {
+        for b in 0..3 {
+            let y = pg.simulation().body_stats()[b].center_of_mass[1];
+            lowest[b] = lowest[b].min(y);
+            rebound[b] = rebound[b].max(y - lowest[b]);
+        }
+    });
+    let mut height = [0.0; 3];
+    let mut width = [0.0; 3];
+    for b in 0..3 {
+        let p = positions(pg.simulation(), b);
+        let (y0, y1) = (extent(&before[b], 1), extent(&p, 1));
+        let (x0, x1) = (extent(&before[b], 0), extent(&p, 0));
+        height[b] = (y1.1 - y1.0) / (y0.1 - y0.0);
+        width[b] = (x1.1 - x1.0) / (x0.1 - x0.0);
+    }
+    println!("heights {height:?}, widths {width:?}, rebounds {rebound:?}");
+    assert!(
+        height[0] > 0.9,
+        "the elastic bunny keeps its shape: {height:?}"
+    );
+    assert!(rebound[0] > 0.02, "the elastic bunny bounces: {rebound:?}");
+    assert!(
+        height[1] < 0.85 && rebound[1] < 0.3 * rebound[0],
+        "{height:?} {rebound:?}"
+    );
+    assert!(
+        height[2] < height[1] && width[2] > width[1],
+        "{height:?} {width:?}"
+    );
+}
+
+/// The inspected particle of the collapsing sand reaches the Drucker–Prager cone within a few
+/// hundredths of a second, flows with the sand and stays on the cone.
+#[test]
+fn the_inspected_sand_particle_reaches_the_cone() {
+    let (lesson, scene) = load("stress_path.json");
+    let point = lesson.view.inspect.clone().unwrap();
+    let mut pg = Playground::new(scene).unwrap();
+    let start = positions(pg.simulation(), 0);
+    let nearest = (0..start.len())
+        .min_by(|&a, &b| {
+            let d = |q: &[f64; 3]| (q[0] - point[0]).powi(2) + (q[1] - point[1]).powi(2);
+            d(&start[a]).total_cmp(&d(&start[b]))
+        })
+        .unwrap();
+    let id = pg.stress_point(nearest).unwrap().id;
+    let (mut frames, mut on_cone, mut first) = (0, 0, None);
+    run(&mut pg, lesson.duration, |pg| {
+        let s = pg.stress_point(pg.index_of(id).unwrap()).unwrap();
+        frames += 1;
+        if s.surface.reached(s.p, s.q) {
+            on_cone += 1;
+            first.get_or_insert(pg.time());
+        }
+    });
+    let end = pg.stress_point(pg.index_of(id).unwrap()).unwrap().position;
+    let moved =
+        ((end[0] - start[nearest][0]).powi(2) + (end[1] - start[nearest][1]).powi(2)).sqrt();
+    println!(
+        "on the cone in {on_cone} of {frames} frames, first at {first:?} s; moved {moved:.3} m"
+    );
+    assert!(first.is_some_and(|t| t < 0.1), "{first:?}");
+    assert!(on_cone * 10 >= frames * 8, "{on_cone} of {frames}");
+    assert!(moved > 0.05, "a particle of the flowing sand: {moved}");
+}

@@ -1,0 +1,162 @@
+// The page's controls: the scene picker, 2D/3D, playback, the drop tool's object, material,
+// size and speed, the sliders of the parameter table (the chosen material's and the world's),
+// colours, the click tool, the plots, the link, and the keys.
+
+import { ENERGY_SERIES } from './plots.js';
+import { boundedMax } from './params.js';
+import { SANDBOX } from './scenes.js';
+import { toast } from './hud.js';
+import { el, paramSlider, segmented } from './widgets.js';
+
+const $ = (id) => document.getElementById(id);
+let markObject, markMaterial;
+
+/// Builds the controls once the solver's table is known.
+export function buildControls(app) {
+  const table = app.session.table;
+  $('scene').replaceChildren(...app.scenes.map((s) => el('option', { value: s.base }, s.name)));
+  markObject = segmented($('objects'), table.objects, (id) => pickObject(app, id));
+  markMaterial = segmented($('materials'), table.models, (id) => pickMaterial(app, id, true));
+  $('world-params').replaceChildren(...table.world.map((s) => slider(app, s)));
+  $('energy-legend').replaceChildren(...ENERGY_SERIES.map((s) => el('span', {}, el('i', { style: `background:${s.colour}` }), s.label)));
+
+  $('scene').addEventListener('change', () => {
+    const entry = app.scenes.find((s) => s.base === $('scene').value);
+    app.view.scene = entry ? entry.base : $('scene').value;
+    if (entry && !entry.paths[app.view.dim]) app.view.dim = Object.keys(entry.paths)[0];
+    app.view.size = undefined;
+    app.loadScene(); // a new scene starts with its own parameters
+  });
+  for (const d of ['2', '3'])
+    $(`dim${d}`).addEventListener('click', () => {
+      if (app.view.dim === d) return;
+      app.view.dim = d;
+      app.view.size = undefined;
+      // The parameters changed so far are kept; the drops are not.
+      app.loadScene({ params: app.session.session().params });
+    });
+  $('play').addEventListener('click', () => app.togglePlay());
+  $('step').addEventListener('click', () => app.step());
+  $('reset').addEventListener('click', () => app.reset());
+  $('clear').addEventListener('click', () => app.clear());
+  $('toggle-plots').addEventListener('click', () => {
+    const hidden = document.body.classList.toggle('no-plots');
+    $('toggle-plots').setAttribute('aria-pressed', String(!hidden));
+  });
+  if (window.innerWidth < 1500) {
+    document.body.classList.add('no-plots');
+    $('toggle-plots').setAttribute('aria-pressed', 'false');
+  }
+  $('timescale').addEventListener('change', () => { app.view.time = $('timescale').value; app.updateHash(); });
+  $('colour').addEventListener('change', () => { app.view.colour = $('colour').value; app.updateHash(); });
+  $('share').addEventListener('click', async () => {
+    app.updateHash();
+    try {
+      await navigator.clipboard.writeText(location.href);
+      toast('Link copied: it opens this scene with these parameters and drops the same bodies.');
+    } catch {
+      toast('Copy the address bar: it holds this scene, its parameters and the bodies dropped.');
+    }
+  });
+  for (const b of document.querySelectorAll('[data-tool]')) b.addEventListener('click', () => pickTool(app, b.dataset.tool));
+  window.addEventListener('keydown', (e) => {
+    if (e.target.closest('input, select, textarea') || e.ctrlKey || e.metaKey || e.altKey) return;
+    const k = e.key.toLowerCase();
+    if (k === ' ') { e.preventDefault(); app.togglePlay(); }
+    else if (k === 's') app.step();
+    else if (k === 'r') app.reset();
+    else if (k === 'd') pickTool(app, 'drop');
+    else if (k === 'i') pickTool(app, 'inspect');
+  });
+  window.addEventListener('hashchange', () => app.loadFromHash());
+}
+
+/// A slider for parameter `spec` of the table, registered in `app.sliders`.
+function slider(app, spec) {
+  const w = paramSlider({ ...spec }, (v) => app.applyParam(spec.name, v));
+  w.spec = spec;
+  app.sliders.set(spec.name, w);
+  return w.root;
+}
+
+/// Shows the state: the sliders' values (`values`: also after a reset or a new scene), their
+/// bounds that depend on other parameters (ψ ≤ φ), the pickers, playback and the tool.
+export function syncControls(app, values = true) {
+  const current = app.session.parameters();
+  for (const [name, w] of app.sliders) {
+    if (values && name in current) w.set(current[name]);
+    if (w.spec.at_most) w.setMax(boundedMax(w.spec, current));
+  }
+  $('colour').value = app.view.colour;
+  $('timescale').value = app.view.time;
+  const entry = app.scenes.find((s) => s.base === app.view.scene);
+  if (!entry && app.view.scene.endsWith('.json')) {
+    // A scene file given by path in the link: list it too.
+    const select = $('scene');
+    if (![...select.options].some((o) => o.value === app.view.scene))
+      select.append(el('option', { value: app.view.scene }, app.view.scene.split('/').pop()));
+    select.value = app.view.scene;
+  } else $('scene').value = entry ? entry.base : SANDBOX;
+  for (const d of ['2', '3']) {
+    const b = $(`dim${d}`);
+    b.setAttribute('aria-pressed', String(app.view.dim === d));
+    b.disabled = !!entry && !entry.paths[d];
+  }
+  markObject(app.view.object);
+  if (values) pickMaterial(app, app.view.material, false);
+  pickTool(app, app.tool);
+  $('play').textContent = app.playing ? 'Pause' : 'Play';
+}
+
+function pickTool(app, tool) {
+  app.tool = tool;
+  for (const b of document.querySelectorAll('[data-tool]')) b.setAttribute('aria-pressed', String(b.dataset.tool === tool));
+  $('hint').textContent = tool === 'drop'
+    ? (app.domain.length === 3 ? 'Click on the floor to drop' : 'Click in the box to drop')
+    : 'Click a particle to inspect its stress';
+}
+
+function pickObject(app, id) {
+  app.view.object = id;
+  markObject(id);
+  app.updateHash();
+}
+
+/// Shows the sliders of material model `id` (the page's choice for the next drop, too).
+function pickMaterial(app, id, user) {
+  app.view.material = id;
+  markMaterial(id);
+  const table = app.session.table;
+  const m = table.models.find((x) => x.id === id);
+  $('material-title').textContent = `Material: ${m.label}`;
+  $('material-note').textContent = `${m.hint}. Applies to every ${m.label.toLowerCase()} body and to the next one you drop.`;
+  for (const key of [...app.sliders.keys()]) if (app.sliders.get(key).spec.model) app.sliders.delete(key);
+  $('material-params').replaceChildren(...table.ofModel(id).map((s) => slider(app, s)));
+  const current = app.session.parameters();
+  for (const [name, w] of app.sliders) {
+    if (!w.spec.model) continue;
+    w.set(current[name]);
+    if (w.spec.at_most) w.setMax(boundedMax(w.spec, current));
+  }
+  if (user) app.updateHash();
+}
+
+/// The drop tool's size and speed sliders, for the scene just loaded.
+export function buildDropControls(app) {
+  const [lo, hi] = app.sizeRange;
+  const size = paramSlider({ name: 'drop.size', label: 'Size', symbol: 'L', unit: 'm', min: +lo.toPrecision(2), max: +hi.toPrecision(2), step: 0.01 }, (v) => {
+    const error = app.session.checkSize(v);
+    if (error) return error;
+    app.size = v;
+    app.updateHash();
+    return '';
+  });
+  size.set(app.size);
+  const speed = paramSlider({ name: 'drop.speed', label: 'Drop speed', symbol: 'v', unit: 'm/s', min: 0, max: 10, step: 0.1 }, (v) => {
+    if (!(v >= 0 && v <= 50)) return `drop speed = ${v}: must be in [0, 50] (m/s)`;
+    app.dropSpeed = v;
+    return '';
+  });
+  speed.set(app.dropSpeed);
+  $('drop-params').replaceChildren(size.root, speed.root);
+}

@@ -1,0 +1,118 @@
+// What the page tells the user over the view: the HUD of figures, the colour legend, banners
+// (warnings that stay while they hold) and toasts (messages that fade).
+
+import { BODY_COLOURS, YIELD_COLOURS, YIELD_LABELS, css, viridis } from './colours.js';
+import { format, formatTime } from './params.js';
+import { el } from './widgets.js';
+
+const $ = (id) => document.getElementById(id);
+
+let toastTimer = 0;
+/// A message that fades after a few seconds.
+export function toast(msg) {
+  const t = $('toast');
+  t.textContent = msg;
+  t.classList.add('show');
+  clearTimeout(toastTimer);
+  toastTimer = setTimeout(() => t.classList.remove('show'), 3500);
+}
+
+const banners = new Map();
+/// Shows banner `key` (kind 'warn' or 'bad') with `html` and an optional button
+/// `action` {label, run}; without `html`, removes it.
+export function banner(key, kind, html, action) {
+  if (!html) {
+    banners.get(key)?.remove();
+    banners.delete(key);
+    return;
+  }
+  let b = banners.get(key);
+  if (!b) {
+    b = el('div', { class: `banner ${kind}` });
+    banners.set(key, b);
+    $('banners').append(b);
+  }
+  b.className = `banner ${kind}`;
+  b.replaceChildren();
+  b.append(html);
+  if (action) b.append(el('button', { onclick: action.run }, action.label));
+}
+
+/// Warns when a parameter value makes the simulation run in slow motion (prediction `p`
+/// against `before`, the current value's), when the CFL number is near the stability limit,
+/// and when FLIP ratios risk energy gain (see `warnFlip`).
+export function warnCost(spec, value, p, before, session) {
+  const slower = p.substeps_per_frame > 1.5 * before.substeps_per_frame;
+  const slow = p.realtime_ratio > 0 && p.realtime_ratio < 0.25;
+  if (p.valid && slower && slow) {
+    banner('slow', 'warn', `${spec.label} ${format(value, spec.unit)} needs ${Math.round(p.substeps_per_frame)} steps per frame ` +
+      `(time step ${formatTime(p.stable_dt)}): expect slow motion, about ${(100 * p.realtime_ratio).toPrecision(2)} % of real time. ` +
+      'Each frame stops at its time budget, so the page stays responsive.');
+  } else if (!slow) banner('slow'); // fast enough again
+  const cfl = session.parameter('cfl');
+  banner('cfl', 'warn', cfl > 0.6
+    ? `CFL number ${cfl}: steps this close to the stability limit can make fast impacts jitter or blow up; 0.3–0.5 is safe.`
+    : '');
+  warnFlip(session);
+}
+
+/// FLIP ratios above 0.6 with the linear or GIMP kernel can add energy when an elastic or
+/// von Mises body hits a wall or another body (docs/stability.md): say so.
+export function warnFlip(session) {
+  const scene = session.scene;
+  const risky = scene.kernel !== 'quadratic_bspline' && ['elastic', 'von_mises'].filter((m) =>
+    scene.bodies.some((b) => m in b.material) && session.parameter(`${m}.flip`) > 0.6);
+  banner('flip', 'warn', risky && risky.length
+    ? `FLIP ratio above 0.6 for ${risky.join(' and ')} bodies with the ${scene.kernel} kernel: impacts on walls and between bodies can add energy ` +
+      '(bounces grow). Up to 0.6 is safe; the quadratic B-spline kernel is safe at any ratio.'
+    : '');
+}
+
+/// The HUD: `rows` [[label, value]]; the `sim / real` value is marked slow when `slow`.
+export function hud(rows, slow) {
+  $('hud').replaceChildren(...rows.flatMap(([k, v]) => [
+    el('span', { class: 'k' }, k),
+    el('span', {
+      class: `v${k === 'sim / real' && slow ? ' slow' : ''}`,
+      'data-hud': k,
+      title: k === 'sim / real' && slow ? 'Slow motion: each frame reached its time budget before it simulated a frame of time' : '',
+    }, v),
+  ]));
+}
+
+/// The HUD's rows from the frame statistics `st`, diagnostics `d` and the rest.
+export function hudRows(st, d, { particles, playing, stableDt, time, renderer, quality }) {
+  return [
+    ['fps', st.fps.toFixed(0)],
+    ['particles', particles.toLocaleString('en')],
+    ['steps / frame', String(st.substeps)],
+    ['dt', formatTime(d.dt || stableDt)],
+    ['CFL', (d.cfl || 0).toFixed(2)],
+    ['ms / step', st.msPerStep ? st.msPerStep.toPrecision(3) : '–'],
+    ['sim / real', playing ? `${st.ratio.toFixed(2)}${st.fellBehind ? ' slow' : ''}` : 'paused'],
+    ['sim time', formatTime(time)],
+    ['renderer', `${renderer.replace(/ \(.*\)$/, '')}${quality ? `, ${quality}` : ''}`],
+  ];
+}
+
+/// The legend of colour mode `mode`: the bodies of `scene`, the yield states, or a ramp over
+/// `range`.
+export function legend(mode, scene, range) {
+  const box = $('legend');
+  if (mode === 'body') {
+    box.replaceChildren(...scene.bodies.slice(0, 8).map((b, i) =>
+      el('span', { class: 'sw' }, el('i', { style: `background:${css(BODY_COLOURS[i % BODY_COLOURS.length])}` }), b.name || `body ${i + 1}`)));
+    if (!scene.bodies.length) box.textContent = 'no bodies yet: drop one';
+    return;
+  }
+  if (mode === 'yield') {
+    box.replaceChildren(...YIELD_LABELS.map((l, i) => el('span', { class: 'sw' }, el('i', { style: `background:${css(YIELD_COLOURS[i])}` }), l)));
+    return;
+  }
+  const [unit, title] = { speed: ['m/s', 'speed'], pressure: ['Pa', 'pressure p'], plastic_strain: ['', 'plastic strain'] }[mode];
+  const stops = Array.from({ length: 9 }, (_, i) => css(viridis(i / 8))).join(', ');
+  box.replaceChildren(
+    el('div', {}, title),
+    el('div', { class: 'ramp', style: `background: linear-gradient(90deg, ${stops})` }),
+    el('div', { class: 'ends' }, el('span', {}, format(range[0], unit)), el('span', {}, format(range[1], unit))));
+}

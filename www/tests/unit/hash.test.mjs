@@ -1,0 +1,49 @@
+// The link's format (www/js/hash.js), without a browser: `node --test www/tests/unit/`.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { formatDrop, formatHash, parseDrop, readHash } from '../../js/hash.js';
+
+const NAMES = ['gravity', 'cfl', 'drucker_prager.friction_angle', 'elastic.youngs_modulus'];
+
+test('a hash written is read back: view, parameters in order, Clear and drops', () => {
+  const view = { scene: 'sandbox', dim: '2', colour: 'speed', size: 0.25 };
+  const session = {
+    params: [['drucker_prager.friction_angle', 25], ['gravity', 9.81], ['elastic.youngs_modulus', 123456789]],
+    cleared: true,
+    drops: [
+      { t: 0.0412, object: 'ball', material: 'elastic', size: 0.25, centre: [0.8, 0.55, 0.5], velocity: [0, 0, 0], applied_at: 0.04123 },
+      { t: 1.5, object: 'box', material: 'von_mises', size: 0.1, centre: [1.2, 0.4], velocity: [0, -2.5] },
+    ],
+  };
+  const hash = formatHash(view, session);
+  assert.equal(hash, '#scene=sandbox&dim=2&colour=speed&size=0.25&drucker_prager.friction_angle=25&gravity=9.81' +
+    '&elastic.youngs_modulus=123457000&cleared=1&drop=0.0412:ball:elastic:0.25:0.8,0.55,0.5&drop=1.5:box:von_mises:0.1:1.2,0.4:0,-2.5');
+  const back = readHash(hash, NAMES);
+  assert.deepEqual(back.errors, []);
+  assert.deepEqual(back.view, { scene: 'sandbox', dim: '2', colour: 'speed', size: '0.25' });
+  assert.deepEqual(back.session.params, [['drucker_prager.friction_angle', 25], ['gravity', 9.81], ['elastic.youngs_modulus', 123457000]]);
+  assert.equal(back.session.cleared, true);
+  const { applied_at, ...first } = session.drops[0];
+  assert.ok(applied_at > 0);
+  assert.deepEqual(back.session.drops, [first, session.drops[1]]);
+});
+
+test('malformed and unknown entries are named, never thrown', () => {
+  const { session, errors } = readHash('#gravity=abc&warp=9&cfl=0.3&drop=ball:oops&drop=0:ball:elastic:0.2:0.5,x&drop=-1:ball:elastic:0.2:0.5,0.5', NAMES);
+  assert.deepEqual(session.params, [['cfl', 0.3]]);
+  assert.deepEqual(session.drops, []);
+  assert.equal(errors.length, 5);
+  assert.match(errors[0], /^gravity=abc: not a number/);
+  assert.match(errors[1], /^warp=9: not a setting/);
+  assert.match(errors[2], /^drop=ball:oops: 2 fields, expected TIME:OBJECT/);
+  assert.match(errors[3], /centre “x” is not a number/);
+  assert.match(errors[4], /time -1 is negative/);
+});
+
+test('a drop entry: the velocity is left out when zero, numbers in their shortest form', () => {
+  const d = parseDrop('0.5:bunny:drucker_prager:0.3:1,0.5,0.25');
+  assert.deepEqual(d, { t: 0.5, object: 'bunny', material: 'drucker_prager', size: 0.3, centre: [1, 0.5, 0.25], velocity: [0, 0, 0] });
+  assert.equal(formatDrop(d), '0.5:bunny:drucker_prager:0.3:1,0.5,0.25');
+  assert.equal(formatDrop({ ...d, velocity: [0, -1e-7, 0] }), '0.5:bunny:drucker_prager:0.3:1,0.5,0.25:0,-1e-7,0');
+  assert.throws(() => parseDrop('0:ball:elastic:0.2:0.5,0.5:1,2,3'), /the centre has 2 components, the velocity 3/);
+});
