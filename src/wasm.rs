@@ -58,6 +58,16 @@ pub fn parameter_table() -> String {
     }))
 }
 
+/// The quality levels, as JSON `{"levels": [{id, label, hint, cell_factor, min_particles}, …],
+/// "default": id}`: the resolutions a scene can be sampled at (see `Playground.setQuality`).
+#[wasm_bindgen(js_name = qualityLevels)]
+pub fn quality_levels() -> String {
+    json(&serde_json::json!({
+        "levels": crate::playground::QUALITIES,
+        "default": crate::playground::DEFAULT_QUALITY,
+    }))
+}
+
 /// A simulation with its presets, live parameters and render buffers.
 #[wasm_bindgen]
 pub struct Playground {
@@ -69,16 +79,28 @@ pub struct Playground {
 impl Playground {
     /// Builds a playground from scene JSON (the scene-file format of the CLI) and, when the
     /// scene references files (see `assetPaths`), a JSON object of their texts keyed by the
-    /// paths as written in the scene.
+    /// paths as written in the scene, sampled at quality level `quality` (see
+    /// `qualityLevels`; the default level when absent).
     #[wasm_bindgen(constructor)]
-    pub fn new(scene_json: &str, assets_json: Option<String>) -> Result<Playground, JsError> {
+    pub fn new(
+        scene_json: &str,
+        assets_json: Option<String>,
+        quality: Option<String>,
+    ) -> Result<Playground, JsError> {
         let assets: HashMap<String, String> = match assets_json {
             Some(text) => serde_json::from_str(&text)
                 .map_err(|e| js_err(format!("assets: {e} (want {{\"path\": \"text\"}})")))?,
             None => HashMap::new(),
         };
         Ok(Playground {
-            core: Core::from_json_with_assets(scene_json, &assets).map_err(js_err)?,
+            core: Core::load(
+                scene_json,
+                &assets,
+                quality
+                    .as_deref()
+                    .unwrap_or(crate::playground::DEFAULT_QUALITY),
+            )
+            .map_err(js_err)?,
             colour: ColourMode::Body,
         })
     }
@@ -172,6 +194,21 @@ impl Playground {
     /// substeps_per_frame, realtime_ratio), without applying it.
     pub fn predict(&self, name: &str, value: f64, frame_time: f64) -> String {
         json(&self.core.predict(name, value, frame_time))
+    }
+
+    /// The quality level and resolution the scene is sampled at, as JSON: `quality` (the level's
+    /// id), `cell_size`, `scene_cell_size` (m), `particles_per_cell`, and `accuracy`, the
+    /// validation errors at that resolution (bar_period, bar_l2, column_runout, column_height,
+    /// resting_settlement: relative errors).
+    pub fn quality(&self) -> String {
+        json(self.core.quality())
+    }
+    /// Samples the scene again at quality level `quality` and starts it again with the session
+    /// so far (parameters, Clear, drops at their times); returns JSON `[{drop, error}, …]`, the
+    /// drops refused at the new resolution. Throws for an unknown level, state unchanged.
+    #[wasm_bindgen(js_name = setQuality)]
+    pub fn set_quality(&mut self, quality: &str) -> Result<String, JsError> {
+        Ok(json(&self.core.set_quality(quality).map_err(js_err)?))
     }
 
     /// Adds an object (`bunny`, `ball`, `box`) of a preset material (`elastic`, `von_mises`,
@@ -310,6 +347,11 @@ impl Playground {
     #[wasm_bindgen(js_name = indexOf)]
     pub fn index_of(&self, id: u32) -> Option<usize> {
         self.core.index_of(id)
+    }
+    /// The index of the particle nearest `point` (m), or undefined when there is none.
+    #[wasm_bindgen(js_name = nearestParticle)]
+    pub fn nearest_particle(&self, point: &[f64]) -> Result<Option<usize>, JsError> {
+        self.core.nearest_particle(point).map_err(js_err)
     }
     /// Particle `index`'s stress in p–q space and its body's yield surface, as JSON.
     #[wasm_bindgen(js_name = stressPoint)]

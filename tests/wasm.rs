@@ -79,8 +79,8 @@ fn every_scene_steps_with_finite_bounded_energy() {
             })
             .collect();
         let assets = (!assets.is_empty()).then(|| serde_json::Value::Object(assets).to_string());
-        let mut pg =
-            Playground::new(&text, assets).unwrap_or_else(|e| panic!("{path}: {}", message(e)));
+        let mut pg = Playground::new(&text, assets, None)
+            .unwrap_or_else(|e| panic!("{path}: {}", message(e)));
         assert!(pg.particle_count() > 0, "{path}");
         let d0 = diag(&pg);
         let e0 = d0.kinetic + d0.gravitational + d0.elastic;
@@ -128,9 +128,13 @@ fn a_missing_asset_is_named() {
         mpm::wasm::asset_paths(&text).unwrap(),
         vec!["bunny.obj".to_string()]
     );
-    let e = message(Playground::new(&text, None).err().unwrap());
+    let e = message(Playground::new(&text, None, None).err().unwrap());
     assert!(e.contains("bunny.obj"), "{e}");
-    let e = message(Playground::new(&text, Some("[1, 2]".into())).err().unwrap());
+    let e = message(
+        Playground::new(&text, Some("[1, 2]".into()), None)
+            .err()
+            .unwrap(),
+    );
     assert!(e.starts_with("assets: "), "{e}");
 }
 
@@ -228,7 +232,7 @@ fn every_live_parameter_is_validated_with_the_state_unchanged() {
     for dim in [2, 3] {
         let text =
             read_file_sync(&format!("{ROOT}/www/test-scenes/drop_{dim}d.json"), "utf8").unwrap();
-        let mut pg = Playground::new(&text, None).unwrap();
+        let mut pg = Playground::new(&text, None, None).unwrap();
         pg.frame(0.01, 1e9).unwrap();
         for &(name, good, bad, error) in PARAMETERS {
             pg.set_parameter(name, good)
@@ -260,7 +264,7 @@ fn every_live_parameter_is_validated_with_the_state_unchanged() {
 #[wasm_bindgen_test]
 fn bodies_are_added_and_cleared() {
     for dim in [2usize, 3] {
-        let mut pg = Playground::new(&mpm::wasm::sandbox_scene(dim), None).unwrap();
+        let mut pg = Playground::new(&mpm::wasm::sandbox_scene(dim), None, None).unwrap();
         assert_eq!(pg.particle_count(), 0);
         let obj = read_file_sync(&format!("{ROOT}/scenes/bunny.obj"), "utf8").unwrap();
         let polygon = read_file_sync(&format!("{ROOT}/scenes/bunny2d.txt"), "utf8").unwrap();
@@ -378,7 +382,7 @@ fn the_parameter_table_and_a_session_cross_as_json() {
     assert_eq!(table["models"][2]["id"], "drucker_prager");
     assert_eq!(table["objects"][0]["id"], "bunny");
 
-    let mut pg = Playground::new(&mpm::wasm::sandbox_scene(2), None).unwrap();
+    let mut pg = Playground::new(&mpm::wasm::sandbox_scene(2), None, None).unwrap();
     pg.set_parameter("gravity", 4.0).unwrap();
     pg.drop_at("box", "von_mises", &[1.0, 0.5], 0.5, 0.3)
         .unwrap();
@@ -386,7 +390,7 @@ fn the_parameter_table_and_a_session_cross_as_json() {
     pg.drop_at("ball", "elastic", &[0.5, 0.5], 0.0, 0.2)
         .unwrap();
     let session = pg.session();
-    let mut again = Playground::new(&mpm::wasm::sandbox_scene(2), None).unwrap();
+    let mut again = Playground::new(&mpm::wasm::sandbox_scene(2), None, None).unwrap();
     let out: serde_json::Value = serde_json::from_str(&again.replay(&session).unwrap()).unwrap();
     assert_eq!(out, serde_json::json!({"rejected": [], "refused": []}));
     // The first drop lands at once (the box is empty, its time stands still), the second when
@@ -409,6 +413,64 @@ fn the_parameter_table_and_a_session_cross_as_json() {
     assert_eq!(again.scene_json(), pg.scene_json());
     let e = message(again.replay("{\"drops\": 3}").unwrap_err());
     assert!(e.starts_with("session: "), "{e}");
+}
+
+/// The quality levels cross as JSON; a playground opens at the default level, re-samples at
+/// another (the particles scale as the lattice does), records it in the session, and refuses an
+/// unknown level with the state unchanged. A particle picked where it was drawn is found again.
+#[wasm_bindgen_test]
+fn quality_levels_resample_the_scene() {
+    let levels: serde_json::Value = serde_json::from_str(&mpm::wasm::quality_levels()).unwrap();
+    let ids: Vec<&str> = levels["levels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| l["id"].as_str().unwrap())
+        .collect();
+    assert_eq!(ids, ["live", "balanced", "fine"]);
+    assert_eq!(levels["default"], "live");
+    let text =
+        read_file_sync(&format!("{ROOT}/scenes/notched_sand_block_2d.json"), "utf8").unwrap();
+    let mut pg = Playground::new(&text, None, None).unwrap();
+    let q: serde_json::Value = serde_json::from_str(&pg.quality()).unwrap();
+    assert_eq!(q["quality"], "live");
+    let (h, h0) = (
+        q["cell_size"].as_f64().unwrap(),
+        q["scene_cell_size"].as_f64().unwrap(),
+    );
+    let ppc = q["particles_per_cell"].as_f64().unwrap();
+    assert!(h > h0 && h <= 2.0 * h0 + 1e-12, "{q}");
+    assert!(q["accuracy"]["column_runout"].as_f64().unwrap().is_finite());
+    let live = pg.particle_count();
+    pg.frame(0.01, 1e9).unwrap();
+    let e = message(pg.set_quality("ultra").unwrap_err());
+    assert_eq!(e, "quality = ultra: must be one of live, balanced, fine");
+    assert_eq!(pg.particle_count(), live);
+    assert_eq!(pg.set_quality("fine").unwrap(), "[]");
+    let fine = pg.particle_count();
+    let want = (ppc / 2.0 * h0 / h).powi(2);
+    assert!(
+        (live as f64 / fine as f64 / want - 1.0).abs() < 0.1,
+        "{live} / {fine}, want {want}"
+    );
+    assert_eq!(pg.time(), 0.0);
+    let session: serde_json::Value = serde_json::from_str(&pg.session()).unwrap();
+    assert_eq!(session["quality"], "fine");
+    // Picking: the particle nearest a drawn position is that particle.
+    let stride = pg.positions_stride();
+    let memory: js_sys::WebAssembly::Memory = wasm_bindgen::memory().unchecked_into();
+    let view = js_sys::Float32Array::new_with_byte_offset_and_length(
+        &memory.buffer(),
+        pg.positions_ptr() as u32,
+        pg.positions_len() as u32,
+    );
+    let i = 1234;
+    let at = [
+        view.get_index((i * stride) as u32) as f64,
+        view.get_index((i * stride + 1) as u32) as f64,
+    ];
+    assert_eq!(pg.nearest_particle(&at).unwrap(), Some(i));
+    assert!(pg.nearest_particle(&[0.5]).is_err());
 }
 
 /// The wasm build computes stencils in four SIMD lanes (`kernel::F4`); they must equal, bit
@@ -465,7 +527,7 @@ fn simd_stencils_equal_the_scalar_kernel_bit_for_bit() {
 #[wasm_bindgen_test]
 fn a_saved_scene_replays_the_drops() {
     let scene = read_file_sync(&format!("{ROOT}/scenes/column_collapse_2d.json"), "utf8").unwrap();
-    let mut pg = Playground::new(&scene, None).unwrap();
+    let mut pg = Playground::new(&scene, None, None).unwrap();
     pg.set_parameter("drucker_prager.friction_angle", 28.0)
         .unwrap();
     pg.frame(0.02, 1e9).unwrap();
@@ -479,7 +541,7 @@ fn a_saved_scene_replays_the_drops() {
         v["bodies"][0]["material"]["drucker_prager"]["friction_angle"],
         28.0
     );
-    let mut again = Playground::new(&saved, None).unwrap();
+    let mut again = Playground::new(&saved, None, None).unwrap();
     assert_eq!((again.body_count(), again.particle_count() > 0), (2, true));
     let before = again.particle_count();
     again.frame(t + 0.001, 1e9).unwrap();

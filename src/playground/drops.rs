@@ -50,12 +50,16 @@ impl DroppedBody {
     }
 }
 
-/// What a session adds to its scene, in the order it happened: parameters set, whether the
-/// scene's own bodies were cleared, and the drops after that. A front end keeps it (the page
+/// What a session adds to its scene, in the order it happened: the quality level it is
+/// sampled at, parameters set, whether the scene's own bodies were cleared, and the drops after
+/// that. A front end keeps it (the page
 /// in its URL hash) and gives it back to [`super::Playground::replay`] to repeat the session.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Replay {
+    /// The quality level (see [`super::QUALITIES`]); absent: the playground's as it is.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub quality: Option<String>,
     /// `[name, value]` in the order they were last set.
     #[serde(default)]
     pub params: Vec<(String, f64)>,

@@ -9,17 +9,27 @@
 //!   model and to the preset that new bodies of that model are made of.
 //! - The session is recorded as a [`Replay`] (parameters set, Clear, bodies dropped with their
 //!   simulated times), which a front end keeps and gives back to repeat it.
+//! - The scene is sampled at a quality level ([`QUALITIES`]): the scene file as written
+//!   (`fine`, what [`Playground::new`] gives) or coarser cells with enough particles to stay
+//!   recognisable; bodies dropped take the level's particles per cell.
 //! - Particle positions and a per-particle colour scalar are exposed as pointers and lengths
 //!   (f32), so a front end can read them in place.
 
 mod colours;
 mod drops;
+#[cfg(test)]
+mod figures;
 mod objects;
+mod quality;
 mod save;
 
 pub use colours::ColourMode;
 pub use drops::{DroppedBody, Refused, Replay};
 pub use objects::{BunnyAssets, OBJECTS, ObjectInfo, ball_bunny, object_shape};
+pub use quality::{
+    ACCURACY, Accuracy, DEFAULT_QUALITY, MAX_PPC, QUALITIES, Quality, Resolution, accuracy,
+    body_ppc, resample,
+};
 
 use crate::config::{BodyConfig, SceneConfig};
 use crate::error::{Error, Result};
@@ -130,8 +140,11 @@ pub fn asset_paths(scene_json: &str) -> Result<Vec<String>> {
 #[derive(Clone, Debug)]
 pub struct Playground {
     sim: AnySimulation,
-    /// The scene as loaded (for reset).
+    /// The scene as loaded, before re-sampling (for reset and other quality levels).
     initial: SceneConfig,
+    quality: &'static Quality,
+    /// The resolution `initial` was sampled at.
+    resolution: Resolution,
     presets: Presets,
     /// Parameters changed since the scene was loaded, in the order they were last set.
     overrides: Vec<(String, f64)>,
@@ -152,14 +165,7 @@ impl Playground {
     /// A playground over a scene given as JSON, with the text of each file it references
     /// (see [`asset_paths`]) keyed by its path as written in the scene.
     pub fn from_json_with_assets(text: &str, assets: &HashMap<String, String>) -> Result<Self> {
-        let mut scene = SceneConfig::from_json(text)?;
-        scene.resolve_assets(|path| {
-            assets.get(path).cloned().ok_or_else(|| Error::Io {
-                path: path.to_string(),
-                message: "not provided (fetch it beside the scene file)".into(),
-            })
-        })?;
-        Self::new(scene)
+        Self::load(text, assets, Quality::fine().id)
     }
 
     /// Uses the shipped bunny's mesh and silhouette for dropped bunnies.
@@ -167,12 +173,38 @@ impl Playground {
         self.bunny = bunny;
     }
 
-    /// A playground over a scene.
+    /// A playground over a scene given as JSON with the texts of the files it references (see
+    /// [`Self::from_json_with_assets`]), sampled at quality level `quality`.
+    pub fn load(text: &str, assets: &HashMap<String, String>, quality: &str) -> Result<Self> {
+        let q = Quality::find(quality)?;
+        let mut scene = SceneConfig::from_json(text)?;
+        scene.resolve_assets(|path| {
+            assets.get(path).cloned().ok_or_else(|| Error::Io {
+                path: path.to_string(),
+                message: "not provided (fetch it beside the scene file)".into(),
+            })
+        })?;
+        Self::with_quality(scene, q)
+    }
+
+    /// A playground over a scene as written (the `fine` quality level).
     pub fn new(scene: SceneConfig) -> Result<Self> {
-        let sim = AnySimulation::new(scene.clone())?;
+        Self::with_quality(scene, Quality::fine())
+    }
+
+    /// A playground over a scene sampled at quality level `q`.
+    pub fn with_quality(scene: SceneConfig, q: &'static Quality) -> Result<Self> {
+        let (sampled, resolution) = resample(&scene, q, |i, h, ppc| {
+            let mut b = scene.bodies[i].clone();
+            b.particles_per_cell = ppc;
+            Ok(b.sample(&format!("bodies[{i}]"), scene.dim, h)?.0.len())
+        })?;
+        let sim = AnySimulation::new(sampled)?;
         let mut pg = Playground {
             presets: Presets::from_scene(&scene),
             initial: scene,
+            quality: q,
+            resolution,
             sim,
             overrides: Vec::new(),
             drops: Drops::default(),
@@ -478,6 +510,13 @@ impl Playground {
         let mut body = BodyConfig::new(object, shape, self.presets.materials[m].clone())
             .with_velocity(velocity);
         body.flip = self.presets.flip[m];
+        // The quality level's particles per cell, more for a small body (to keep its shape).
+        body.particles_per_cell =
+            body_ppc(self.quality, dim, self.resolution.particles_per_cell, |p| {
+                let mut b = body.clone();
+                b.particles_per_cell = p;
+                Ok(b.sample("body", dim, h)?.0.len())
+            })?;
         Ok(body)
     }
 
@@ -568,12 +607,23 @@ impl Playground {
     /// simulation reaches their times). Returns the parameters refused (with their messages)
     /// and the drops refused so far; everything else applies.
     pub fn replay(&mut self, replay: Replay) -> (Vec<String>, Vec<Refused>) {
-        let rejected = replay
-            .params
-            .iter()
-            .filter_map(|(name, value)| self.set_parameter(name, *value).err())
-            .map(|e| e.to_string())
-            .collect();
+        let mut rejected = Vec::new();
+        if let Some(q) = replay.quality.as_deref().filter(|&q| q != self.quality.id) {
+            match Quality::find(q).and_then(|q| Self::with_quality(self.initial.clone(), q)) {
+                Ok(mut next) => {
+                    next.bunny = std::mem::take(&mut self.bunny);
+                    *self = next;
+                }
+                Err(e) => rejected.push(e.to_string()),
+            }
+        }
+        rejected.extend(
+            replay
+                .params
+                .iter()
+                .filter_map(|(name, value)| self.set_parameter(name, *value).err())
+                .map(|e| e.to_string()),
+        );
         if replay.cleared {
             self.clear();
         }
@@ -584,6 +634,7 @@ impl Playground {
     /// The session so far, as [`Self::replay`] takes it.
     pub fn session(&self) -> Replay {
         Replay {
+            quality: Some(self.quality.id.to_string()),
             params: self.overrides.clone(),
             cleared: self.drops.cleared,
             drops: self.drops.list.clone(),
@@ -601,7 +652,7 @@ impl Playground {
     /// Reloads the scene and applies the parameter overrides again; the drops and a Clear are
     /// forgotten.
     pub fn reset(&mut self) -> Result<()> {
-        let mut next = Playground::new(self.initial.clone())?;
+        let mut next = Playground::with_quality(self.initial.clone(), self.quality)?;
         for (name, value) in &self.overrides {
             // Each was valid when it was set; one that no longer applies is dropped.
             let _ = next.set_parameter(name, *value);
@@ -610,6 +661,48 @@ impl Playground {
         next.bunny = std::mem::take(&mut self.bunny);
         *self = next;
         Ok(())
+    }
+
+    /// `scene` (the simulated one, or built from it) at the resolution of the scene as loaded:
+    /// its cell size and time-step cap, its bodies' particles per cell, the default for bodies
+    /// dropped.
+    fn as_written(&self, scene: &mut SceneConfig) {
+        scene.cell_size = self.initial.cell_size;
+        scene.max_dt = self.initial.max_dt;
+        let own = if self.drops.cleared {
+            &[][..]
+        } else {
+            &self.initial.bodies[..]
+        };
+        // The scene format's default, as a body dropped is written.
+        let dropped = BodyConfig::new(
+            "",
+            crate::Shape::ball(&[0.0; 2], 1.0),
+            Material::elastic(1.0, 0.0, 1.0),
+        )
+        .particles_per_cell;
+        for (i, b) in scene.bodies.iter_mut().enumerate() {
+            b.particles_per_cell = own.get(i).map_or(dropped, |b| b.particles_per_cell);
+        }
+    }
+
+    /// The quality level and the resolution the scene is sampled at.
+    pub fn quality(&self) -> &Resolution {
+        &self.resolution
+    }
+
+    /// Samples the scene again at quality level `quality` and starts it again with the session
+    /// so far: the parameters set, the Clear, and the drops at their times (those the new
+    /// resolution refuses are returned). An unknown level is an error, the state unchanged.
+    pub fn set_quality(&mut self, quality: &str) -> Result<Vec<Refused>> {
+        let q = Quality::find(quality)?;
+        let mut session = self.session();
+        session.quality = None;
+        let mut next = Playground::with_quality(self.initial.clone(), q)?;
+        next.bunny = std::mem::take(&mut self.bunny);
+        let (_, refused) = next.replay(session);
+        *self = next;
+        Ok(refused)
     }
 
     /// Reloads the scene as loaded, forgetting the parameter overrides too.
@@ -691,6 +784,26 @@ impl Playground {
             AnySimulation::D2(s) => s.particles().id.iter().position(|&i| i == id),
             AnySimulation::D3(s) => s.particles().id.iter().position(|&i| i == id),
         }
+    }
+
+    /// The particle nearest `point` (m), if there is any: a front end that picked a particle in
+    /// a frame drawn earlier finds it again by where it was (particles are reordered for
+    /// locality between steps).
+    pub fn nearest_particle(&self, point: &[f64]) -> Result<Option<usize>> {
+        crate::geometry::check_vector("point", point, self.dim(), "m")?;
+        fn nearest<D: Dim>(s: &Simulation<D>, p: &[f64]) -> Option<usize> {
+            let d2 = |x: &D::Vector| {
+                (0..D::DIM)
+                    .map(|a| (x[a] as f64 - p[a]).powi(2))
+                    .sum::<f64>()
+            };
+            let x = &s.particles().x;
+            (0..x.len()).min_by(|&i, &j| d2(&x[i]).total_cmp(&d2(&x[j])))
+        }
+        Ok(match &self.sim {
+            AnySimulation::D2(s) => nearest(s, point),
+            AnySimulation::D3(s) => nearest(s, point),
+        })
     }
 
     /// The stress of particle `index` in p–q space, with its body's yield surface.
@@ -835,7 +948,8 @@ mod tests {
     #[test]
     fn objects_are_kept_inside_and_coloured() {
         for dim in [2, 3] {
-            let mut pg = Playground::new(Playground::sandbox_scene(dim)).unwrap();
+            let live = Quality::find("live").unwrap();
+            let mut pg = Playground::with_quality(Playground::sandbox_scene(dim), live).unwrap();
             for (k, object) in ["bunny", "ball", "box"].into_iter().enumerate() {
                 let c = [0.05 + k as f64, 0.95, 0.5];
                 pg.add_object(object, MODELS[k].id, &c[..dim], &[0.0; 3][..dim], 0.3)
@@ -985,6 +1099,119 @@ mod tests {
             assert_eq!(s.params, [("gravity".to_string(), 5.0)]);
             again.reset_to_scene().unwrap();
             assert_eq!(again.parameter("gravity").unwrap(), 9.81);
+        }
+    }
+
+    /// A quality level re-samples the scene (coarser cells dividing the domain, enough
+    /// particles, the time-step cap with the cells), is part of the session, and switching
+    /// levels starts the scene again with the parameters and the drops so far.
+    #[test]
+    fn quality_levels_resample_the_scene_and_keep_the_session() {
+        let text = read("scenes/column_collapse_2d.json");
+        let none = HashMap::new();
+        let fine = Playground::load(&text, &none, "fine").unwrap();
+        let mut pg = Playground::load(&text, &none, "live").unwrap();
+        let (h0, n0) = (fine.scene().cell_size, fine.particle_count());
+        let r = pg.quality().clone();
+        assert_eq!((r.quality, r.scene_cell_size), ("live", h0));
+        let f = r.cell_size / h0;
+        assert!(f > 1.0 && f <= 2.0 + 1e-9, "{r:?}");
+        for &side in &pg.scene().domain.size {
+            let cells = side / r.cell_size;
+            assert!(
+                (cells - cells.round()).abs() < 1e-6,
+                "{side} / {}",
+                r.cell_size
+            );
+        }
+        assert!((pg.scene().max_dt / fine.scene().max_dt - f).abs() < 1e-9);
+        // The particles: as many as the finer lattice gives, and at least the level's floor.
+        let n = pg.particle_count();
+        let want = n0 as f64 * (r.particles_per_cell as f64 / 2.0 / f).powi(2);
+        assert!(
+            (n as f64 / want - 1.0).abs() < 0.1,
+            "{n} particles, want {want}"
+        );
+        assert!(n >= 2000 && n < n0 * 2, "{n}");
+        // The cheaper to simulate: particles over cell size, against the scene as written.
+        assert!((n as f64 / r.cell_size) < 0.7 * (n0 as f64 / h0));
+        // Saved, the session is the scene as written: opened at a level, it samples as this did.
+        let saved = pg.saved_scene().unwrap();
+        assert_eq!(saved.cell_size, h0);
+        assert_eq!(saved.bodies[0].particles_per_cell, 2);
+        let again = Playground::with_quality(saved, Quality::find("live").unwrap()).unwrap();
+        assert_eq!(again.scene(), pg.scene());
+        let e = Playground::load(&text, &none, "ultra")
+            .err()
+            .unwrap()
+            .to_string();
+        assert_eq!(e, "quality = ultra: must be one of live, balanced, fine");
+
+        pg.set_parameter("gravity", 5.0).unwrap();
+        pg.frame(0.02, 1e9, clock()).unwrap();
+        pg.drop_at("ball", "elastic", &[0.2, 0.3], 0.0, 0.1)
+            .unwrap();
+        let t = pg.session().drops[0].t;
+        let e = pg.set_quality("ultra").unwrap_err().to_string();
+        assert!(e.starts_with("quality = ultra"), "{e}");
+        assert_eq!(pg.body_count(), 2, "unchanged");
+        assert!(pg.set_quality("fine").unwrap().is_empty());
+        assert_eq!(pg.time(), 0.0, "the scene starts again");
+        assert_eq!(pg.particle_count(), n0);
+        assert_eq!(pg.parameter("gravity").unwrap(), 5.0);
+        assert_eq!(pg.session().quality.as_deref(), Some("fine"));
+        assert_eq!(pg.body_count(), 1, "the ball lands again at its time");
+        while pg.body_count() < 2 {
+            pg.frame(0.01, 1e9, clock()).unwrap();
+        }
+        assert!((pg.session().drops[0].applied_at.unwrap() - t).abs() < 1e-9);
+        pg.reset().unwrap();
+        assert_eq!(pg.quality().quality, "fine", "reset keeps the level");
+        // A session replayed on a playground at another level takes the session's.
+        let mut again = Playground::load(&text, &none, "live").unwrap();
+        let (rejected, _) = again.replay(pg.session());
+        assert!(rejected.is_empty(), "{rejected:?}");
+        assert_eq!(
+            (again.quality().quality, again.particle_count()),
+            ("fine", n0)
+        );
+        let mut bad = pg.session();
+        bad.quality = Some("ultra".into());
+        let (rejected, _) = again.replay(bad);
+        assert!(rejected[0].starts_with("quality = ultra"), "{rejected:?}");
+    }
+
+    /// Bodies dropped take the level's resolution, and a small one more particles per cell. An
+    /// empty box keeps its cells (there is nothing to make cheaper).
+    #[test]
+    fn dropped_bodies_take_the_quality_level() {
+        for dim in [2, 3] {
+            let live = Quality::find("live").unwrap();
+            let mut pg = Playground::with_quality(Playground::sandbox_scene(dim), live).unwrap();
+            assert_eq!(
+                pg.quality().cell_size,
+                Playground::sandbox_scene(dim).cell_size
+            );
+            let c = [1.0, 0.5, 0.5];
+            let big = pg
+                .add_object("box", "elastic", &c[..dim], &[0.0; 3][..dim], 0.5)
+                .unwrap();
+            let small = pg
+                .add_object("ball", "elastic", &c[..dim], &[0.0; 3][..dim], 0.15)
+                .unwrap();
+            let bodies = &pg.scene().bodies;
+            assert_eq!(
+                bodies[big].particles_per_cell,
+                pg.quality().particles_per_cell
+            );
+            assert!(bodies[small].particles_per_cell > bodies[big].particles_per_cell);
+            let stats = pg.simulation().body_stats();
+            let least = live.min_body_particles[dim - 2];
+            assert!(
+                stats[small].particles >= least,
+                "{dim}D: {:?}",
+                stats[small]
+            );
         }
     }
 

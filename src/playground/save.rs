@@ -7,7 +7,9 @@ use crate::config::SceneConfig;
 use crate::error::Result;
 
 impl Playground {
-    /// The session as a scene: the world with every parameter as set now; the scene's bodies
+    /// The session as a scene, at the resolution of the scene as written (whatever the quality
+    /// level it is sampled at: opened at a level, the file samples as the session did): the
+    /// world with every parameter as set now; the scene's bodies
     /// (none after a Clear) and each body dropped since, with its materials as set now and its
     /// drop time as `appear_at`, counted from the start of the scene or from the Clear; the
     /// drops of a replay still to come, as the bodies they will be. A parameter changed during
@@ -22,6 +24,7 @@ impl Playground {
             body.appear_at = (d.t > 0.0).then_some(d.t);
             scene.bodies.push(body);
         }
+        self.as_written(&mut scene);
         // The order of appearance (a stable sort: the bodies of the start keep theirs).
         scene
             .bodies

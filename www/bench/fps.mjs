@@ -22,9 +22,9 @@ const errors = [];
 page.on('pageerror', (e) => errors.push(e.message));
 page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
 await page.goto(`${url}#scene=${scene}&dim=3`);
-await page.waitForFunction(() => window.mpm?.pg && mpm.stats.frames > 3, null, { timeout: 120_000 });
+await page.waitForFunction(() => window.mpm?.sim && mpm.stats.frames > 3, null, { timeout: 120_000 });
 const info = await page.evaluate(() => ({
-  particles: mpm.pg.particleCount(),
+  particles: mpm.sim.particles,
   renderer: mpm.renderer.kind,
   gl: (() => {
     const gl = document.getElementById('view').getContext('webgl2');

@@ -1,14 +1,15 @@
 // The page's state and what the user can do with it. What the user chose for the view (scene,
 // dimension, colours, drop tool, time scale: the view part of the link) and the playback
-// live here; the simulation's state (parameters, bodies dropped, Clear) lives in the solver's
-// Playground behind `session` (session.js), which also records it for the link.
+// live here; the simulation's state (quality, parameters, bodies dropped, Clear) lives in the
+// solver's Playground behind `session` (session.js: in a Web Worker), which also records it
+// for the link. Commands to the simulation are asynchronous: an action awaits the answer
+// before it shows the result.
 
 import { banner, toast, warnCost, warnFlip } from './hud.js';
 import { readHash, writeHash, formatDrop } from './hash.js';
 import { LEVELS, QualityGovernor, applyQuality } from './quality.js';
 import { insideBox, nearestParticle } from './pointer.js';
 import { SANDBOX, sceneSource } from './scenes.js';
-import { Session } from './session.js';
 import { buildDropControls, syncControls } from './controls.js';
 
 /// Frames per second the page aims at (the frame's stepping budget and the quality governor).
@@ -22,19 +23,24 @@ export class App {
     this.dropSpeed = 0;
     this.tool = 'drop';
     this.playing = true;
-    this.stepOnce = false;
     this.probeId = null; // the stable id of the inspected particle
     this.sliders = new Map();
-    this.stats = { fps: 0, substeps: 0, msPerStep: 0, ratio: 0, simMs: 0, renderMs: 0, otherMs: 0, fellBehind: false, frames: 0 };
+    this.stats = {
+      fps: 0, substeps: 0, msPerStep: 0, ratio: 0, simMs: 0, renderMs: 0, otherMs: 0, fellBehind: false, frames: 0,
+      stableDt: 0, drawn: [], seen: [],
+    };
     this.timings = []; // per frame, for benchmarks
     this.governor = new QualityGovernor(1000 / TARGET_FPS);
     this.quality = ''; // what the renderer gave up to keep the frame rate
     this.syncRender = false; // benchmarks: wait for the GPU in each frame
   }
 
-  // For tests, benchmarks and curious students (window.mpm).
-  get pg() { return this.session.pg; }
-  get memory() { return this.session.memory; }
+  // For tests, benchmarks and curious students (window.mpm): the simulation's state as the
+  // page last heard it, and the frame drawn last.
+  get sim() { return this.session.state; }
+  get frame() { return this.session.frame; }
+  get simTime() { return this.session.frame?.time ?? 0; }
+  get particleCount() { return this.session.state.particles; }
   get drops() { return this.session.session().drops; }
   get domain() { return this.session.scene.domain.size; }
   get cellSize() { return this.session.scene.cell_size; }
@@ -44,6 +50,17 @@ export class App {
   setQuality(level) {
     this.governor.set(level, performance.now());
     this.quality = applyQuality(this.renderer, level);
+  }
+
+  /// Whether the view changed since this was last asked (camera, size, colours, rendering
+  /// quality, the inspected particle): a frame with no news is then drawn again.
+  viewChanged() {
+    this.camera.matrices(this.canvas.clientWidth, this.canvas.clientHeight);
+    const key = [...this.camera.viewProj, this.canvas.clientWidth, this.canvas.clientHeight,
+      this.view.colour, this.quality, this.probeId, window.devicePixelRatio].join();
+    const changed = key !== this.viewKey;
+    this.viewKey = key;
+    return changed;
   }
 
   /// Records a frame's time outside the simulation; lowers or raises the quality.
@@ -60,14 +77,14 @@ export class App {
     const token = (this.loadToken = (this.loadToken || 0) + 1);
     let source;
     try {
-      source = await sceneSource(this.view.scene, this.view.dim, this.scenes);
+      source = await sceneSource(this.view.scene, this.view.dim, this.scenes, this.session);
     } catch (e) {
       toast(`Cannot load the scene: ${e.message}. Showing the sandbox.`);
       this.view.scene = SANDBOX;
-      source = Session.sandbox(this.view.dim);
+      source = { sandbox: this.view.dim };
     }
     if (token !== this.loadToken) return; // a later choice overtook this one
-    const out = this.session.load(source, this.bunny, session, this.view.dim);
+    const out = await this.session.load(source, session, this.view.dim);
     if (out.invalid) {
       toast(`The scene is invalid: ${out.invalid}`);
       this.view.scene = SANDBOX;
@@ -80,17 +97,47 @@ export class App {
     this.view.dim = String(scene.dim);
     this.camera.setDomain(this.domain);
     this.renderer.setDomain(this.domain);
-    const ppc = scene.bodies.length ? Math.max(...scene.bodies.map((b) => b.particles_per_cell ?? 2)) : 2;
-    this.radius = (0.55 * this.cellSize) / ppc;
     const sizes = this.session.sizeRange();
     this.sizeRange = sizes.offered;
     const sz = Number(this.view.size);
     this.size = Number.isFinite(sz) && sz > 0 ? sz : sizes.default;
     this.restarted();
+    this.session.timeScale(Number(this.view.time));
+    this.session.colour(this.view.colour);
+    this.session.play(this.playing);
     warnFlip(this.session);
     buildDropControls(this);
     syncControls(this);
     this.updateHash();
+  }
+
+  /// The particles' drawn radius: half a particle spacing, a little more (m).
+  get radius() {
+    return (0.55 * this.cellSize) / (this.session.quality?.particles_per_cell ?? 2);
+  }
+
+  /// Samples the scene again at quality level `id` ('live', 'balanced', 'fine'): it starts
+  /// again with the parameters, the Clear and the drops so far.
+  async setQuality(id) {
+    let refused;
+    try {
+      refused = await this.session.setQuality(id);
+    } catch (e) {
+      toast(e.message);
+      syncControls(this, false);
+      return;
+    }
+    const msgs = this.refused(refused);
+    const q = this.session.quality;
+    toast(`${this.qualityLabel(q.quality)}: ${this.session.state.particles.toLocaleString('en')} particles, ` +
+      `cells of ${+(100 * q.cell_size).toPrecision(3)} cm${msgs.length ? `; not dropped: ${msgs.join('; ')}` : ''}`);
+    this.restarted();
+    syncControls(this);
+    this.updateHash();
+  }
+
+  qualityLabel(id) {
+    return this.session.qualities.levels.find((l) => l.id === id)?.label ?? id;
   }
 
   /// Loads what the link says (on the first visit, and when the hash changes).
@@ -114,12 +161,10 @@ export class App {
     writeHash({ ...this.view, size: +this.size.toPrecision(3) }, this.session.session());
   }
 
-  /// Applies a live parameter; returns '' or the solver's error message (state unchanged).
-  applyParam(name, value) {
+  /// Applies a live parameter; resolves to '' or the solver's error message (state unchanged).
+  async applyParam(name, value) {
     const s = this.session;
-    const prediction = s.predict(name, value);
-    const before = s.predict(name, s.parameter(name));
-    const error = s.setParameter(name, value);
+    const { error, prediction, before } = await s.setParameter(name, value);
     if (error) return error;
     warnCost(s.table.spec(name), value, prediction, before, s);
     syncControls(this, false);
@@ -128,7 +173,7 @@ export class App {
   }
 
   /// A click on the view at (px, py) CSS pixels: drops an object or inspects a particle.
-  click(px, py) {
+  async click(px, py) {
     this.camera.matrices(this.canvas.clientWidth, this.canvas.clientHeight);
     if (this.tool === 'inspect') return this.inspect(px, py);
     const p = this.camera.unproject(px, py);
@@ -137,36 +182,45 @@ export class App {
       return;
     }
     const point = this.domain.length === 3 ? p : p.slice(0, 2);
-    const error = this.session.dropAt(this.view.object, this.view.material, point, this.dropSpeed, this.size);
+    const error = await this.session.dropAt(this.view.object, this.view.material, point, this.dropSpeed, this.size);
     if (error) return toast(error);
     this.energyPlot.restart();
     this.updateHash();
   }
 
-  /// Picks the particle nearest the click on screen (and nearest the eye among close ones).
-  inspect(px, py) {
+  /// Picks the particle nearest the click on screen (and nearest the eye among close ones) in
+  /// the frame drawn; the simulation finds it by where it was.
+  async inspect(px, py) {
     const dim = this.domain.length;
-    const i = nearestParticle(this.session.view(this.view.colour), dim, (x, y, z) => this.camera.project(x, y, z), px, py);
+    const f = this.session.frame;
+    const i = f ? nearestParticle(f, dim, (x, y, z) => this.camera.project(x, y, z), px, py) : -1;
     this.stressPlot.clear();
     if (i < 0) {
-      this.probeId = null;
+      this.setProbe(null);
       toast('No particle there: click on one.');
       return;
     }
-    this.probeId = this.session.particleId(i);
+    const point = Array.from(f.positions.subarray(i * f.stride, i * f.stride + dim));
+    this.setProbe(await this.session.pick(point));
     document.getElementById('pq-note').textContent = '';
   }
 
+  /// Follows the particle of stable id `id` (null: none) in the p–q plot.
+  setProbe(id) {
+    this.probeId = id;
+    this.session.probe(id);
+  }
+
   /// Removes every body (the link records it).
-  clear() {
-    this.session.clear();
+  async clear() {
+    await this.session.clear();
     this.restarted();
     this.updateHash();
   }
 
   /// Restarts the scene with the current parameters; the drops and a Clear are forgotten.
-  reset() {
-    const error = this.session.reset();
+  async reset() {
+    const error = await this.session.reset();
     if (error) toast(error);
     this.restarted();
     this.updateHash();
@@ -175,7 +229,7 @@ export class App {
 
   /// What a new start forgets: the inspected particle, the plots, the failure banner.
   restarted() {
-    this.probeId = null;
+    this.setProbe(null);
     this.stressPlot.clear();
     this.energyPlot.restart();
     banner('failed');
@@ -184,19 +238,25 @@ export class App {
   }
 
   togglePlay() {
-    this.playing = !this.playing;
+    this.setPlaying(!this.playing);
+  }
+
+  setPlaying(on) {
+    this.playing = on;
+    this.session.play(on);
     syncControls(this, false);
   }
 
   step() {
     this.playing = false;
-    this.stepOnce = true;
+    this.session.step();
     syncControls(this, false);
   }
 
   /// The simulation stopped (non-finite state): pause and say so, with a way back.
   fail(message) {
     this.playing = false;
+    this.session.play(false);
     syncControls(this, false);
     banner('failed', 'bad', `The simulation became unstable (${message}). A smaller CFL number or a softer material helps.`,
       { label: 'Reset', run: () => this.reset() });

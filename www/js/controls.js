@@ -15,6 +15,8 @@ let markObject, markMaterial;
 export function buildControls(app) {
   const table = app.session.table;
   $('scene').replaceChildren(...app.scenes.map((s) => el('option', { value: s.base }, s.name)));
+  $('quality').replaceChildren(...app.session.qualities.levels.map((q) => el('option', { value: q.id, title: q.hint }, q.label)));
+  $('quality').addEventListener('change', () => app.setQuality($('quality').value));
   markObject = segmented($('objects'), table.objects, (id) => pickObject(app, id));
   markMaterial = segmented($('materials'), table.models, (id) => pickMaterial(app, id, true));
   $('world-params').replaceChildren(...table.world.map((s) => slider(app, s)));
@@ -25,15 +27,17 @@ export function buildControls(app) {
     app.view.scene = entry ? entry.base : $('scene').value;
     if (entry && !entry.paths[app.view.dim]) app.view.dim = Object.keys(entry.paths)[0];
     app.view.size = undefined;
-    app.loadScene(); // a new scene starts with its own parameters
+    // A new scene starts with its own parameters, at the quality chosen.
+    app.loadScene({ quality: app.session.quality.quality });
   });
   for (const d of ['2', '3'])
     $(`dim${d}`).addEventListener('click', () => {
       if (app.view.dim === d) return;
       app.view.dim = d;
       app.view.size = undefined;
-      // The parameters changed so far are kept; the drops are not.
-      app.loadScene({ params: app.session.session().params });
+      // The quality and the parameters changed so far are kept; the drops are not.
+      const { quality, params } = app.session.session();
+      app.loadScene({ quality, params });
     });
   $('play').addEventListener('click', () => app.togglePlay());
   $('step').addEventListener('click', () => app.step());
@@ -47,8 +51,16 @@ export function buildControls(app) {
     document.body.classList.add('no-plots');
     $('toggle-plots').setAttribute('aria-pressed', 'false');
   }
-  $('timescale').addEventListener('change', () => { app.view.time = $('timescale').value; app.updateHash(); });
-  $('colour').addEventListener('change', () => { app.view.colour = $('colour').value; app.updateHash(); });
+  $('timescale').addEventListener('change', () => {
+    app.view.time = $('timescale').value;
+    app.session.timeScale(Number(app.view.time));
+    app.updateHash();
+  });
+  $('colour').addEventListener('change', () => {
+    app.view.colour = $('colour').value;
+    app.session.colour(app.view.colour);
+    app.updateHash();
+  });
   $('share').addEventListener('click', async () => {
     app.updateHash();
     try {
@@ -89,6 +101,10 @@ export function syncControls(app, values = true) {
   }
   $('colour').value = app.view.colour;
   $('timescale').value = app.view.time;
+  $('quality').value = app.session.quality.quality;
+  const q = app.session.quality;
+  $('quality').title = `${app.session.qualities.levels.find((l) => l.id === q.quality)?.hint ?? ''}. ` +
+    'Another level samples the scene again and starts it over, with the parameters and drops so far.';
   const entry = app.scenes.find((s) => s.base === app.view.scene);
   if (!entry && app.view.scene.endsWith('.json')) {
     // A scene file given by path in the link: list it too.
@@ -144,8 +160,8 @@ function pickMaterial(app, id, user) {
 /// The drop tool's size and speed sliders, for the scene just loaded.
 export function buildDropControls(app) {
   const [lo, hi] = app.sizeRange;
-  const size = paramSlider({ name: 'drop.size', label: 'Size', symbol: 'L', unit: 'm', min: +lo.toPrecision(2), max: +hi.toPrecision(2), step: 0.01 }, (v) => {
-    const error = app.session.checkSize(v);
+  const size = paramSlider({ name: 'drop.size', label: 'Size', symbol: 'L', unit: 'm', min: +lo.toPrecision(2), max: +hi.toPrecision(2), step: 0.01 }, async (v) => {
+    const error = await app.session.checkSize(v);
     if (error) return error;
     app.size = v;
     app.updateHash();

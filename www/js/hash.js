@@ -1,8 +1,8 @@
 // The page state in the URL hash, so that a link reproduces a demo exactly:
 // #scene=column_collapse&dim=3&colour=speed&object=bunny&material=drucker_prager&time=1
-//  &drucker_prager.friction_angle=25&gravity=9.81&drop=0.0412:ball:elastic:0.25:0.8,0.55,0.5
-// The view settings, then the session the solver records (`Playground::session`): parameters
-// in the order they were set (ψ ≤ φ checks depend on it), `cleared=1` when the scene's own
+//  &quality=live&drucker_prager.friction_angle=25&gravity=9.81&drop=0.0412:ball:elastic:0.25:0.8,0.55,0.5
+// The view settings, then the session the solver records (`Playground::session`): the quality
+// level the scene is sampled at, parameters in the order they were set (ψ ≤ φ checks depend on it), `cleared=1` when the scene's own
 // bodies were removed with Clear, and each body dropped by a click as a `drop` entry, in the
 // order they were dropped:
 //   drop=TIME:OBJECT:MATERIAL:SIZE:X,Y[,Z][:VX,VY[,VZ]]
@@ -15,7 +15,8 @@
 const VIEW_KEYS = ['scene', 'dim', 'colour', 'object', 'material', 'time', 'size'];
 const NUMBER = /^-?\d+(\.\d+)?(e[-+]?\d+)?$/;
 
-/// The state of `hash`: { view, session: { params, cleared, drops }, errors }. `names` are the
+/// The state of `hash`: { view, session: { quality, params, cleared, drops }, errors } (no
+/// `quality` when the hash names none). `names` are the
 /// parameter names (the solver's table); without them every `name` or `model.field` key counts
 /// as a parameter. A malformed or unknown entry is left out, with a message naming it in
 /// `errors` (never an exception).
@@ -25,7 +26,7 @@ export function readHash(hash, names) {
   const params = [];
   const drops = [];
   const errors = [];
-  let cleared = false;
+  let cleared = false, quality;
   const isParam = names ? (k) => names.includes(k) : (k) => /^[a-z_]+(\.[a-z_]+)?$/.test(k);
   for (const [k, v] of q) {
     if (VIEW_KEYS.includes(k)) view[k] = v;
@@ -36,12 +37,15 @@ export function readHash(hash, names) {
         errors.push(`drop=${v}: ${e.message}`);
       }
     } else if (k === 'cleared') cleared = v === '1';
+    else if (k === 'quality') quality = v;
     else if (isParam(k)) {
       if (NUMBER.test(v)) params.push([k, Number(v)]);
       else errors.push(`${k}=${v}: not a number`);
     } else errors.push(`${k}=${v}: not a setting of the page`);
   }
-  return { view, session: { params, cleared, drops }, errors };
+  const session = { params, cleared, drops };
+  if (quality !== undefined) session.quality = quality;
+  return { view, session, errors };
 }
 
 /// A `drop` entry: { t, object, material, size, centre, velocity }; throws on a malformed one.
@@ -83,10 +87,11 @@ export function formatDrop(d) {
   return fields.join(':');
 }
 
-/// The hash of view settings `view` and session `{ params, cleared, drops }`.
-export function formatHash(view, { params = [], cleared = false, drops = [] } = {}) {
+/// The hash of view settings `view` and session `{ quality, params, cleared, drops }`.
+export function formatHash(view, { quality, params = [], cleared = false, drops = [] } = {}) {
   const q = new URLSearchParams();
   for (const k of VIEW_KEYS) if (view[k] !== undefined && view[k] !== null && view[k] !== '') q.set(k, view[k]);
+  if (quality) q.set('quality', quality);
   for (const [k, v] of params) q.append(k, String(+v.toPrecision(6)));
   if (cleared) q.set('cleared', '1');
   const entries = [q.toString(), ...drops.map((d) => `drop=${formatDrop(d)}`)].filter((s) => s);

@@ -68,20 +68,24 @@ export function warnFlip(session) {
     : '');
 }
 
-/// The HUD: `rows` [[label, value]]; the `sim / real` value is marked slow when `slow`.
+/// The HUD: `rows` [[label, value, title?]]; the `sim / real` value is marked slow when `slow`.
 export function hud(rows, slow) {
-  $('hud').replaceChildren(...rows.flatMap(([k, v]) => [
+  $('hud').replaceChildren(...rows.flatMap(([k, v, title = '']) => [
     el('span', { class: 'k' }, k),
     el('span', {
       class: `v${k === 'sim / real' && slow ? ' slow' : ''}`,
       'data-hud': k,
-      title: k === 'sim / real' && slow ? 'Slow motion: each frame reached its time budget before it simulated a frame of time' : '',
+      title: k === 'sim / real' && slow ? 'Slow motion: the simulation steps slower than real time at this resolution' : title,
     }, v),
   ]));
 }
 
-/// The HUD's rows from the frame statistics `st`, diagnostics `d` and the rest.
-export function hudRows(st, d, { particles, playing, stableDt, time, renderer, quality }) {
+/// The HUD's rows from the frame statistics `st`, diagnostics `d` and the rest: the
+/// simulation's quality level and what its resolution costs in accuracy (the validation
+/// cases' errors at that cell size and particles per cell, `resolution.accuracy`).
+export function hudRows(st, d, { particles, playing, stableDt, time, renderer, quality, thread, resolution, label, dim }) {
+  const a = resolution.accuracy;
+  const pct = (x) => `${x > 0 ? '+' : x < 0 ? '−' : ''}${(100 * Math.abs(x)).toPrecision(2)} %`;
   return [
     ['fps', st.fps.toFixed(0)],
     ['particles', particles.toLocaleString('en')],
@@ -91,7 +95,14 @@ export function hudRows(st, d, { particles, playing, stableDt, time, renderer, q
     ['ms / step', st.msPerStep ? st.msPerStep.toPrecision(3) : '–'],
     ['sim / real', playing ? `${st.ratio.toFixed(2)}${st.fellBehind ? ' slow' : ''}` : 'paused'],
     ['sim time', formatTime(time)],
+    ['quality', `${label}: h ${+(100 * resolution.cell_size).toPrecision(3)} cm, ${Array(dim).fill(resolution.particles_per_cell).join('×')} per cell`,
+      `Cells ${+(resolution.cell_size / resolution.scene_cell_size).toPrecision(3)} × the scene file's; particles per cell per axis ${resolution.particles_per_cell}`],
+    ['error', `period ${pct(a.bar_period)}, run-out ${pct(a.column_runout)}, settling ${pct(a.resting_settlement)}`,
+      'What this resolution costs in accuracy, measured on the validation cases at the same cell factor and particles per cell ' +
+      `(docs/playground.md): vibrating bar period ${pct(a.bar_period)} (L2 ${pct(a.bar_l2)}), column collapse run-out ` +
+      `${pct(a.column_runout)} and height ${pct(a.column_height)} against the converged reference, resting column settlement ${pct(a.resting_settlement)}`],
     ['renderer', `${renderer.replace(/ \(.*\)$/, '')}${quality ? `, ${quality}` : ''}`],
+    ['solver', `wasm, ${thread}`],
   ];
 }
 

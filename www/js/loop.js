@@ -1,75 +1,71 @@
-// The frame loop: each animation frame advances the simulation by a frame's worth of time
-// within what is left of the frame's time budget, draws the particles straight from wasm
-// memory, and every few frames refreshes the plots and the HUD.
+// The frame loop: each animation frame draws the latest frame the simulation sent (it steps in
+// a Web Worker meanwhile; without one, it steps here first, within what is left of the frame's
+// time budget), and every few frames refreshes the plots and the HUD. A frame with nothing new
+// to show (paused, the camera still) is not drawn again, and while the simulation is slower
+// than real time new frames are drawn at most TARGET_FPS times a second: on a machine that
+// draws on the CPU (no GPU), the time saved goes to stepping.
 
 import { TARGET_FPS } from './app.js';
 import { format } from './params.js';
 import { hud, hudRows, legend, toast } from './hud.js';
 
 export function startLoop(app) {
-  let last = 0;
+  let last = 0, lastDrawn = false, lastFresh = 0;
   const frame = (ts) => {
     requestAnimationFrame(frame);
     const wall = last ? Math.min(250, ts - last) : 1000 / 60;
     last = ts;
     const t0 = performance.now();
-    const report = advance(app, wall);
+    // The stepping budget on the page's thread: what rendering leaves of 1/30 s, at least 4 ms.
+    const budget = Math.min(40, Math.max(4, 1000 / TARGET_FPS - app.stats.otherMs - 2));
+    const due = !app.stats.fellBehind || ts - lastFresh >= 1000 / TARGET_FPS - 4;
+    const { frame: f, fresh } = app.session.take(budget, due);
+    if (fresh) lastFresh = ts;
     const t1 = performance.now();
-    const n = draw(app, report);
+    if (!f) return;
+    if (fresh) received(app, f);
+    const drawn = app.viewChanged() || fresh;
+    if (drawn) draw(app, f);
     const t2 = performance.now();
-    record(app, wall, report, t1 - t0, t2 - t1);
-    if (app.stats.frames % 6 === 0) refresh(app, n);
+    // The time a drawn frame costs shows in the interval to the next animation frame.
+    if (lastDrawn) app.governQuality(wall);
+    lastDrawn = drawn;
+    record(app, wall, fresh ? f : null, t1 - t0, t2 - t1, drawn);
+    if (app.stats.frames % 6 === 0 && drawn) refresh(app, f);
   };
   requestAnimationFrame(frame);
 }
 
-/// Steps for a frame that took `wall` ms (one step after Step); returns the solver's report,
-/// or null when nothing ran.
-function advance(app, wall) {
-  const s = app.session;
-  if (!((app.playing || app.stepOnce) && !s.failure())) return null;
-  // The stepping budget: what the rest of the frame (rendering, compositing) leaves of
-  // 1/30 s, and at least one step.
-  const budget = Math.min(40, Math.max(4, 1000 / TARGET_FPS - app.stats.otherMs - 2));
-  const simTime = app.stepOnce ? null : (Math.min(wall, 100) / 1000) * Number(app.view.time);
-  app.stepOnce = false;
-  let report = null;
-  try {
-    report = s.advance(simTime, budget);
-  } catch (e) {
-    app.fail(e.message);
-    return null;
+/// What a new frame brings besides the particles: a failure, drops of the link refused, the
+/// stress of the inspected particle, the energies.
+function received(app, f) {
+  if (f.failure && app.playing) app.fail(f.failure);
+  const refused = app.refused(f.report.refused);
+  if (refused.length) toast(`Ignored from the link: ${refused.join('; ')}`);
+  if (f.state) app.updateHash();
+  if (f.report.substeps > 0 && f.count > 0) app.energyPlot.push(f.diagnostics);
+  const note = document.getElementById('pq-note');
+  if (f.stress?.gone) {
+    app.probeId = null;
+    note.textContent = 'The inspected particle is gone.';
+  } else if (f.stress && app.probeId !== null) {
+    const sp = f.stress;
+    if (f.report.substeps > 0 || !app.stressPlot.point) app.stressPlot.push(sp);
+    note.textContent = `particle #${sp.id} of body ${sp.body + 1} (${sp.model.replace('_', ' ')}): ` +
+      `p = ${format(sp.p, 'Pa')}, q = ${format(sp.q, 'Pa')}, plastic strain ${sp.plastic_strain.toPrecision(2)}`;
   }
-  const refused = app.refused(report.refused);
-  if (refused.length) {
-    toast(`Ignored from the link: ${refused.join('; ')}`);
-    app.updateHash();
-  }
-  return report;
 }
 
-/// Draws the particles (coloured as chosen, the inspected one marked); returns their count.
-function draw(app, report) {
-  const v = app.session.view(app.view.colour);
-  smoothRange(app, v.range);
-  let marker = null;
-  if (app.probeId !== null) {
-    const sp = app.session.stressPoint(app.probeId);
-    const note = document.getElementById('pq-note');
-    if (!sp) {
-      app.probeId = null;
-      note.textContent = 'The inspected particle is gone.';
-    } else {
-      marker = sp.position;
-      if (report || !app.stressPlot.point) app.stressPlot.push(sp);
-      note.textContent = `particle #${sp.id} of body ${sp.body + 1} (${sp.model.replace('_', ' ')}): ` +
-        `p = ${format(sp.p, 'Pa')}, q = ${format(sp.q, 'Pa')}, plastic strain ${sp.plastic_strain.toPrecision(2)}`;
-    }
-  }
+/// Draws the particles of frame `f` (coloured as chosen, the inspected one marked).
+function draw(app, f) {
+  smoothRange(app, f.range);
+  const marker = app.probeId !== null && f.stress && !f.stress.gone ? f.stress.position : null;
   app.camera.matrices(app.canvas.clientWidth, app.canvas.clientHeight);
-  app.renderer.draw({ camera: app.camera, ...v, mode: app.view.colour, range: app.range, radius: app.radius, marker });
+  app.renderer.draw({
+    camera: app.camera, positions: f.positions, stride: f.stride, values: f.values, count: f.count,
+    mode: app.view.colour, range: app.range, radius: app.radius, marker,
+  });
   if (app.syncRender) app.renderer.finish(); // benchmarks: count the GPU's work in renderMs
-  return v.count;
 }
 
 /// A colour range that grows at once and shrinks slowly, so that colours do not flicker.
@@ -80,38 +76,51 @@ function smoothRange(app, range) {
   app.rangeMode = mode;
 }
 
-/// The frame's figures: fps, time per step, simulated per real time, the timings.
-function record(app, wall, report, simMs, renderMs) {
+/// The frame's figures: frames drawn per second, time per step, simulated per real time (from
+/// the simulated time of the frames drawn), the timings.
+function record(app, wall, f, simMs, renderMs, drawn) {
   const st = app.stats;
-  const fps = 1000 / Math.max(1, wall);
-  st.fps = st.fps ? 0.9 * st.fps + 0.1 * fps : fps;
+  const now = performance.now();
   st.simMs = simMs;
-  st.renderMs = 0.8 * st.renderMs + 0.2 * renderMs;
-  app.governQuality(wall);
-  if (report) {
-    st.substeps = report.substeps;
-    if (report.substeps > 0) st.msPerStep = report.ms_per_step;
-    st.fellBehind = report.fell_behind;
-    const ratio = report.sim_time / (wall / 1000);
-    st.ratio = st.ratio ? 0.9 * st.ratio + 0.1 * ratio : ratio;
-    if (app.session.pg.particleCount() > 0) app.energyPlot.push(app.session.diagnostics());
+  if (drawn) {
+    st.renderMs = 0.8 * st.renderMs + 0.2 * renderMs;
+    st.drawn.push(now);
+  }
+  while (st.drawn.length && st.drawn[0] < now - 1000) st.drawn.shift();
+  st.fps = st.drawn.length;
+  if (f) {
+    const r = f.report;
+    st.flushMs = 0.9 * (st.flushMs || 0) + 0.1 * (f.flushMs || 0);
+    st.stepWallMs = (st.stepWallMs || 0) + r.wall_ms;
+    st.substeps = r.substeps;
+    if (r.substeps > 0) st.msPerStep = r.ms_per_step;
+    st.fellBehind = r.fell_behind;
+    st.stableDt = f.stableDt;
+    // Simulated per real time over the last second of frames.
+    st.seen.push([now, f.time]);
+    while (st.seen.length > 2 && st.seen[0][0] < now - 1000) st.seen.shift();
+    const [a, b] = [st.seen[0], st.seen[st.seen.length - 1]];
+    st.ratio = b[0] > a[0] && b[1] >= a[1] ? (b[1] - a[1]) / ((b[0] - a[0]) / 1000) : 0;
+    if (b[1] < a[1]) st.seen = [b]; // a restart
   } else if (!app.playing) {
     st.substeps = 0;
     st.ratio = 0;
+    st.seen = [];
   }
-  st.frames++;
-  app.timings.push({ wall, sim: simMs, render: renderMs, substeps: report ? report.substeps : 0, simTime: report ? report.sim_time : 0 });
+  if (drawn) st.frames++;
+  app.timings.push({ wall, sim: simMs, render: renderMs, drawn, substeps: f ? f.report.substeps : 0, simTime: f ? f.report.sim_time : 0 });
   if (app.timings.length > 600) app.timings.shift();
 }
 
 /// The plots, the HUD and the legend.
-function refresh(app, n) {
+function refresh(app, f) {
   const s = app.session;
   app.energyPlot.draw(app.domain.length === 2 ? 'energy (J/m)' : 'energy (J)');
   app.stressPlot.draw();
-  const rows = hudRows(app.stats, s.diagnostics(), {
-    particles: n, playing: app.playing, stableDt: s.pg.stableDt(), time: s.pg.time(),
-    renderer: app.renderer.kind, quality: app.quality,
+  const rows = hudRows(app.stats, f.diagnostics, {
+    particles: f.count, playing: app.playing, stableDt: f.stableDt, time: f.time,
+    renderer: app.renderer.kind, quality: app.quality, thread: s.kind,
+    resolution: s.quality, label: app.qualityLabel(s.quality.quality), dim: app.domain.length,
   });
   hud(rows, app.playing && app.stats.fellBehind);
   legend(app.view.colour, s.scene, app.range);

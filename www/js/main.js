@@ -1,7 +1,7 @@
-// The MPM playground page: loads the solver (wasm), the scene list and the shipped bunny, builds
-// the controls from the solver's parameter table, opens the scene of the link (or a sand scene
-// on a first visit) and starts the frame loop. See app.js for the state and its actions,
-// session.js for the simulation, loop.js for the frame loop.
+// The MPM playground page: starts the solver (wasm, in a Web Worker), loads the scene list and
+// the shipped bunny, builds the controls from the solver's parameter table, opens the scene of
+// the link (or a sand scene on a first visit) and starts the frame loop. See app.js for the
+// state and its actions, session.js for the simulation, loop.js for the frame loop.
 
 import { App } from './app.js';
 import { Camera } from './camera.js';
@@ -26,16 +26,16 @@ async function main() {
     console.warn(`WebGL2 unavailable (${e.message}); using the 2D canvas fallback`);
     renderer = new CanvasRenderer(canvas);
   }
-  let session;
+  let session, scenes, bunny;
   try {
-    session = await Session.start();
+    [session, scenes, bunny] = await Promise.all([Session.start(), loadSceneList(), loadBunny()]);
   } catch (e) {
     banner('failed', 'bad', `The solver did not load (${e.message}). Build it first: cargo xtask build (or cargo xtask serve).`);
     return;
   }
-  const [scenes, bunny] = await Promise.all([loadSceneList(), loadBunny()]);
+  await session.setBunny(bunny);
   const app = new App({
-    session, renderer, canvas, scenes, bunny,
+    session, renderer, canvas, scenes,
     camera: new Camera([2, 1, 1]),
     energyPlot: new EnergyPlot($('energy')),
     stressPlot: new StressPlot($('pq')),

@@ -2,8 +2,6 @@
 // www/pkg/scenes.json, 2D and 3D versions paired) and the empty sandbox; fetching a scene with
 // the files it references, and the shipped bunny.
 
-import { Session } from './session.js';
-
 export const SANDBOX = 'sandbox';
 
 /// [{ base, name, paths: { 2: path, 3: path } }], the sandbox last.
@@ -26,14 +24,15 @@ export async function loadSceneList() {
 }
 
 /// The scene `key` (a base name of `list`, or the path of a scene file) in dimension `dim`:
-/// its JSON and the texts of the files it references ({ text, assets: JSON or null }).
-export async function sceneSource(key, dim, list) {
-  if (key === SANDBOX) return Session.sandbox(dim);
+/// its JSON and the texts of the files it references ({ text, assets: JSON or null }; the
+/// sandbox is { sandbox: dim }). `session` names the files a scene references.
+export async function sceneSource(key, dim, list, session) {
+  if (key === SANDBOX) return { sandbox: dim };
   const path = key.endsWith('.json') ? key : list.find((s) => s.base === key)?.paths[dim];
   if (!path) throw new Error(`no ${dim}D version of scene “${key}”`);
   const text = await fetchText(path);
   const base = new URL(path, location.href);
-  const files = Session.assetPaths(text);
+  const files = await session.assetPaths(text);
   if (!files.length) return { text, assets: null };
   const texts = await Promise.all(files.map((f) => fetchText(new URL(f, base).href)));
   return { text, assets: JSON.stringify(Object.fromEntries(files.map((f, i) => [f, texts[i]]))) };

@@ -1,151 +1,167 @@
-// The simulation behind the page: the solver's Playground (src/playground/, through wasm),
-// which holds the scene, the parameters set, the bodies dropped and the Clear. Every command
-// the page sends goes through this class and gets plain data back (an error message is a
-// string, '' for none), so that it can move into a Web Worker with the page only rendering
-// what it reports.
+// The simulation behind the page, as the page sees it: the solver's Playground runs in a Web
+// Worker (sim-worker.js, with sim-host.js), or on the page's own thread where no worker starts.
+// Commands go out as messages and come back as promises of plain data (an error message is a
+// string, '' for none); what the page reads between commands (the scene, the parameters, the
+// session for the link, the quality) is the state the host sent last, and what it draws is the
+// latest frame (positions and colour scalars, transferred or read in place).
 
-import init, { Playground, assetPaths, parameterTable, sandboxScene } from '../pkg/mpm.js';
 import { paramTable } from './params.js';
 
+/// How long the worker may take to load the solver before the page steps on its own thread (ms).
+const WORKER_START_MS = 20_000;
+
 export class Session {
-  /// Loads the solver; throws if it cannot.
-  static async start() {
-    const wasm = await init();
-    return new Session(wasm.memory);
+  /// Starts the simulation host: in a worker, unless `worker` is false or none starts (then on
+  /// this thread). Throws if the solver cannot load.
+  static async start({ worker = true } = {}) {
+    if (worker && typeof Worker !== 'undefined') {
+      try {
+        return await Session.inWorker();
+      } catch (e) {
+        console.warn(`no simulation worker (${e.message}); the simulation runs on the page's thread`);
+      }
+    }
+    const s = new Session();
+    const { SimHost } = await import('./sim-host.js');
+    const host = await SimHost.create((m) => s.receive(m), false);
+    s.host = host;
+    s.send = (m) => queueMicrotask(() => host.handle(m));
+    s.kind = 'main thread';
+    await s.init();
+    return s;
   }
 
-  constructor(memory) {
-    this.memory = memory;
-    this.table = paramTable(parameterTable());
-    this.pg = null;
-    this.scene = null;
+  static async inWorker() {
+    const s = new Session();
+    const w = new Worker(new URL('./sim-worker.js', import.meta.url), { type: 'module' });
+    w.onmessage = (e) => s.receive(e.data);
+    s.send = (m, transfer = []) => w.postMessage(m, transfer);
+    s.worker = w;
+    s.kind = 'worker';
+    try {
+      await new Promise((resolve, reject) => {
+        const timer = setTimeout(() => reject(new Error('it did not start')), WORKER_START_MS);
+        const fail = (message) => { clearTimeout(timer); reject(new Error(message)); };
+        w.addEventListener('error', (e) => fail(e.message || 'it failed to load'), { once: true });
+        s.onFailed = fail;
+        s.init().then(() => { clearTimeout(timer); resolve(); }, (e) => fail(e.message));
+      });
+    } catch (e) {
+      w.terminate();
+      throw e;
+    }
+    return s;
   }
 
-  /// The source of the empty box of dimension `dim`.
-  static sandbox(dim) {
-    return { text: sandboxScene(Number(dim)), assets: null };
+  constructor() {
+    this.nextId = 0;
+    this.waiting = new Map();
+    this.state = null; // the host's state: scene, parameters, session, quality, sizeRange, …
+    this.frame = null; // the latest frame
+    this.unseen = null; // a frame not drawn yet
+    this.host = null; // on the page's thread: the host itself
+    this.onFrame = null;
   }
+
+  async init() {
+    const r = await this.request('init');
+    this.table = paramTable(r.table);
+    this.qualities = r.qualities;
+    this.transfer = r.transfer;
+  }
+
+  /// A command; resolves with its result (rejects with the solver's message).
+  request(cmd, args) {
+    const id = this.nextId++;
+    return new Promise((resolve, reject) => {
+      this.waiting.set(id, { resolve, reject });
+      this.send({ id, cmd, args });
+    });
+  }
+  /// A command without an answer.
+  tell(cmd, args, transfer) {
+    this.send({ cmd, args }, transfer);
+  }
+
+  receive(m) {
+    if (m.state) this.state = m.state;
+    if (m.type === 'reply') {
+      const w = this.waiting.get(m.id);
+      this.waiting.delete(m.id);
+      if (m.error !== undefined) w?.reject(new Error(m.error));
+      else w?.resolve(m.result);
+    } else if (m.type === 'frame') {
+      // A frame not drawn yet is replaced: its buffers go back at once.
+      if (this.unseen && this.transfer) this.tell('drawn', { buffers: buffersOf(this.unseen) }, buffersOf(this.unseen));
+      this.unseen = m;
+      this.onFrame?.(m);
+    } else if (m.type === 'failed') this.onFailed?.(m.error);
+  }
+
+  /// The frame to draw now: a new one if it came and `fresh` is wanted (the one drawn before
+  /// goes back to the host), else the last one. On the page's thread, steps for up to
+  /// `budgetMs` first.
+  take(budgetMs = 0, fresh = true) {
+    if (this.host) {
+      this.host.slice(budgetMs);
+      this.host.flush();
+    }
+    if (this.unseen && fresh) {
+      const old = this.frame;
+      this.frame = this.unseen;
+      this.unseen = null;
+      if (this.transfer) this.tell('drawn', { buffers: old ? buffersOf(old) : [] }, old ? buffersOf(old) : []);
+      return { frame: this.frame, fresh: true };
+    }
+    return { frame: this.frame, fresh: false };
+  }
+
+  // --- what the page reads ------------------------------------------------------------------
+
+  get scene() { return this.state.scene; }
+  parameter(name) { return this.state.parameters[name]; }
+  parameters() { return this.state.parameters; }
+  session() { return this.state.session; }
+  sizeRange() { return this.state.sizeRange; }
+  get quality() { return this.state.quality; }
+
+  // --- commands -------------------------------------------------------------------------------
 
   /// The files scene `text` references, relative to it.
-  static assetPaths(text) {
-    return assetPaths(text);
-  }
-
-  /// Loads scene `source` ({text, assets}; an invalid one falls back to the sandbox of
-  /// dimension `dim`), with the shipped `bunny` ({obj, polygon}) for dropped bunnies, and
-  /// replays `session` ({params, cleared, drops}). Returns what did not apply: { invalid:
-  /// the scene's error or '', rejected: [message], refused: [{drop, error}] }.
-  load(source, bunny, session, dim) {
-    let pg, invalid = '';
-    try {
-      pg = new Playground(source.text, source.assets ?? undefined);
-    } catch (e) {
-      invalid = e.message;
-      pg = new Playground(Session.sandbox(dim).text);
-    }
-    try {
-      pg.setBunny(bunny.obj, bunny.polygon);
-    } catch (e) {
-      console.warn(`the shipped bunny did not load (${e.message}); dropping a bunny made of balls`);
-    }
-    this.pg?.free();
-    this.pg = pg;
-    const out = JSON.parse(pg.replay(JSON.stringify(session)));
-    this.changed();
-    return { invalid, ...out };
-  }
-
-  /// The scene as it stands (world and bodies), kept until something changes it.
-  changed() {
-    this.scene = JSON.parse(this.pg.sceneJson());
-  }
-
-  parameter(name) {
-    return this.pg.parameter(name);
-  }
-  /// Every parameter's value, by name.
-  parameters() {
-    return JSON.parse(this.pg.parameters());
-  }
-  /// What setting `name` to `value` would cost (see `Playground::predict`).
-  predict(name, value) {
-    return JSON.parse(this.pg.predict(name, value, 1 / 60));
-  }
-  /// Sets a parameter; returns '' or the solver's message (state unchanged).
-  setParameter(name, value) {
-    return this.run(() => this.pg.setParameter(name, value));
-  }
-  /// Drops an object at a clicked point (see `Playground::drop_at`); '' or the message.
-  dropAt(object, material, point, speed, size) {
-    return this.run(() => this.pg.dropAt(object, material, new Float64Array(point), speed, size));
-  }
+  assetPaths(text) { return this.request('assetPaths', { text }); }
+  /// The shipped bunny ({obj, polygon}) for dropped bunnies.
+  setBunny(bunny) { return this.request('bunny', bunny); }
+  /// Loads scene `source` ({text, assets} or {sandbox: dim}; an invalid one falls back to the
+  /// sandbox of dimension `dim`) and replays `session` ({quality, params, cleared, drops}).
+  /// Resolves to what did not apply: {invalid, rejected, refused}.
+  load(source, session, dim) { return this.request('load', { source, session, dim }); }
+  /// Sets a parameter: {error ('' or the message), prediction, before} (see
+  /// `Playground::predict`).
+  setParameter(name, value) { return this.request('setParameter', { name, value }); }
+  /// Drops an object at a clicked point (see `Playground::drop_at`): '' or the message.
+  dropAt(object, material, point, speed, size) { return this.message('dropAt', { object, material, point, speed, size }); }
   /// '' if `size` (m) is a size objects may be dropped at, else the message.
-  checkSize(size) {
-    return this.run(() => this.pg.checkSize(size), false);
-  }
-  sizeRange() {
-    return JSON.parse(this.pg.sizeRange());
-  }
-  clear() {
-    this.pg.clear();
-    this.changed();
-  }
-  /// Restarts the scene with the current parameters; '' or the message.
-  reset() {
-    return this.run(() => this.pg.reset());
-  }
-  /// The parameters set, the Clear and the drops so far ({params, cleared, drops}).
-  session() {
-    return JSON.parse(this.pg.session());
-  }
+  checkSize(size) { return this.message('checkSize', { size }); }
+  clear() { return this.message('clear'); }
+  /// Restarts the scene with the current parameters: '' or the message.
+  reset() { return this.message('reset'); }
+  /// Samples the scene again at quality level `quality`; resolves to the drops refused.
+  setQuality(quality) { return this.request('setQuality', { quality }); }
+  /// The stable id of the particle nearest `point`, or null.
+  pick(point) { return this.request('pick', { point }); }
 
-  /// Advances by up to `simTime` s within `budgetMs` (or by one step when `simTime` is null);
-  /// returns the report of `Playground::frame`. Throws when the simulation fails.
-  advance(simTime, budgetMs) {
-    const report = JSON.parse(simTime === null ? this.pg.step() : this.pg.frame(simTime, budgetMs));
-    if (report.refused) this.changed();
-    return report;
-  }
+  play(playing) { this.tell('play', { playing }); }
+  step() { this.tell('step'); }
+  timeScale(scale) { this.tell('timeScale', { scale }); }
+  colour(mode) { this.tell('colour', { mode }); }
+  probe(id) { this.tell('probe', { id }); }
 
-  /// Views into wasm memory of what the renderer draws, the colour scalars of `mode` just
-  /// computed: { positions, stride, values, count, range }. Valid until the next command.
-  view(mode) {
-    const pg = this.pg;
-    pg.setColourMode(mode);
-    const range = pg.updateColours();
-    return {
-      positions: new Float32Array(this.memory.buffer, pg.positionsPtr(), pg.positionsLen()),
-      stride: pg.positionsStride(),
-      values: new Float32Array(this.memory.buffer, pg.coloursPtr(), pg.coloursLen()),
-      count: pg.particleCount(),
-      range,
-    };
+  /// A command whose answer is '' or the error message.
+  message(cmd, args) {
+    return this.request(cmd, args).then(() => '', (e) => e.message);
   }
+}
 
-  /// The stress point of the particle with stable id `id`, or null when it is gone.
-  stressPoint(id) {
-    const i = this.pg.indexOf(id);
-    return i === undefined ? null : JSON.parse(this.pg.stressPoint(i));
-  }
-  particleId(index) {
-    return this.pg.particleId(index);
-  }
-  diagnostics() {
-    return JSON.parse(this.pg.diagnostics());
-  }
-  failure() {
-    return this.pg.failure();
-  }
-
-  /// Runs a command; returns '' or its error message. `changes`: whether it may change the
-  /// scene.
-  run(command, changes = true) {
-    try {
-      command();
-    } catch (e) {
-      return e.message;
-    }
-    if (changes) this.changed();
-    return '';
-  }
+function buffersOf(frame) {
+  return [frame.positions.buffer, frame.values.buffer];
 }

@@ -14,7 +14,7 @@ export function el(tag, attrs = {}, ...children) {
 }
 
 /// A slider for parameter `spec` ({name, label, symbol, unit, min, max, scale, step, help}).
-/// `apply(value)` sets it and returns an error message or '' on success.
+/// `apply(value)` sets it and returns (or resolves to) an error message, or '' on success.
 export function paramSlider(spec, apply) {
   const range = el('input', {
     type: 'range', min: '0', max: String(ticks(spec)), step: '1',
@@ -42,8 +42,8 @@ export function paramSlider(spec, apply) {
     range.max = String(ticks(spec));
     range.value = String(Math.round(toSlider(spec, v)));
   };
-  const attempt = (v) => {
-    const msg = apply(v);
+  const attempt = async (v) => {
+    const msg = await apply(v);
     error.textContent = msg || '';
     if (!msg) show(v);
     return !msg;
@@ -55,7 +55,7 @@ export function paramSlider(spec, apply) {
     attempt(v);
   });
   range.addEventListener('change', () => show(value));
-  const commit = () => {
+  const commit = async () => {
     const text = box.value.trim().replace(',', '.');
     const m = text.match(/^([-+]?[\d.]*(?:e[-+]?\d+)?)\s*([kMG]?)(?:Pa)?$/i);
     let v = m && m[1] !== '' ? Number(m[1]) : Number.NaN;
@@ -65,7 +65,7 @@ export function paramSlider(spec, apply) {
       const explicit = prefix || /pa$/i.test(text);
       v *= explicit ? { '': 1, k: 1e3, m: 1e6, g: 1e9 }[prefix] : { Pa: 1, kPa: 1e3, MPa: 1e6, GPa: 1e9 }[unitOf(value)] || 1;
     }
-    if (!attempt(v)) box.select();
+    if (!(await attempt(v))) box.select();
   };
   box.addEventListener('keydown', (e) => { if (e.key === 'Enter') commit(); if (e.key === 'Escape') show(value); });
   box.addEventListener('change', commit);

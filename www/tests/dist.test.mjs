@@ -57,11 +57,12 @@ test('the static folder alone, under a sub-path: the page loads and simulates, e
   page.on('response', (r) => { if (r.status() >= 400) failed.push(`${r.status()} ${r.url()}`); });
   page.on('requestfailed', (r) => failed.push(`failed ${r.url()}`));
   await page.goto(root);
-  await page.waitForFunction(() => window.mpm?.pg && window.mpm.stats.frames > 5, null, { timeout: 60_000 });
-  const t0 = await page.evaluate(() => mpm.pg.time());
-  await page.waitForFunction((t0) => mpm.pg.time() > t0 + 0.01, t0, { timeout: 60_000 });
-  const s = await page.evaluate(() => ({ particles: mpm.pg.particleCount(), failure: mpm.pg.failure() ?? null }));
+  await page.waitForFunction(() => window.mpm?.sim && window.mpm.stats.frames > 5, null, { timeout: 60_000 });
+  const t0 = await page.evaluate(() => mpm.simTime);
+  await page.waitForFunction((t0) => mpm.simTime > t0 + 0.01, t0, { timeout: 60_000 });
+  const s = await page.evaluate(() => ({ particles: mpm.sim.particles, failure: mpm.sim.failure || null, thread: mpm.session.kind }));
   assert.ok(s.particles > 1000 && s.failure === null, JSON.stringify(s));
+  assert.equal(s.thread, 'worker', 'the worker starts from the static folder too');
 
   // The lists the build wrote, and every file they name with the files those reference,
   // fetched by the page itself with relative URLs.

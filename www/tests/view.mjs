@@ -20,18 +20,18 @@ export async function screenOf(page, x, y, z) {
   }, [x, y, z]);
 }
 
-/// Where up to `n` particles of body `body` are drawn: positions in CSS pixels from the view's
-/// top-left corner, evenly sampled over the body. The view must colour by body.
+/// Where up to `n` particles of body `body` are drawn in the frame shown: positions in CSS
+/// pixels from the view's top-left corner, evenly sampled over the body. The view must colour
+/// by body.
 export async function bodyPoints(page, body, n = 200) {
   return page.evaluate(([body, n]) => {
     if (mpm.view.colour !== 'body') throw new Error(`the view colours by ${mpm.view.colour}, not by body`);
-    const pg = mpm.pg, c = document.getElementById('view');
+    const f = mpm.frame, c = document.getElementById('view');
     mpm.camera.matrices(c.clientWidth, c.clientHeight);
-    const stride = pg.positionsStride(), dim = mpm.domain.length;
-    const pos = new Float32Array(mpm.memory.buffer, pg.positionsPtr(), pg.positionsLen());
-    const which = new Float32Array(mpm.memory.buffer, pg.coloursPtr(), pg.coloursLen());
+    const stride = f.stride, dim = mpm.domain.length;
+    const pos = f.positions, which = f.values;
     const mine = [];
-    for (let i = 0; i < pg.particleCount(); i++) if (which[i] === body) mine.push(i);
+    for (let i = 0; i < f.count; i++) if (which[i] === body) mine.push(i);
     const step = Math.max(1, Math.floor(mine.length / n));
     const out = [];
     for (let k = 0; k < mine.length; k += step) {

@@ -15,6 +15,12 @@
 //!   static server under a sub-path and loaded in Chromium.
 //! - `bench-web` — benchmarks that print figures: wasm in Node against native on the same
 //!   scene, and the page's frame rate in headless Chromium.
+//! - `live`      — the real-time factor of every shipped scene at the page's default quality:
+//!   stepping alone (wasm in Node, one core) and as seen in headless Chromium (stepping and
+//!   rendering), one `live scene=… rtf_step=… rtf_seen=… fps=…` line per scene.
+//! - `quality`   — what the page's quality levels cost in accuracy: the validation cases at
+//!   each level's cell factor and particles per cell (the figures of
+//!   `src/playground/quality.rs`).
 //! - `validate`  — the long validation runs; writes docs/validation-report.md.
 //! - `work-precision` — the run time against error study; writes
 //!   docs/work-precision-report.md and the SVG diagrams.
@@ -56,6 +62,8 @@ fn main() -> ExitCode {
         Some("dist") => dist_task(rest),
         Some("test") => test(),
         Some("bench-web") => bench_web(rest),
+        Some("live") => live(rest),
+        Some("quality") => report_bench("quality", rest),
         Some("validate") => report_bench("validate", rest),
         Some("work-precision") => report_bench("work_precision", rest),
         Some("passes") => report_bench("passes", rest),
@@ -63,7 +71,7 @@ fn main() -> ExitCode {
         Some("screenshot") => screenshot(),
         _ => {
             eprintln!(
-                "usage: cargo xtask <build|serve|dist|test|bench-web|validate|work-precision|passes|stress|screenshot>"
+                "usage: cargo xtask <build|serve|dist|test|bench-web|live|quality|validate|work-precision|passes|stress|screenshot>"
             );
             eprintln!(
                 "  build              build the browser playground into www/pkg/ (wasm, simd128)"
@@ -79,6 +87,15 @@ fn main() -> ExitCode {
             );
             eprintln!("  bench-web [--steps N] [--seconds S]");
             eprintln!("                     wasm vs native time per step, and fps in Chromium");
+            eprintln!(
+                "  live [--runs N] [--seconds S] [--quality Q] [--no-page] [--root DIR] [SCENE..]"
+            );
+            eprintln!(
+                "                     real-time factor per shipped scene: stepping (Node, one core), as seen (Chromium)"
+            );
+            eprintln!(
+                "  quality            the validation errors at each quality level's resolution"
+            );
             eprintln!("  validate [CASE..]  long validation runs -> docs/validation-report.md");
             eprintln!(
                 "  work-precision     run time against error -> docs/work-precision-report.md, SVGs"
@@ -457,9 +474,14 @@ fn serve_task(args: &[String]) -> Result<(), String> {
 
 /// Starts the file server on a free loopback port in this process; returns its URL.
 fn background_server() -> Result<String, String> {
+    background_server_of(root())
+}
+
+/// The same, serving the folder `dir`.
+fn background_server_of(dir: PathBuf) -> Result<String, String> {
     let listener = TcpListener::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
     let addr = listener.local_addr().map_err(|e| e.to_string())?;
-    std::thread::spawn(move || serve::run(listener, root(), true));
+    std::thread::spawn(move || serve::run(listener, dir, true));
     Ok(format!("http://{addr}/"))
 }
 
@@ -726,6 +748,141 @@ fn bench_web(args: &[String]) -> Result<(), String> {
             .env("MPM_SCENE", scene)
             .env("MPM_SECONDS", seconds);
         run_cmd(fps)?;
+    }
+    Ok(())
+}
+
+/// The `key=value` figures of a benchmark's output line.
+fn fields(line: &str) -> std::collections::HashMap<&str, &str> {
+    line.split_whitespace()
+        .filter_map(|w| w.split_once('='))
+        .collect()
+}
+
+/// The real-time factor of every shipped scene (`scenes/*.json`, or those whose file name
+/// contains one of the given words) at the page's default quality: simulated seconds per
+/// wall-clock second of stepping alone (the release wasm in Node, pinned to one core with
+/// `taskset -c 0` where it exists) and as seen in headless Chromium (stepping and rendering),
+/// each the median of `--runs` runs (default 3). Prints one line per scene:
+/// `live scene=<name> dim=<d> particles=<n> rtf_step=<x> rtf_seen=<y> fps=<z> quality=<q>`.
+/// `--quality Q` measures another quality level. `--root DIR` measures another tree instead (a checkout of an earlier commit with its
+/// `www/pkg/` built, and this one's `www/bench/live-*.mjs` copied in): the figures before a
+/// change.
+fn live(args: &[String]) -> Result<(), String> {
+    let tree = flag(args, "--root").map_or_else(root, PathBuf::from);
+    let runs: usize = flag(args, "--runs")
+        .unwrap_or("3")
+        .parse()
+        .map_err(|e| format!("--runs: {e}"))?;
+    let seconds = flag(args, "--seconds").unwrap_or("8");
+    let with_page = !args.iter().any(|a| a == "--no-page");
+    let words: Vec<&String> = {
+        let mut skip = false;
+        args.iter()
+            .filter(|a| {
+                let keep = !skip && !a.starts_with("--");
+                skip = matches!(a.as_str(), "--runs" | "--seconds" | "--root" | "--quality");
+                keep
+            })
+            .collect()
+    };
+    if !args.iter().any(|a| a == "--no-build") && flag(args, "--root").is_none() {
+        build()?;
+    }
+    let mut scenes: Vec<String> = std::fs::read_dir(tree.join("scenes"))
+        .map_err(|e| format!("scenes/: {e}"))?
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".json"))
+        .filter(|n| words.is_empty() || words.iter().any(|w| n.contains(w.as_str())))
+        .map(|n| format!("scenes/{n}"))
+        .collect();
+    scenes.sort();
+    if scenes.is_empty() {
+        return Err(format!("no scene file matches {words:?}"));
+    }
+    // Per scene: (dim, particles and quality, rtf_step runs, rtf_seen runs, fps runs).
+    type Figures = (String, String, Vec<f64>, Vec<f64>, Vec<f64>);
+    let mut table: std::collections::BTreeMap<String, Figures> = Default::default();
+    let number = |f: &std::collections::HashMap<&str, &str>, k: &str| {
+        f.get(k).and_then(|v| v.parse::<f64>().ok())
+    };
+    let pinned = output("taskset", &["--version"]).is_some();
+    let chromium = if with_page {
+        Some(ensure_browser_tools()?)
+    } else {
+        None
+    };
+    let url = if with_page {
+        Some(background_server_of(tree.clone())?)
+    } else {
+        None
+    };
+    for _ in 0..runs {
+        let mut node_args = vec!["node", "www/bench/live-node.mjs"];
+        if let Some(q) = flag(args, "--quality") {
+            node_args.extend(["--quality", q]);
+        }
+        node_args.extend(scenes.iter().map(String::as_str));
+        let mut c = if pinned {
+            let mut all = vec!["-c", "0"];
+            all.extend(node_args);
+            command("taskset", &all)
+        } else {
+            command(node_args[0], &node_args[1..])
+        };
+        c.current_dir(&tree);
+        for line in captured(c)?.lines().filter(|l| l.starts_with("step ")) {
+            let f = fields(line);
+            let e = table.entry(f["scene"].to_string()).or_default();
+            e.0 = f["dim"].to_string();
+            e.1 = format!("{} quality={}", f["particles"], f["quality"]);
+            e.2.extend(number(&f, "rtf_step"));
+        }
+        if let (Some(chromium), Some(url)) = (&chromium, &url) {
+            let mut page_args = vec!["www/bench/live-page.mjs", "--seconds", seconds];
+            if let Some(q) = flag(args, "--quality") {
+                page_args.extend(["--quality", q]);
+            }
+            page_args.extend(scenes.iter().map(String::as_str));
+            let mut c = command("node", &page_args);
+            c.env("MPM_URL", url)
+                .env("CHROMIUM", chromium)
+                .current_dir(&tree);
+            for line in captured(c)?.lines().filter(|l| l.starts_with("seen ")) {
+                let f = fields(line);
+                let e = table.entry(f["scene"].to_string()).or_default();
+                e.3.extend(number(&f, "rtf_seen"));
+                e.4.extend(number(&f, "fps"));
+            }
+        }
+    }
+    let commit = if flag(args, "--root").is_some() {
+        format!("(the tree {})", tree.display())
+    } else {
+        output("git", &["rev-parse", "--short", "HEAD"]).unwrap_or_default()
+    };
+    println!(
+        "live: medians of {runs} runs at commit {}; stepping: wasm in Node{}; seen: headless Chromium, {seconds} s per scene",
+        commit.trim(),
+        if pinned { " under taskset -c 0" } else { "" }
+    );
+    for (path, (dim, particles, mut step, mut seen, mut fps)) in table {
+        let name = path.trim_start_matches("scenes/").trim_end_matches(".json");
+        let show = |v: &mut Vec<f64>, digits: usize| {
+            if v.is_empty() {
+                "-".to_string()
+            } else {
+                format!("{:.*}", digits, median(v))
+            }
+        };
+        let (particles, quality) = particles.split_once(' ').unwrap_or((&particles, ""));
+        println!(
+            "live scene={name} dim={dim} particles={particles} rtf_step={} rtf_seen={} fps={} {quality}",
+            show(&mut step, 3),
+            show(&mut seen, 3),
+            show(&mut fps, 1),
+        );
     }
     Ok(())
 }

@@ -5,9 +5,10 @@ import { formatDrop, formatHash, parseDrop, readHash } from '../../js/hash.js';
 
 const NAMES = ['gravity', 'cfl', 'drucker_prager.friction_angle', 'elastic.youngs_modulus'];
 
-test('a hash written is read back: view, parameters in order, Clear and drops', () => {
+test('a hash written is read back: view, quality, parameters in order, Clear and drops', () => {
   const view = { scene: 'sandbox', dim: '2', colour: 'speed', size: 0.25 };
   const session = {
+    quality: 'balanced',
     params: [['drucker_prager.friction_angle', 25], ['gravity', 9.81], ['elastic.youngs_modulus', 123456789]],
     cleared: true,
     drops: [
@@ -16,13 +17,15 @@ test('a hash written is read back: view, parameters in order, Clear and drops', 
     ],
   };
   const hash = formatHash(view, session);
-  assert.equal(hash, '#scene=sandbox&dim=2&colour=speed&size=0.25&drucker_prager.friction_angle=25&gravity=9.81' +
+  assert.equal(hash, '#scene=sandbox&dim=2&colour=speed&size=0.25&quality=balanced&drucker_prager.friction_angle=25&gravity=9.81' +
     '&elastic.youngs_modulus=123457000&cleared=1&drop=0.0412:ball:elastic:0.25:0.8,0.55,0.5&drop=1.5:box:von_mises:0.1:1.2,0.4:0,-2.5');
   const back = readHash(hash, NAMES);
   assert.deepEqual(back.errors, []);
   assert.deepEqual(back.view, { scene: 'sandbox', dim: '2', colour: 'speed', size: '0.25' });
   assert.deepEqual(back.session.params, [['drucker_prager.friction_angle', 25], ['gravity', 9.81], ['elastic.youngs_modulus', 123457000]]);
   assert.equal(back.session.cleared, true);
+  assert.equal(back.session.quality, 'balanced');
+  assert.equal('quality' in readHash('#scene=sandbox', NAMES).session, false, 'no quality named: the page keeps its own');
   const { applied_at, ...first } = session.drops[0];
   assert.ok(applied_at > 0);
   assert.deepEqual(back.session.drops, [first, session.drops[1]]);

@@ -1,0 +1,80 @@
+//! What the playground's quality levels cost in accuracy: the work–precision study's three
+//! validation cases (`docs/work-precision.md`) at each cell factor and particles per cell a
+//! level can take (`mpm::playground::ACCURACY`), with the level's cap on the time step
+//! (`max_dt` × factor, written into a copy of the bar and the column under
+//! `target/quality-scenes/`; the resting column's file is fixed in the validation helpers: it
+//! keeps 1 ms, which binds above h = 0.025 m — its settlement is a static figure).
+//!
+//! `taskset -c 0 cargo bench --bench quality` (or `cargo xtask quality`): prints one line per
+//! row, `quality factor=… ppc=… bar_period=… bar_l2=… column_runout=… column_height=…
+//! resting_settlement=… seconds=…` (relative errors, signed), and the rows of the table in
+//! `src/playground/quality.rs`.
+
+#[path = "support/report.rs"]
+mod report;
+#[path = "../tests/support/validation.rs"]
+mod validation;
+
+use mpm::playground::ACCURACY;
+use mpm::{D2, KernelKind};
+use validation::*;
+
+/// The column study's converged reference (GIMP, h = 0.0025 m; docs/work-precision-report.md):
+/// normalised run-out and final height.
+const REFERENCE: (f64, f64) = (1.465, 0.635);
+
+/// A copy of validation scene `file` with `max_dt` scaled by `factor`, as a path the
+/// validation helpers take (relative to `scenes/validation/`).
+fn scaled(file: &str, factor: f64) -> String {
+    let text = std::fs::read_to_string(scene_path(file)).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let dt = v["max_dt"].as_f64().unwrap_or(0.001);
+    v["max_dt"] = serde_json::json!(dt * factor);
+    let dir = report::root().join("target/quality-scenes");
+    std::fs::create_dir_all(&dir).unwrap();
+    let name = format!("{}-{factor}.json", file.trim_end_matches(".json"));
+    std::fs::write(dir.join(&name), v.to_string()).unwrap();
+    format!("../../target/quality-scenes/{name}")
+}
+
+fn main() {
+    let mut rows = Vec::new();
+    for a in &ACCURACY {
+        let (f, ppc) = (a.cell_factor, a.particles_per_cell);
+        let start = std::time::Instant::now();
+        let n = |h: f64| Numerics::new(h * f, KernelKind::Gimp).ppc(ppc);
+        let bar = vibrating_bar::<D2>(
+            &scaled("vibrating_bar_2d.json", f),
+            &n(0.025).flip(1.0),
+            3.0,
+        );
+        let column = column_collapse(&scaled("column_collapse_a2_2d.json", f), &n(0.01), 4.0);
+        assert!(column.failure.is_none(), "{column:?}");
+        let resting = resting_column(&n(0.02).flip(0.0), 10.0);
+        assert!(resting.failure.is_none(), "{resting:?}");
+        let e = [
+            bar.period_error(),
+            bar.l2_error,
+            column.runout / REFERENCE.0 - 1.0,
+            column.height / REFERENCE.1 - 1.0,
+            resting.settlement / resting.settlement_exact - 1.0,
+        ];
+        println!(
+            "quality factor={f} ppc={ppc} bar_period={:.5} bar_l2={:.4} column_runout={:.4} column_height={:.4} resting_settlement={:.4} seconds={:.1}",
+            e[0],
+            e[1],
+            e[2],
+            e[3],
+            e[4],
+            start.elapsed().as_secs_f64()
+        );
+        rows.push(format!(
+            "    acc({f}, {ppc}, {:.5}, {:.4}, {:.4}, {:.4}, {:.4}),",
+            e[0], e[1], e[2], e[3], e[4]
+        ));
+    }
+    println!("rows of ACCURACY (src/playground/quality.rs):");
+    for r in rows {
+        println!("{r}");
+    }
+}

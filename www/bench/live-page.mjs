@@ -1,0 +1,71 @@
+// The real-time factor as seen: the playground in headless Chromium (Debian's package, WebGL2
+// drawn on the CPU by SwiftShader: the floor, not a laptop's), stepping and rendering at the
+// page's default quality, for each scene given.
+//
+//   MPM_URL=http://127.0.0.1:8080/ node www/bench/live-page.mjs [--seconds S] [--quality Q] SCENE.json...
+// prints one line per scene:
+//   seen scene=<path> dim=<d> particles=<n> sim=<s> wall=<s> frames=<k> fps=<x> rtf_seen=<y>
+// After the page shows the scene, 3 s of warm-up (V8's tier-up, the rendering governor
+// settling), then S wall-clock seconds (default 8) in which the simulated time advanced and the
+// frames drawn are counted, then how long 20 commands wait for an answer while it runs
+// (`cargo xtask live` serves the page and runs this). `--quality`
+// picks another level.
+import { launch } from '../tests/browser.mjs';
+
+const url = process.env.MPM_URL || 'http://127.0.0.1:8080/';
+const args = process.argv.slice(2);
+let seconds = 8;
+const i = args.indexOf('--seconds');
+if (i >= 0) seconds = Number(args.splice(i, 2)[1]);
+const q = args.indexOf('--quality');
+const quality = q >= 0 ? `&quality=${args.splice(q, 2)[1]}` : '';
+const width = Number(process.env.MPM_WIDTH || 1280), height = Number(process.env.MPM_HEIGHT || 720);
+
+const browser = await launch({ width, height });
+// What the page reports, whichever way it holds its simulation.
+const sample = () => ({
+  t: performance.now(),
+  flush: window.mpm.stats.flushMs,
+  render: window.mpm.stats.renderMs,
+  stepping: window.mpm.stats.stepWallMs,
+  sim: window.mpm.simTime ?? window.mpm.pg.time(),
+  frames: window.mpm.stats.frames,
+  particles: window.mpm.particleCount ?? window.mpm.pg.particleCount(),
+  dim: window.mpm.domain.length,
+});
+for (const scene of args) {
+  const page = await browser.context.newPage();
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(e.message));
+  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+  await page.goto(`${url}#scene=${scene}${quality}`);
+  await page.waitForFunction(() => window.mpm?.stats?.frames > 3, null, { timeout: 120_000 });
+  await page.waitForTimeout(3000);
+  const a = await page.evaluate(sample);
+  await page.waitForTimeout(seconds * 1000);
+  const b = await page.evaluate(sample);
+  const wall = (b.t - a.t) / 1000;
+  // How long a command waits for the simulation while it runs (a size check: no work of its
+  // own), over 20 commands 50 ms apart.
+  const waits = await page.evaluate(async () => {
+    if (!window.mpm.session?.checkSize) return null;
+    const out = [];
+    for (let k = 0; k < 20; k++) {
+      const t0 = performance.now();
+      await window.mpm.session.checkSize(0.2);
+      out.push(performance.now() - t0);
+      await new Promise((r) => setTimeout(r, 50));
+    }
+    return out.sort((x, y) => x - y);
+  });
+  console.log(
+    `seen scene=${scene} dim=${b.dim} particles=${b.particles} sim=${(b.sim - a.sim).toFixed(4)} wall=${wall.toFixed(3)} ` +
+      `frames=${b.frames - a.frames} fps=${((b.frames - a.frames) / wall).toFixed(1)} rtf_seen=${((b.sim - a.sim) / wall).toFixed(3)}` +
+      (b.flush === undefined ? '' : ` stepping_share=${((b.stepping - a.stepping) / 1000 / wall).toFixed(2)} ` +
+        `frame_send_ms=${b.flush.toFixed(2)} draw_js_ms=${b.render.toFixed(2)}`) +
+      (waits ? ` command_wait_ms=${waits[10].toFixed(1)} command_wait_max_ms=${waits[19].toFixed(1)}` : ''),
+  );
+  if (errors.length) console.log(`page errors (${scene}): ${errors.join('; ')}`);
+  await page.close();
+}
+await browser.close();
