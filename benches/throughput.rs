@@ -7,7 +7,10 @@
 //! substring, e.g. `cargo bench --bench throughput -- 3d`.
 //!
 //! Each figure is printed once for people and once as a machine-readable line:
-//! `bench scene=<name> dim=<2|3> particles=<n> substeps=<k> seconds=<s> particle_substeps_per_s=<x>`.
+//! `bench scene=<name> dim=<2|3> particles=<n> substeps=<k> seconds=<s> particle_substeps_per_s=<x>
+//! cpu_seconds=<c> cpu_particle_substeps_per_s=<y>`. The second rate counts the time the
+//! thread was on a core (Linux's `/proc/thread-self/schedstat`), not the time it waited for
+//! one: on a machine shared with other work it is the steadier of the two.
 
 use mpm::{AnySimulation, BodyConfig, KernelKind, Material, SceneConfig, Shape};
 use std::time::Instant;
@@ -99,22 +102,35 @@ fn pass_shares(t: &mpm::PassTimings) -> String {
         .join(", ")
 }
 
-/// Runs `steps` substeps `rounds` times after a warm-up; returns the median seconds per round.
-fn time(sim: &mut AnySimulation, steps: usize, rounds: usize) -> f64 {
+/// Seconds this thread has spent on a core (Linux); `None` elsewhere.
+fn cpu_seconds() -> Option<f64> {
+    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    Some(s.split_whitespace().next()?.parse::<f64>().ok()? * 1e-9)
+}
+
+/// Runs `steps` substeps `rounds` times after a warm-up; returns the median wall-clock and
+/// on-core seconds per round.
+fn time(sim: &mut AnySimulation, steps: usize, rounds: usize) -> (f64, Option<f64>) {
     for _ in 0..steps {
         sim.step().expect("warm-up step");
     }
-    let mut t: Vec<f64> = (0..rounds)
+    let (mut wall, mut cpu): (Vec<f64>, Vec<Option<f64>>) = (0..rounds)
         .map(|_| {
-            let start = Instant::now();
+            let (start, c0) = (Instant::now(), cpu_seconds());
             for _ in 0..steps {
                 sim.step().expect("step");
             }
-            start.elapsed().as_secs_f64()
+            let c = c0.zip(cpu_seconds()).map(|(a, b)| b - a);
+            (start.elapsed().as_secs_f64(), c)
         })
-        .collect();
-    t.sort_by(|a, b| a.partial_cmp(b).unwrap());
-    t[rounds / 2]
+        .unzip();
+    wall.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    let mut cpu: Option<Vec<f64>> = cpu.drain(..).collect();
+    let cpu = cpu.as_mut().map(|c| {
+        c.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        c[rounds / 2]
+    });
+    (wall[rounds / 2], cpu)
 }
 
 fn main() {
@@ -133,8 +149,9 @@ fn main() {
         sim.set_timings(true);
         let n = sim.particle_count();
         let steps = if dim == 3 { 20 } else { 40 };
-        let secs = time(&mut sim, steps, 5);
+        let (secs, cpu) = time(&mut sim, steps, 5);
         let rate = (n * steps) as f64 / secs;
+        let cpu_rate = cpu.map(|c| (n * steps) as f64 / c);
         let bytes = sim.memory_bytes() as f64 / n as f64;
         let mut note = String::new();
         if let Some(name) = case.name.strip_suffix("_domain_x2") {
@@ -144,8 +161,9 @@ fn main() {
         } else {
             base = Some((case.name.clone(), rate));
         }
+        let on_core = cpu_rate.map_or(String::new(), |r| format!(" ({:.2} M on core)", r / 1e6));
         println!(
-            "{:<32} {dim}D {n:>8} particles  {:>6.2} M particle-substeps/s  {:>5.0} B/particle{note}",
+            "{:<32} {dim}D {n:>8} particles  {:>6.2} M particle-substeps/s{on_core}  {:>5.0} B/particle{note}",
             case.name,
             rate / 1e6,
             bytes
@@ -155,8 +173,11 @@ fn main() {
             "",
             pass_shares(&sim.timings().unwrap_or_default())
         );
+        let cpu_fields = cpu.zip(cpu_rate).map_or(String::new(), |(c, r)| {
+            format!(" cpu_seconds={c:.4} cpu_particle_substeps_per_s={r:.0}")
+        });
         println!(
-            "bench scene={} dim={dim} particles={n} substeps={steps} seconds={secs:.4} particle_substeps_per_s={rate:.0}",
+            "bench scene={} dim={dim} particles={n} substeps={steps} seconds={secs:.4} particle_substeps_per_s={rate:.0}{cpu_fields}",
             case.name
         );
     }

@@ -34,6 +34,8 @@ pub trait Lanes: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = S
     fn abs(self) -> Self;
     /// `f32::clamp` in each lane (NaN stays NaN).
     fn clamp(self, lo: Real, hi: Real) -> Self;
+    /// max(x, 0) in each lane (0 for NaN).
+    fn max0(self) -> Self;
     /// [`floor_nonneg`] in each lane, as an integer and as a [`Real`] (the same value).
     fn floor_nonneg(self) -> (Self::Int, Self);
 }
@@ -51,6 +53,10 @@ impl Lanes for Real {
     #[inline(always)]
     fn clamp(self, lo: Real, hi: Real) -> Self {
         Real::clamp(self, lo, hi)
+    }
+    #[inline(always)]
+    fn max0(self) -> Self {
+        crate::math::max(self, 0.0)
     }
     #[inline(always)]
     fn floor_nonneg(self) -> (i32, Real) {
@@ -122,6 +128,11 @@ mod simd {
             // then `if x > hi { hi }`, as `f32::clamp`.
             let x = f32x4_pmax(self.0, f32x4_splat(lo));
             F4(f32x4_pmin(x, f32x4_splat(hi)))
+        }
+        #[inline(always)]
+        fn max0(self) -> Self {
+            // pmax(0, x) = 0 < x ? x : 0, as `math::max(x, 0)`.
+            F4(f32x4_pmax(f32x4_splat(0.0), self.0))
         }
         #[inline(always)]
         fn floor_nonneg(self) -> ([i32; 4], Self) {
@@ -346,13 +357,21 @@ impl Gimp {
     /// Weight and derivative for a node at signed distance `xi` (grid units): the average of
     /// the hat N(s) = max(0, 1 − |s|) over [xi − lp, xi + lp], written with the hat's
     /// antiderivative H(s) = ½ + c − ½ c|c| (c = s clamped to [−1, 1]) so that it has no branch:
-    /// w = (H(xi + lp) − H(xi − lp)) / 2lp and dw = (N(xi + lp) − N(xi − lp)) / 2lp.
+    /// w = (H(hi) − H(lo)) / 2lp and dw = (N(hi) − N(lo)) / 2lp with hi, lo = xi ± lp clamped.
+    ///
+    /// H(hi) − H(lo) is formed as (hi − lo)(1 − ½(|hi| + |lo|)) + max(0, −hi lo), which equals
+    /// it whether or not [lo, hi] straddles 0, so that it never subtracts two numbers near 1:
+    /// where the particle's domain barely reaches the node (hi = 1, lo = 1 − δ) it gives
+    /// w = δ²/4lp to full precision, consistent with dw = −δ/2lp. (The plain difference left
+    /// w at zero there while dw was not, and a node of next to no mass took a finite force.)
     #[inline(always)]
     fn shape<L: Lanes>(xi: L, lp: Real, inv_2lp: Real) -> (L, L) {
         let hi = (xi + L::splat(lp)).clamp(-1.0, 1.0);
         let lo = (xi - L::splat(lp)).clamp(-1.0, 1.0);
         let (ahi, alo) = (hi.abs(), lo.abs());
-        let w = (hi - lo - L::splat(0.5) * (hi * ahi - lo * alo)) * L::splat(inv_2lp);
+        let straddle = (L::splat(0.0) - hi * lo).max0();
+        let w = ((hi - lo) * (L::splat(1.0) - L::splat(0.5) * (ahi + alo)) + straddle)
+            * L::splat(inv_2lp);
         let dw = (alo - ahi) * L::splat(inv_2lp);
         (w, dw)
     }
@@ -486,6 +505,30 @@ mod tests {
                 if let Some(k1) = (0..3).find(|&k1| b1 + k1 as i32 == b0 + k as i32) {
                     assert!((d0[k] - d1[k1]).abs() < 1e-2, "jump at {x0}");
                 }
+            }
+        }
+    }
+
+    /// Where a particle's domain barely reaches a node, GIMP's weight is δ²/4lp and its
+    /// derivative δ/2lp (δ: how far the domain reaches past the hat's edge), so that
+    /// w = lp dw² holds to rounding however small δ is: a node never receives a force
+    /// without the mass that goes with it.
+    #[test]
+    fn gimp_weight_and_gradient_vanish_together_at_the_edge() {
+        let lp: Real = 0.25;
+        for e in 1..=20 {
+            let delta = (2.0 as Real).powi(-e);
+            // node 4 just reached from the right, node 6 from the left
+            for (xg, node) in [(4.0 + (1.0 + lp - delta), 4), (6.0 - (1.0 + lp - delta), 6)] {
+                let (base, w, dw) = Gimp::axis(xg, lp);
+                let k = (node - base) as usize;
+                let exact = lp * dw[k] * dw[k];
+                assert!(exact > 0.0, "δ = {delta:e}: node {node} out of reach");
+                assert!(
+                    (w[k] - exact).abs() <= 1e-3 * exact,
+                    "δ = {delta:e}, node {node}: w = {:e}, lp dw² = {exact:e}",
+                    w[k]
+                );
             }
         }
     }

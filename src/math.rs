@@ -49,6 +49,7 @@ pub trait VectorOps:
     + 'static
     + Add<Output = Self>
     + Sub<Output = Self>
+    + Mul<Output = Self>
     + Mul<Real, Output = Self>
     + Div<Real, Output = Self>
     + Neg<Output = Self>
@@ -355,6 +356,111 @@ impl Lane for Lanes {
     }
 }
 
+/// Eight values side by side: two [`Lanes`], whose operations interleave instruction by
+/// instruction, so that two groups of four particles' constitutive updates (each a long chain
+/// of dependent operations) advance together.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Lanes2(pub Lanes, pub Lanes);
+
+macro_rules! lanes2_op {
+    ($tr:ident, $f:ident) => {
+        impl $tr for Lanes2 {
+            type Output = Lanes2;
+            #[inline(always)]
+            fn $f(self, o: Lanes2) -> Lanes2 {
+                Lanes2(self.0.$f(o.0), self.1.$f(o.1))
+            }
+        }
+        impl $tr<Real> for Lanes2 {
+            type Output = Lanes2;
+            #[inline(always)]
+            fn $f(self, o: Real) -> Lanes2 {
+                Lanes2(self.0.$f(o), self.1.$f(o))
+            }
+        }
+    };
+}
+lanes2_op!(Add, add);
+lanes2_op!(Sub, sub);
+lanes2_op!(Mul, mul);
+impl Div for Lanes2 {
+    type Output = Lanes2;
+    #[inline(always)]
+    fn div(self, o: Lanes2) -> Lanes2 {
+        Lanes2(self.0 / o.0, self.1 / o.1)
+    }
+}
+impl Neg for Lanes2 {
+    type Output = Lanes2;
+    #[inline(always)]
+    fn neg(self) -> Lanes2 {
+        Lanes2(-self.0, -self.1)
+    }
+}
+impl AddAssign for Lanes2 {
+    #[inline(always)]
+    fn add_assign(&mut self, o: Lanes2) {
+        self.0 += o.0;
+        self.1 += o.1;
+    }
+}
+
+impl Lane for Lanes2 {
+    const ZERO: Self = Lanes2(Lanes::ZERO, Lanes::ZERO);
+    const ONE: Self = Lanes2(Lanes::ONE, Lanes::ONE);
+    #[inline(always)]
+    fn splat(x: Real) -> Self {
+        Lanes2(Lanes::splat(x), Lanes::splat(x))
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        Lanes2(self.0.sqrt(), self.1.sqrt())
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        Lanes2(self.0.abs(), self.1.abs())
+    }
+    #[inline(always)]
+    fn min(self, o: Self) -> Self {
+        Lanes2(Lane::min(self.0, o.0), Lane::min(self.1, o.1))
+    }
+    #[inline(always)]
+    fn max(self, o: Self) -> Self {
+        Lanes2(Lane::max(self.0, o.0), Lane::max(self.1, o.1))
+    }
+    #[inline(always)]
+    fn select_gt(a: Self, b: Self, x: Self, y: Self) -> Self {
+        Lanes2(
+            Lanes::select_gt(a.0, b.0, x.0, y.0),
+            Lanes::select_gt(a.1, b.1, x.1, y.1),
+        )
+    }
+    #[inline(always)]
+    fn step_gt(a: Self, b: Self) -> Self {
+        Lanes2(Lanes::step_gt(a.0, b.0), Lanes::step_gt(a.1, b.1))
+    }
+    #[inline(always)]
+    fn all_finite(self) -> bool {
+        self.0.is_finite() && self.1.is_finite()
+    }
+    #[inline(always)]
+    fn exp(self) -> Self {
+        Lanes2(Lane::exp(self.0), Lane::exp(self.1))
+    }
+    #[inline(always)]
+    fn sum(self) -> Real {
+        self.0.element_sum() + self.1.element_sum()
+    }
+    #[inline(always)]
+    fn min_element(self) -> Real {
+        min(self.0.min_element(), self.1.min_element())
+    }
+    #[inline(always)]
+    fn max_element(self) -> Real {
+        max(self.0.max_element(), self.1.max_element())
+    }
+}
+
 /// Below this |a|² (a = ½ Δt ω, the rotation of one step) the stress rotation leaves out its
 /// second-order terms (of size 4|a|² |σ|, under 1e-4 of the float resolution, 2.4e-12 in
 /// f32). They change nothing a float holds, and kept, they multiply the stress by products
@@ -427,6 +533,18 @@ macro_rules! impl_sym_arith {
                 std::array::from_fn(|i| $t { $($f: $f[i]),* })
             }
         }
+        impl $t<Lanes> {
+            /// Two tensors of [`Lanes`] as one of [`Lanes2`].
+            #[inline(always)]
+            pub fn zip(a: Self, b: Self) -> $t<Lanes2> {
+                $t { $($f: Lanes2(a.$f, b.$f)),* }
+            }
+            /// The two tensors of [`Lanes`] of one of [`Lanes2`].
+            #[inline(always)]
+            pub fn unzip(l: $t<Lanes2>) -> (Self, Self) {
+                ($t { $($f: l.$f.0),* }, $t { $($f: l.$f.1),* })
+            }
+        }
     };
 }
 impl_sym_arith!(Sym2 { xx, yy, zz, xy });
@@ -450,6 +568,14 @@ pub trait Batch: SymTensor<Scalar = Real> {
     fn pack(s: &[Self; LANES]) -> Self::Lanes;
     fn unpack(l: Self::Lanes) -> [Self; LANES];
     fn pack_spin(w: &[Self::Spin; LANES]) -> <Self::Lanes as SymTensor>::Spin;
+    /// Eight tensors side by side: two of [`Self::Lanes`].
+    type Lanes2: SymTensor<Scalar = Lanes2>;
+    fn zip(a: Self::Lanes, b: Self::Lanes) -> Self::Lanes2;
+    fn unzip(l: Self::Lanes2) -> (Self::Lanes, Self::Lanes);
+    fn zip_spin(
+        a: <Self::Lanes as SymTensor>::Spin,
+        b: <Self::Lanes as SymTensor>::Spin,
+    ) -> <Self::Lanes2 as SymTensor>::Spin;
 }
 
 impl Batch for Sym2 {
@@ -466,6 +592,19 @@ impl Batch for Sym2 {
     fn pack_spin(w: &[Real; LANES]) -> Lanes {
         Lanes::from_array(*w)
     }
+    type Lanes2 = Sym2<Lanes2>;
+    #[inline(always)]
+    fn zip(a: Sym2<Lanes>, b: Sym2<Lanes>) -> Sym2<Lanes2> {
+        Sym2::zip(a, b)
+    }
+    #[inline(always)]
+    fn unzip(l: Sym2<Lanes2>) -> (Sym2<Lanes>, Sym2<Lanes>) {
+        Sym2::unzip(l)
+    }
+    #[inline(always)]
+    fn zip_spin(a: Lanes, b: Lanes) -> Lanes2 {
+        Lanes2(a, b)
+    }
 }
 
 impl Batch for Sym3 {
@@ -481,6 +620,19 @@ impl Batch for Sym3 {
     #[inline(always)]
     fn pack_spin(w: &[[Real; 3]; LANES]) -> [Lanes; 3] {
         std::array::from_fn(|c| Lanes::new(w[0][c], w[1][c], w[2][c], w[3][c]))
+    }
+    type Lanes2 = Sym3<Lanes2>;
+    #[inline(always)]
+    fn zip(a: Sym3<Lanes>, b: Sym3<Lanes>) -> Sym3<Lanes2> {
+        Sym3::zip(a, b)
+    }
+    #[inline(always)]
+    fn unzip(l: Sym3<Lanes2>) -> (Sym3<Lanes>, Sym3<Lanes>) {
+        Sym3::unzip(l)
+    }
+    #[inline(always)]
+    fn zip_spin(a: [Lanes; 3], b: [Lanes; 3]) -> [Lanes2; 3] {
+        std::array::from_fn(|c| Lanes2(a[c], b[c]))
     }
 }
 

@@ -72,6 +72,8 @@ pub struct Body<D: Dim> {
     pub(crate) kinematic: bool,
     /// Momentum received through contact in the current step.
     pub(crate) contact_impulse: [f64; 3],
+    /// What the stress update of the current step measured.
+    pub(crate) stress_report: StressReport,
 }
 
 impl<D: Dim> Body<D> {
@@ -140,17 +142,19 @@ pub struct PassTimings {
     pub steps: u64,
     /// Grid blocks where the particles are, particle sorting, contact pair search.
     pub allocate: f64,
-    /// Step 1: mass and momentum to the grid.
+    /// Step 1: mass and momentum to the grid (and, stress updated last, the internal forces).
     pub scatter: f64,
-    /// Steps 2–3 and the particle side of 4: velocity gradient, stress, internal forces.
+    /// Steps 2–3 and the particle side of 4 with the stress updated first (the linear kernel);
+    /// with the stress updated last they run in the gather and count there.
     pub stress: f64,
-    /// Step 4 on the grid: forces and gravity.
+    /// Grid velocities, and step 4 on the grid: forces and gravity.
     pub grid: f64,
     /// Step 5 between bodies (Eq. 20–21).
     pub contact: f64,
     /// Step 5 at the walls.
     pub walls: f64,
-    /// Steps 6–8: PIC/FLIP gather, particle collisions, advection, diagnostics.
+    /// Steps 6–8: PIC/FLIP gather, particle collisions, advection, diagnostics (and, stress
+    /// updated last, the velocity gradient and steps 2–3).
     pub gather: f64,
 }
 
@@ -302,6 +306,7 @@ impl<D: Dim> Simulation<D> {
             radius,
             kinematic: config.kinematic,
             contact_impulse: [0.0; 3],
+            stress_report: StressReport::default(),
         });
         self.refresh_diagnostics();
     }
@@ -559,6 +564,9 @@ impl<D: Dim> Simulation<D> {
             (0.0, 0.0, 0.0, [0.0; 3], 0.0f64);
         for (i, body) in self.bodies.iter_mut().enumerate() {
             let (s, g) = (&stress[i], &gathered[i]);
+            if s.bad == 0 && s.max_volume > 0.0 {
+                body.max_volume = s.max_volume; // a kinematic body's report has none
+            }
             d.dissipated_plastic += s.dissipated;
             d.dissipated_boundary += g.dissipated_walls;
             body.stats.dissipated_plastic += s.dissipated;
@@ -616,8 +624,9 @@ impl<D: Dim> Simulation<D> {
                 s.elastic += (elastic.energy_density(p.stress[i]) * p.volume[i]) as f64;
                 s.max_volume = s.max_volume.max(p.volume[i]);
                 body.min_mass = body.min_mass.min(p.mass[i]);
-                acc.record(p.mass[i], p.x[i], p.v[i], p.plastic_strain[i]);
+                acc.record(p.mass[i], p.x[i], p.v[i]);
             }
+            acc = acc.with_plastic_strain(&p.plastic_strain[body.range.clone()]);
             acc.finish(w.gravity);
             body.max_volume = s.max_volume;
             stress.push(s);

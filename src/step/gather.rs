@@ -1,15 +1,23 @@
-//! Steps 6–8: back from the grid to the particles, and the particles move.
+//! Steps 6–8: back from the grid to the particles, in one walk over each particle's stencil
+//! at its position x_p^n,
 //!
 //! - step 6, the new particle velocity from the grid's new velocities v_i^{n+1} and old ones
 //!   v_i^n interpolated at the particle, by the body's transfer ([`super::transfer`]):
 //!   v_p ← (1 − α) Σ_i w_ip v_i^{n+1} + α (v_p + Σ_i w_ip (v_i^{n+1} − v_i^n)), and with APIC
 //!   C_p = B_p D_p⁻¹, B_p = Σ_i w_ip v_i^{n+1} (x_i − x_p)ᵀ;
+//! - for bodies whose stress is updated last ([`super::StressOrder`]), steps 2–3: the
+//!   velocity gradient ∇v_p = Σ_i v_i^{n+1} ⊗ ∇w_ip of the same walk, and with it the stress
+//!   and volume ([`super::stress`]), for the next step's forces;
 //! - step 7, the particle-side walls: a particle whose material (a cube of half-width
 //!   `radius` about it) would cross a wall within the step takes the wall rule;
 //! - step 8, advection x_p ← x_p + Δt v_p.
 //!
 //! The pass also sums what the diagnostics report (mass, momentum, energies, bounds).
 
+use super::StressOrder;
+use super::stress::{
+    AfterGather, CHUNK, Rates, StressReport, StressState, StressUpdatedFirst, UpdateStressLast,
+};
 use super::transfer::Transfer;
 use super::{
     constraint_dissipation, first_node, grid_coords, layout, third_axis, third_axis_nodes,
@@ -18,16 +26,17 @@ use super::{
 use crate::boundary::Walls;
 use crate::grid::{Grid, Node, stencil_span};
 use crate::kernel::{Kernel, Stencil};
-use crate::math::{Dim, Real, Vec4, VectorOps, max, sum_from_first};
+use crate::material::Model;
+use crate::math::{Dim, Real, Vec2, Vec4, VectorOps, max, sum_from_first};
 use crate::sim::Simulation;
 
 impl<D: Dim> Simulation<D> {
-    /// Steps 6–8 for every body.
-    pub(super) fn gather_and_advect(&mut self, dt: Real) -> Vec<GatherReport<D>> {
+    /// Steps 6–8 (and 2–3 when the stress is updated last) for every body.
+    pub(super) fn gather_and_update(&mut self, dt: Real) -> Vec<GatherReport<D>> {
         let w = self.world;
         let p = &mut self.particles;
         let mut reports = Vec::with_capacity(self.bodies.len());
-        for body in &self.bodies {
+        for body in &mut self.bodies {
             let r = body.range.clone();
             let state = GatherState {
                 x: &mut p.x[r.clone()],
@@ -38,42 +47,112 @@ impl<D: Dim> Simulation<D> {
                     None
                 },
                 mass: &p.mass[r.clone()],
-                plastic_strain: &p.plastic_strain[r],
             };
-            reports.push(if body.kinematic {
-                advect_kinematic(state, dt, &w.walls, body.radius, w.gravity)
-            } else {
-                with_kernel!(w.kernel, K, S => gather_and_advect::<D, K, S>(
-                    &body.grid, state, body.transfer, dt, w.inv_h, &w.walls, body.radius, w.gravity,
-                ))
-            });
+            let stress = StressState {
+                stress: &mut p.stress[r.clone()],
+                volume: &mut p.volume[r.clone()],
+                plastic_strain: &mut p.plastic_strain[r],
+            };
+            if body.kinematic {
+                let g = advect_kinematic(state, dt, &w.walls, body.radius, w.gravity);
+                reports.push(g.with_plastic_strain(stress.plastic_strain));
+                continue;
+            }
+            let pass = Pass {
+                grid: &body.grid,
+                transfer: body.transfer,
+                dt,
+                inv_h: w.inv_h,
+                walls: &w.walls,
+                radius: body.radius,
+                gravity: w.gravity,
+            };
+            macro_rules! last {
+                ($m:expr) => {{
+                    let mut after = UpdateStressLast {
+                        model: $m,
+                        state: stress,
+                        dt,
+                        report: StressReport::default(),
+                    };
+                    let g = with_kernel!(w.kernel, K, S => gather::<D, K, _, S>(&pass, state, &mut after));
+                    body.stress_report = after.report;
+                    g.with_plastic_strain(after.state.plastic_strain)
+                }};
+            }
+            let last = body.stress_order(w.kernel) == StressOrder::Last;
+            let report = match (&body.model, last) {
+                (_, false) => {
+                    let g = with_kernel!(w.kernel, K, S => gather::<D, K, _, S>(&pass, state, &mut StressUpdatedFirst));
+                    g.with_plastic_strain(stress.plastic_strain)
+                }
+                (Model::Elastic(m), true) => last!(m),
+                (Model::VonMises(m), true) => last!(m),
+                (Model::DruckerPrager(m), true) => last!(m),
+            };
+            reports.push(report);
         }
         reports
     }
 }
 
-/// The particle state the gather pass reads and writes.
+/// The particle state the gather reads and writes.
 pub struct GatherState<'a, D: Dim> {
     pub x: &'a mut [D::Vector],
     pub v: &'a mut [D::Vector],
     /// The APIC affine velocities, for APIC bodies.
     pub affine: Option<&'a mut [D::Grad]>,
     pub mass: &'a [Real],
-    pub plastic_strain: &'a [Real],
 }
 
-/// Steps 6–8 for one body.
-#[allow(clippy::too_many_arguments)]
-pub fn gather_and_advect<D: Dim, K: Kernel<S>, const S: usize>(
-    grid: &Grid<D>,
+/// What the gather of one body works with besides its particles.
+pub struct Pass<'a, D: Dim> {
+    pub grid: &'a Grid<D>,
+    pub transfer: Transfer,
+    pub dt: Real,
+    pub inv_h: Real,
+    pub walls: &'a Walls<D>,
+    /// Half the particle spacing.
+    pub radius: Real,
+    pub gravity: D::Vector,
+}
+
+/// Steps 6–8 for one body, in chunks of [`CHUNK`] particles: the walks, new velocities and
+/// positions of a chunk, then `after` with its velocity gradients (when it wants them).
+///
+/// Never inlined: each (dimension, kernel, model) instance stays a function of its own (when
+/// such instances were inlined into their dispatch, V8 compiled the resulting WebAssembly
+/// function much worse; docs/performance.md).
+#[inline(never)]
+pub fn gather<D: Dim, K: Kernel<S>, A: AfterGather<D>, const S: usize>(
+    pass: &Pass<'_, D>,
     ps: GatherState<'_, D>,
-    transfer: Transfer,
-    dt: Real,
-    inv_h: Real,
-    walls: &Walls<D>,
-    radius: Real,
-    gravity: D::Vector,
+    after: &mut A,
 ) -> GatherReport<D> {
+    // PIC (α = 0) needs no old grid velocities.
+    if pass.transfer.flip == 0.0 {
+        gather_chunks::<D, K, A, S, false>(pass, ps, after)
+    } else {
+        gather_chunks::<D, K, A, S, true>(pass, ps, after)
+    }
+}
+
+/// [`gather`], with the old grid velocities interpolated or not (`OLD`).
+#[inline(always)]
+fn gather_chunks<D: Dim, K: Kernel<S>, A: AfterGather<D>, const S: usize, const OLD: bool>(
+    pass: &Pass<'_, D>,
+    ps: GatherState<'_, D>,
+    after: &mut A,
+) -> GatherReport<D> {
+    let &Pass {
+        grid,
+        transfer,
+        dt,
+        inv_h,
+        walls,
+        radius,
+        gravity,
+    } = pass;
     let (p, span) = layout::<D, S>(grid);
     let Grid {
         layout,
@@ -84,40 +163,57 @@ pub fn gather_and_advect<D: Dim, K: Kernel<S>, const S: usize>(
     let mut r = GatherReport::<D>::empty();
     let h = 1.0 / inv_h;
     let mut affine = ps.affine;
-    for q in 0..ps.x.len() {
-        let x = ps.x[q];
-        let st = K::stencil(grid_coords::<D>(x, inv_h), D::DIM, inv_h, radius * inv_h);
-        let cell = &nodes[first_node(layout, particle_node[q], &st)..][..span];
-        // Step 6.
-        let (v_new, v_old) = if D::DIM == 2 {
-            gather_velocity_2d_packed::<D, S>(cell, p, &st)
-        } else {
-            gather_velocity::<D, S>(cell, p, &st)
-        };
-        if let Some(c) = affine.as_deref_mut() {
-            c[q] = Transfer::affine_velocity::<D, S>(gather_affine::<D, S>(cell, p, &st), &st, h);
+    let mut rates = Rates::<D>::zero();
+    let n = ps.x.len();
+    for first in (0..n).step_by(CHUNK) {
+        let chunk = first..n.min(first + CHUNK);
+        for q in chunk.clone() {
+            let x = ps.x[q];
+            let st = K::stencil(grid_coords::<D>(x, inv_h), D::DIM, inv_h, radius * inv_h);
+            let cell = &nodes[first_node(layout, particle_node[q], &st)..][..span];
+            // Step 6 (and 2).
+            let (v_new, v_old) = if !A::GRADIENT {
+                if D::DIM == 2 {
+                    gather_velocity_2d_packed::<D, S, OLD>(cell, p, &st)
+                } else {
+                    gather_velocity::<D, S, OLD>(cell, p, &st)
+                }
+            } else {
+                let (v_new, v_old, grad) = if D::DIM == 2 {
+                    gather_2d_packed::<D, S, OLD>(cell, p, &st)
+                } else {
+                    gather_particle::<D, S, OLD>(cell, p, &st)
+                };
+                rates.set(q - first, grad);
+                (v_new, v_old)
+            };
+            if let Some(c) = affine.as_deref_mut() {
+                let b = gather_affine::<D, S>(cell, p, &st);
+                c[q] = Transfer::affine_velocity::<D, S>(b, &st, h);
+            }
+            let blended = transfer.velocity(ps.v[q], v_new, v_old);
+            // Steps 7 and 8.
+            let m = ps.mass[q];
+            let next = x + blended * dt;
+            let (v, x) = if walls.inside(next, radius) {
+                (blended, next) // the common case: clear of the walls
+            } else {
+                let v = walls.particle_velocity(x, blended, dt, radius);
+                r.dissipated_walls += constraint_dissipation(m, ps.v[q], blended, v);
+                (v, walls.clamp(x + v * dt, radius))
+            };
+            // Finite values times zero are (signed) zeros; a NaN or an infinity gives NaN.
+            let zeros = v * 0.0 + x * 0.0;
+            if zeros.dot(zeros) != 0.0 {
+                r.bad += 1;
+                r.first_bad.get_or_insert(q);
+                continue;
+            }
+            ps.v[q] = v;
+            ps.x[q] = x;
+            r.record(m, x, v);
         }
-        let blended = transfer.velocity(ps.v[q], v_new, v_old);
-        // Steps 7 and 8.
-        let m = ps.mass[q];
-        let next = x + blended * dt;
-        let (v, x) = if walls.inside(next, radius) {
-            (blended, next) // the common case: clear of the walls
-        } else {
-            let v = walls.particle_velocity(x, blended, dt, radius);
-            r.dissipated_walls += constraint_dissipation(m, ps.v[q], blended, v);
-            (v, walls.clamp(x + v * dt, radius))
-        };
-        // Finite values times zero are (signed) zeros; a NaN or an infinity gives NaN.
-        let zeros = v * 0.0 + x * 0.0;
-        if zeros.dot(zeros) != 0.0 {
-            r.bad += 1;
-            r.first_bad.get_or_insert(q);
-            continue;
-        }
-        ps.v[q] = v;
-        ps.x[q] = x;
-        r.record(m, x, v, ps.plastic_strain[q]);
+        after.chunk(&mut rates, chunk);
     }
     r.finish(gravity);
     r
@@ -136,16 +232,17 @@ pub fn advect_kinematic<D: Dim>(
     for q in 0..ps.x.len() {
         let x = walls.clamp(ps.x[q] + ps.v[q] * dt, radius);
         ps.x[q] = x;
-        r.record(ps.mass[q], x, ps.v[q], ps.plastic_strain[q]);
+        r.record(ps.mass[q], x, ps.v[q]);
     }
     r.finish(gravity);
     r
 }
 
-/// Step 6 for one particle: (Σ_i w_ip v_i^{n+1}, Σ_i w_ip v_i^n). `nodes` starts at the
-/// stencil's first node (node (i, j, k) at `i + j p + k p²`).
+/// Step 6 for one particle: (Σ_i w_ip v_i^{n+1}, Σ_i w_ip v_i^n); without `OLD` (PIC, which
+/// needs no old velocities) the second is the first. `nodes` starts at the stencil's first
+/// node (node (i, j, k) at `i + j p + k p²`).
 #[inline(always)]
-pub fn gather_velocity<D: Dim, const S: usize>(
+pub fn gather_velocity<D: Dim, const S: usize, const OLD: bool>(
     nodes: &[Node<D::Vector>],
     p: usize,
     st: &Stencil<S>,
@@ -160,20 +257,22 @@ pub fn gather_velocity<D: Dim, const S: usize>(
             let (mut rn, mut ro) = (D::Vector::ZERO, D::Vector::ZERO);
             for i in 0..S {
                 rn += row[i].new_vel * st.w[i][0];
-                ro += row[i].vel() * st.w[i][0];
+                if OLD {
+                    ro += row[i].vel() * st.w[i][0];
+                }
             }
             let wjk = st.w[j][1] * wk;
             new += rn * wjk;
             old += ro * wjk;
         }
     }
-    (new, old)
+    (new, if OLD { old } else { new })
 }
 
 /// [`gather_velocity`] in 2D, packing specialisation: v^{n+1} and v^n side by side in one
 /// `Vec4`.
 #[inline(always)]
-pub fn gather_velocity_2d_packed<D: Dim, const S: usize>(
+pub fn gather_velocity_2d_packed<D: Dim, const S: usize, const OLD: bool>(
     nodes: &[Node<D::Vector>],
     p: usize,
     st: &Stencil<S>,
@@ -187,9 +286,112 @@ pub fn gather_velocity_2d_packed<D: Dim, const S: usize>(
             Vec4::new(n[0], n[1], o[0], o[1]) * st.w[i][0]
         }) * st.w[j][1]
     });
+    let new = D::vector([acc.x, acc.y, 0.0]);
     (
-        D::vector([acc.x, acc.y, 0.0]),
-        D::vector([acc.z, acc.w, 0.0]),
+        new,
+        if OLD {
+            D::vector([acc.z, acc.w, 0.0])
+        } else {
+            new
+        },
+    )
+}
+
+/// Steps 6 and 2 for one particle: (Σ_i w_ip v_i^{n+1}, Σ_i w_ip v_i^n,
+/// Σ_i v_i^{n+1} ⊗ ∇w_ip); without `OLD` (PIC) the second is the first. `nodes` starts at the
+/// stencil's first node (node (i, j, k) at `i + j p + k p²`).
+#[inline(always)]
+pub fn gather_particle<D: Dim, const S: usize, const OLD: bool>(
+    nodes: &[Node<D::Vector>],
+    p: usize,
+    st: &Stencil<S>,
+) -> (D::Vector, D::Vector, D::Grad) {
+    let nodes = &nodes[..stencil_span(D::DIM, p, S)];
+    let (mut new, mut old) = (D::Vector::ZERO, D::Vector::ZERO);
+    let mut c = [D::Vector::ZERO; 3];
+    // The first axis's weights as vectors, once.
+    let w: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.w[i][0]));
+    let dw: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.dw[i][0]));
+    for k in 0..third_axis_nodes::<D, S>() {
+        let (wk, dwk) = third_axis::<D, S>(st, k);
+        for j in 0..S {
+            let base = j * p + k * p * p;
+            let row = &nodes[base..base + S];
+            // Along the row: Σ_i w_i v_i^{n+1}, Σ_i w_i v_i^n and Σ_i ∂w_i v_i^{n+1}; then the
+            // row's weights.
+            let (mut rn, mut ro, mut rd) = (D::Vector::ZERO, D::Vector::ZERO, D::Vector::ZERO);
+            for i in 0..S {
+                let v = row[i].new_vel;
+                rn += v * w[i];
+                if OLD {
+                    ro += row[i].vel() * w[i];
+                }
+                rd += v * dw[i];
+            }
+            let wjk = st.w[j][1] * wk;
+            new += rn * wjk;
+            old += ro * wjk;
+            c[0] += rd * wjk;
+            c[1] += rn * (st.dw[j][1] * wk);
+            if D::DIM == 3 {
+                c[2] += rn * (st.w[j][1] * dwk);
+            }
+        }
+    }
+    (new, if OLD { old } else { new }, D::from_columns(c))
+}
+
+/// [`gather_particle`] in 2D, packing specialisation: along a row, (v^{n+1} w_i, v^n w_i) —
+/// or for PIC (v^{n+1} w_i, v^{n+1} ∂w_i) — in one `Vec4`, then the two gradient columns
+/// (Σ_i ∂w_i v_i^{n+1}) w_j and (Σ_i w_i v_i^{n+1}) ∂w_j side by side in another.
+#[inline(always)]
+pub fn gather_2d_packed<D: Dim, const S: usize, const OLD: bool>(
+    nodes: &[Node<D::Vector>],
+    p: usize,
+    st: &Stencil<S>,
+) -> (D::Vector, D::Vector, D::Grad) {
+    debug_assert_eq!(D::DIM, 2);
+    let nodes = &nodes[..stencil_span(2, p, S)];
+    let (mut vel, mut grad) = (Vec4::ZERO, Vec4::ZERO);
+    for j in 0..S {
+        let row = &nodes[j * p..j * p + S];
+        // rn: Σ_i w_i v_i^{n+1}, rd: Σ_i ∂w_i v_i^{n+1}, ro: Σ_i w_i v_i^n.
+        let (rn, rd, ro) = if OLD {
+            let (mut rv, mut rd) = (Vec4::ZERO, Vec2::ZERO);
+            for i in 0..S {
+                let (n, o) = (row[i].new_vel, row[i].vel());
+                rv += Vec4::new(n[0], n[1], o[0], o[1]) * st.w[i][0];
+                rd += Vec2::new(n[0], n[1]) * st.dw[i][0];
+            }
+            (Vec2::new(rv.x, rv.y), rd, Vec2::new(rv.z, rv.w))
+        } else {
+            let mut r = Vec4::ZERO;
+            for i in 0..S {
+                let n = row[i].new_vel;
+                r += Vec4::new(n[0], n[1], n[0], n[1])
+                    * Vec4::new(st.w[i][0], st.w[i][0], st.dw[i][0], st.dw[i][0]);
+            }
+            let rn = Vec2::new(r.x, r.y);
+            (rn, Vec2::new(r.z, r.w), rn)
+        };
+        vel += Vec4::new(rn.x, rn.y, ro.x, ro.y) * st.w[j][1];
+        grad += Vec4::new(rd.x, rd.y, rn.x, rn.y)
+            * Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
+    }
+    let new = D::vector([vel.x, vel.y, 0.0]);
+    let old = if OLD {
+        D::vector([vel.z, vel.w, 0.0])
+    } else {
+        new
+    };
+    (
+        new,
+        old,
+        D::from_columns([
+            D::vector([grad.x, grad.y, 0.0]),
+            D::vector([grad.z, grad.w, 0.0]),
+            D::Vector::ZERO,
+        ]),
     )
 }
 
@@ -274,7 +476,7 @@ impl<D: Dim> GatherReport<D> {
 
     /// Adds one particle (`max_speed` holds the squared speed until [`Self::finish`]).
     #[inline(always)]
-    pub fn record(&mut self, m: Real, x: D::Vector, v: D::Vector, plastic_strain: Real) {
+    pub fn record(&mut self, m: Real, x: D::Vector, v: D::Vector) {
         let (md, v2) = (m as f64, v.length_squared());
         self.mass += md;
         self.kinetic += 0.5 * md * v2 as f64;
@@ -285,7 +487,14 @@ impl<D: Dim> GatherReport<D> {
         self.min = self.min.min(x);
         self.max = self.max.max(x);
         self.max_speed = max(self.max_speed, v2);
-        self.max_plastic_strain = max(self.max_plastic_strain, plastic_strain);
+    }
+
+    /// With the largest plastic strain of the particles.
+    pub fn with_plastic_strain(mut self, plastic_strain: &[Real]) -> Self {
+        for &e in plastic_strain {
+            self.max_plastic_strain = max(self.max_plastic_strain, e);
+        }
+        self
     }
 }
 
@@ -296,16 +505,47 @@ mod tests {
     use crate::math::D2;
     use crate::step::test_util::random_stencils;
 
-    /// The packed 2D gather gives what the generic loop gives, up to rounding.
+    /// The packed 2D gather gives what the generic walk gives, up to rounding.
     fn packed_gather_matches<K: Kernel<S>, const S: usize>() {
         let p = 10;
         let (nodes, stencils) = random_stencils::<D2, K, S>(50, p);
         for st in &stencils {
-            let (n, o) = gather_velocity::<D2, S>(&nodes, p, st);
-            let (n2, o2) = gather_velocity_2d_packed::<D2, S>(&nodes, p, st);
+            let (n, o, g) = gather_particle::<D2, S, true>(&nodes, p, st);
+            let (n2, o2, g2) = gather_2d_packed::<D2, S, true>(&nodes, p, st);
+            // PIC: v^{n+1} twice and the same gradient up to rounding; the velocity-only walks
+            // as the full ones.
+            let (n3, o3, g3) = gather_2d_packed::<D2, S, false>(&nodes, p, st);
+            let (n4, o4) = gather_velocity_2d_packed::<D2, S, true>(&nodes, p, st);
+            let (n5, o5) = gather_velocity::<D2, S, true>(&nodes, p, st);
+            let big = 1.0
+                + g2.abs()
+                    .to_cols_array()
+                    .iter()
+                    .fold(0.0, |m: Real, x| m.max(*x));
+            let dg3 = (g3 - g2)
+                .abs()
+                .to_cols_array()
+                .iter()
+                .fold(0.0, |m: Real, x| m.max(*x));
             assert!(
-                (n - n2).length() <= 1e-6 && (o - o2).length() <= 1e-6,
-                "{n} {o} vs {n2} {o2}"
+                n3 == n2 && o3 == n3 && dg3 <= 1e-5 * big,
+                "PIC {g3} vs {g2}"
+            );
+            assert!((n4 - n5).length() <= 1e-6 && (o4 - o5).length() <= 1e-6);
+            assert!((n4 - n).length() <= 1e-6 && (o4 - o).length() <= 1e-6);
+            let scale = 1.0
+                + g.abs()
+                    .to_cols_array()
+                    .iter()
+                    .fold(0.0, |m: Real, x| m.max(*x));
+            let dg = (g - g2)
+                .abs()
+                .to_cols_array()
+                .iter()
+                .fold(0.0, |m: Real, x| m.max(*x));
+            assert!(
+                (n - n2).length() <= 1e-6 && (o - o2).length() <= 1e-6 && dg <= 1e-5 * scale,
+                "{n} {o} {g} vs {n2} {o2} {g2}"
             );
         }
     }

@@ -1,18 +1,30 @@
-//! Step 4, grid side: the grid velocities after the internal forces f_i (scattered by the
-//! stress pass) and gravity g,
+//! The grid side of steps 1 and 4: the grid velocities before and after the internal forces
+//! f_i and gravity g,
 //!
-//! v*_i = v_i^n + Δt (f_i / m_i + g),
+//! v_i^n = (mv)_i / m_i,   v*_i = v_i^n + Δt (f_i / m_i + g),
 //!
 //! the explicit update of Dv/Dt = −(1/ρ) ∇·σ + g on the nodes. A kinematic body's grid keeps
 //! the velocities its particles brought.
 
+use super::StressOrder;
 use crate::grid::Grid;
-use crate::math::{Dim, Real};
+use crate::math::{Dim, Real, VectorOps};
 use crate::sim::Simulation;
 
 impl<D: Dim> Simulation<D> {
+    /// v_i^n on every body's grid (for bodies whose stress is updated first, the halos too:
+    /// the stress pass reads them).
+    pub(super) fn grid_velocities(&mut self) {
+        for body in &mut self.bodies {
+            grid_velocities(&mut body.grid);
+            if body.stress_order(self.world.kernel) == StressOrder::First {
+                body.grid.fill_nodes(|h, o| h.vm = o.vm);
+            }
+        }
+    }
+
     /// Step 4 on every body's grid.
-    pub(super) fn update_grid(&mut self, dt: Real) {
+    pub(super) fn grid_forces(&mut self, dt: Real) {
         for body in &mut self.bodies {
             if body.kinematic {
                 hold_velocities(&mut body.grid);
@@ -23,18 +35,31 @@ impl<D: Dim> Simulation<D> {
     }
 }
 
-/// v*_i = v_i + Δt (f_i/m_i + g) on every node with mass (halos too: they are refilled before
-/// the particles gather).
-pub fn grid_forces<D: Dim>(grid: &mut Grid<D>, gravity: D::Vector, dt: Real) {
+/// v_i^n = (mv)_i / m_i on every node with mass.
+pub fn grid_velocities<D: Dim>(grid: &mut Grid<D>) {
     for node in &mut grid.nodes {
         let m = node.mass();
         if m > 0.0 {
-            node.new_vel = node.vel() + (node.new_vel / m + gravity) * dt;
+            node.vm = (node.vel() / m).with_mass(m);
         }
     }
 }
 
-/// A kinematic body's grid: v*_i = v_i.
+/// v*_i = v_i^n + Δt (f_i/m_i + g) on every node with mass, and zero where no weight reached
+/// (a node's gradient weight may be finite where its weight is not; the velocity gradient
+/// must read no force there). Halos too: they are refilled before the particles gather.
+pub fn grid_forces<D: Dim>(grid: &mut Grid<D>, gravity: D::Vector, dt: Real) {
+    for node in &mut grid.nodes {
+        let m = node.mass();
+        node.new_vel = if m > 0.0 {
+            node.vel() + (node.new_vel / m + gravity) * dt
+        } else {
+            D::Vector::ZERO
+        };
+    }
+}
+
+/// A kinematic body's grid: v*_i = v_i^n.
 pub fn hold_velocities<D: Dim>(grid: &mut Grid<D>) {
     for node in &mut grid.nodes {
         node.new_vel = node.vel();

@@ -1,84 +1,78 @@
-//! Steps 2–4, particle side: from the grid velocities of step 1,
+//! Steps 2–3: from the velocity gradient at the particle, ∇v_p = Σ_i v_i ⊗ ∇w_ip, split into
+//! the strain rate ε̇ = ½(∇v + ∇vᵀ) and the spin ω = ½(∇v − ∇vᵀ),
 //!
-//! - step 2, the velocity gradient ∇v_p = Σ_i v_i^n ⊗ ∇w_ip, split into the strain rate
-//!   ε̇ = ½(∇v + ∇vᵀ) and the spin ω = ½(∇v − ∇vᵀ);
-//! - step 3, the stress update σ_p ← σ_p + Δt σ̇(ε̇, ω) by the body's constitutive model (the
-//!   Jaumann rate of Eq. 2–6 with the model's plastic return), and the volume
-//!   V_p ← V_p exp(Δt tr ε̇), the exact solution of V̇ = V tr ε̇ for the step's rate: first order
-//!   the same as V_p (1 + Δt tr ε̇), but never zero or negative however violent the compression;
-//! - step 4, the internal forces f_i = −Σ_p V_p σ_p ∇w_ip, accumulated in the nodes'
-//!   `new_vel` (the grid side of step 4 turns them into velocities).
+//! - the stress σ_p ← σ_p + Δt σ̇(ε̇, ω) by the body's constitutive model (the Jaumann rate of
+//!   Eq. 2–6 with the model's plastic return), and
+//! - the volume V_p ← V_p exp(Δt tr ε̇), the exact solution of V̇ = V tr ε̇ for the step's
+//!   rate: first order the same as V_p (1 + Δt tr ε̇), but never zero or negative however
+//!   violent the compression.
 //!
-//! [`update_stress_plain`] does this one particle at a time and is the reference;
-//! [`update_stress`], the one the step runs, is its SIMD specialisation: the constitutive
-//! update of four particles per model call in SIMD lanes (the update is a long dependency
-//! chain, and in lanes four chains advance at once). A test checks that they agree.
+//! When they run depends on the kernel and the material ([`super::StressOrder`]):
+//!
+//! - **first**, Sec. 4.2's order (the linear kernel, and sand): [`update_stress_first`] takes
+//!   ∇v from the grid velocities v_i^n of step 1, updates the stress and scatters the internal
+//!   forces f_i = −Σ_p V_p σ_p ∇w_ip of step 4;
+//! - **last** (solids with the C¹ kernels): the gather takes ∇v from the new grid velocities
+//!   v_i^{n+1} in its own walk and calls [`UpdateStressLast`] on each chunk of particles; the
+//!   next step's scatter turns the stress into forces.
+//!
+//! [`update_one`] updates one particle and is the reference; [`update_chunk`], the one the
+//! gather runs, is its SIMD specialisation: four particles per model call in SIMD lanes (the
+//! update is a long dependency chain, and in lanes four chains advance at once), with the
+//! energies and the finiteness test per group of four. A test checks that they agree.
 
 use super::{first_node, grid_coords, layout, third_axis, third_axis_nodes, with_kernel};
 use crate::grid::{Grid, Node, stencil_span};
 use crate::kernel::{Kernel, Stencil};
 use crate::material::{Constitutive, Model};
 use crate::math::{
-    Batch, Dim, LANES, Lane, Lanes, Real, SymTensor, Vec4, VectorOps, exp_small, max,
+    Batch, Dim, LANES, Lane, Lanes, Lanes2, Real, SymTensor, Vec4, VectorOps, exp_small, max,
     sum_from_first,
 };
 use crate::sim::Simulation;
+use std::ops::Range;
 
 impl<D: Dim> Simulation<D> {
-    /// Steps 2–3 and the particle side of step 4, for every body that carries stress.
-    pub(super) fn update_stress(&mut self, dt: Real) -> Vec<StressReport> {
+    /// Steps 2–4, particle side, in Sec. 4.2's order, for the bodies that take it (the
+    /// others' stress is updated in the gather).
+    pub(super) fn update_stress_first(&mut self, dt: Real) {
         let inv_h = self.world.inv_h;
         let kernel = self.world.kernel;
         let p = &mut self.particles;
-        let mut reports = Vec::with_capacity(self.bodies.len());
         for body in &mut self.bodies {
-            if body.kinematic {
-                reports.push(StressReport::default());
+            body.stress_report = StressReport::default();
+            if body.kinematic || body.stress_order(kernel) != super::StressOrder::First {
                 continue;
             }
             let r = body.range.clone();
+            let x = &p.x[r.clone()];
             let state = StressState {
-                x: &p.x[r.clone()],
                 stress: &mut p.stress[r.clone()],
                 volume: &mut p.volume[r.clone()],
                 plastic_strain: &mut p.plastic_strain[r],
             };
             let lp = body.radius * inv_h;
-            let report = with_kernel!(kernel, K, S => stress_pass::<D, K, S>(&mut body.grid, state, &body.model, dt, inv_h, lp));
-            if report.bad == 0 {
-                body.max_volume = report.max_volume;
-            }
-            reports.push(report);
+            let grid = &mut body.grid;
+            body.stress_report = with_kernel!(kernel, K, S => match &body.model {
+                Model::Elastic(m) => update_stress_first::<D, K, _, S>(grid, x, state, m, dt, inv_h, lp),
+                Model::VonMises(m) => update_stress_first::<D, K, _, S>(grid, x, state, m, dt, inv_h, lp),
+                Model::DruckerPrager(m) => update_stress_first::<D, K, _, S>(grid, x, state, m, dt, inv_h, lp),
+            });
         }
-        reports
     }
 }
 
-/// The stress pass of one body, dispatched on its model.
-fn stress_pass<D: Dim, K: Kernel<S>, const S: usize>(
-    grid: &mut Grid<D>,
-    state: StressState<'_, D>,
-    model: &Model,
-    dt: Real,
-    inv_h: Real,
-    lp: Real,
-) -> StressReport {
-    match model {
-        Model::Elastic(m) => update_stress::<D, K, _, S>(grid, state, m, dt, inv_h, lp),
-        Model::VonMises(m) => update_stress::<D, K, _, S>(grid, state, m, dt, inv_h, lp),
-        Model::DruckerPrager(m) => update_stress::<D, K, _, S>(grid, state, m, dt, inv_h, lp),
-    }
-}
+/// Particles per chunk of the gather between two stress updates (a multiple of `LANES`).
+pub const CHUNK: usize = 2 * LANES;
 
-/// The particle state the stress pass reads and writes.
+/// The particle state the stress update reads and writes.
 pub struct StressState<'a, D: Dim> {
-    pub x: &'a [D::Vector],
     pub stress: &'a mut [D::Sym],
     pub volume: &'a mut [Real],
     pub plastic_strain: &'a mut [Real],
 }
 
-/// What the stress pass measured.
+/// What the stress update measured.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct StressReport {
     /// Stored elastic energy Σ V W(σ) after the update.
@@ -102,11 +96,19 @@ impl StressReport {
     }
 }
 
-/// Steps 2–4, particle side, one particle at a time: the reference version of
-/// [`update_stress`].
-pub fn update_stress_plain<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
+/// Steps 2–4, particle side, for one body in Sec. 4.2's order, in chunks of [`CHUNK`]
+/// particles: their velocity gradients from the grid velocities v_i^n, their stress updates
+/// ([`update_chunk`]), then their internal forces f_i += −V_p σ_p ∇w_ip (into the nodes'
+/// `new_vel`). In 2D the stencil loops are the packed ones.
+///
+/// Never inlined: each (dimension, kernel, model) instance stays a function of its own (when
+/// such instances were inlined into their dispatch, V8 compiled the resulting WebAssembly
+/// function much worse; docs/performance.md).
+#[inline(never)]
+pub fn update_stress_first<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
     grid: &mut Grid<D>,
-    ps: StressState<'_, D>,
+    x: &[D::Vector],
+    mut ps: StressState<'_, D>,
     model: &M,
     dt: Real,
     inv_h: Real,
@@ -120,143 +122,223 @@ pub fn update_stress_plain<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize
         ..
     } = &mut *grid;
     let mut report = StressReport::default();
-    for q in 0..ps.x.len() {
-        let st = K::stencil(grid_coords::<D>(ps.x[q], inv_h), D::DIM, inv_h, lp);
-        let cell = &mut nodes[first_node(layout, particle_node[q], &st)..][..span];
-        let (rate, spin) = D::rate_and_spin(velocity_gradient::<D, S>(cell, p, &st));
-        let mut sigma = ps.stress[q];
-        let u = model.update(&mut sigma, rate, spin, dt);
-        let before = ps.volume[q];
-        let v = before * exp_small(rate.trace() * dt);
-        ps.stress[q] = sigma;
-        ps.volume[q] = v;
-        if M::PLASTIC {
-            ps.plastic_strain[q] += u.plastic_strain;
+    let mut st = [Stencil::<S>::at([0; 3]); CHUNK];
+    let mut origin = [0usize; CHUNK];
+    let mut rates = Rates::<D>::zero();
+    for first in (0..x.len()).step_by(CHUNK) {
+        let chunk = first..x.len().min(first + CHUNK);
+        for (i, q) in chunk.clone().enumerate() {
+            st[i] = K::stencil(grid_coords::<D>(x[q], inv_h), D::DIM, inv_h, lp);
+            origin[i] = first_node(layout, particle_node[q], &st[i]);
+            let cell = &nodes[origin[i]..origin[i] + span];
+            rates.set(
+                i,
+                if D::DIM == 2 {
+                    velocity_gradient_2d_packed::<D, S>(cell, p, &st[i])
+                } else {
+                    velocity_gradient::<D, S>(cell, p, &st[i])
+                },
+            );
         }
-        if !(sigma.is_finite() && v.is_finite() && v > 0.0) {
-            report.bad(q, sigma.is_finite());
-            continue;
+        let bad = report.bad;
+        update_chunk(
+            model,
+            &mut rates,
+            ps.slice(chunk.clone()),
+            first,
+            dt,
+            &mut report,
+        );
+        for (i, q) in chunk.enumerate() {
+            let v = ps.volume[q];
+            let sigma = ps.stress[q];
+            // A particle the update left non-finite (reported) gives no force.
+            if report.bad > bad && !(sigma.is_finite() && v.is_finite() && v > 0.0) {
+                continue;
+            }
+            let cell = &mut nodes[origin[i]..origin[i] + span];
+            if D::DIM == 2 {
+                scatter_force_2d_packed::<D, S>(cell, p, &st[i], sigma * -v);
+            } else {
+                scatter_force::<D, S>(cell, p, &st[i], sigma * -v);
+            }
         }
-        report.elastic += (u.energy * v) as f64;
-        report.dissipated += (u.dissipation * before) as f64;
-        report.max_volume = max(report.max_volume, v);
-        scatter_force::<D, S>(cell, p, &st, sigma * -v);
     }
     grid.reduce_nodes(|o, h| o.new_vel += h.new_vel);
     report
 }
 
-/// Particles per chunk of [`update_stress`] (a multiple of `LANES`).
-const CHUNK: usize = 2 * LANES;
+/// What the gather does with the velocity gradients of each chunk of particles.
+pub trait AfterGather<D: Dim> {
+    /// Whether the gather forms velocity gradients at all.
+    const GRADIENT: bool;
+    /// Called with the rates and spins of the particles of `chunk` (at most [`CHUNK`]).
+    fn chunk(&mut self, rates: &mut Rates<D>, chunk: Range<usize>);
+}
 
-/// Steps 2–4, particle side — SIMD specialisation of [`update_stress_plain`]: in chunks of
-/// eight particles, the velocity gradients, then the constitutive and volume updates of four
-/// particles per call in SIMD lanes (with the energies and the finiteness test per group of
-/// four), then the forces. A short last chunk is padded with zero stress and rate and a real
-/// particle's volume, whose update adds nothing. In 2D the stencil loops are the packed ones
-/// ([`velocity_gradient_2d_packed`], [`scatter_force_2d_packed`]).
-///
-/// Never inlined: each (dimension, kernel, model) instance stays a function of its own (when
-/// the 2D instances were inlined into the dispatch, V8 compiled the resulting WebAssembly
-/// function much worse; docs/performance.md).
-#[inline(never)]
-pub fn update_stress<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
-    grid: &mut Grid<D>,
-    ps: StressState<'_, D>,
-    model: &M,
-    dt: Real,
-    inv_h: Real,
-    lp: Real,
-) -> StressReport {
-    let (p, span) = layout::<D, S>(grid);
-    let Grid {
-        layout,
-        nodes,
-        particle_node,
-        ..
-    } = &mut *grid;
-    let mut report = StressReport::default();
-    let n = ps.x.len();
-    let mut st = [Stencil::<S>::at([0; 3]); CHUNK];
-    let mut origin = [0usize; CHUNK];
-    let mut stress = [D::Sym::ZERO; CHUNK];
-    let mut rate = [D::Sym::ZERO; CHUNK];
-    let mut spin = [<D::Sym as SymTensor>::Spin::default(); CHUNK];
-    let mut volume = [0.0; CHUNK];
-    let mut plastic = [0.0; CHUNK];
-    let mut finite = [true; CHUNK];
-    for first in (0..n).step_by(CHUNK) {
-        let len = CHUNK.min(n - first);
-        if len < CHUNK {
-            stress = [D::Sym::ZERO; CHUNK];
-            rate = [D::Sym::ZERO; CHUNK];
-            spin = [Default::default(); CHUNK];
-            volume = [ps.volume[first]; CHUNK];
-        }
-        // Step 2 for the chunk.
-        for i in 0..len {
-            let q = first + i;
-            st[i] = K::stencil(grid_coords::<D>(ps.x[q], inv_h), D::DIM, inv_h, lp);
-            origin[i] = first_node(layout, particle_node[q], &st[i]);
-            let cell = &nodes[origin[i]..origin[i] + span];
-            let grad = if D::DIM == 2 {
-                velocity_gradient_2d_packed::<D, S>(cell, p, &st[i])
-            } else {
-                velocity_gradient::<D, S>(cell, p, &st[i])
-            };
-            (rate[i], spin[i]) = D::rate_and_spin(grad);
-            stress[i] = ps.stress[q];
-            volume[i] = ps.volume[q];
-        }
-        // Step 3, four particles per model call.
-        for g in (0..len).step_by(LANES) {
-            let group = |a: &[D::Sym]| -> [D::Sym; LANES] { a[g..g + LANES].try_into().unwrap() };
-            let spins: [_; LANES] = spin[g..g + LANES].try_into().unwrap();
-            let mut lanes = D::Sym::pack(&group(&stress));
-            let mut v = Lanes::from_slice(&volume[g..g + LANES]);
-            let (ep, u) = update_group(
-                model,
-                &mut lanes,
-                D::Sym::pack(&group(&rate)),
-                D::Sym::pack_spin(&spins),
-                &mut v,
-                dt,
-            );
-            stress[g..g + LANES].copy_from_slice(&D::Sym::unpack(lanes));
-            v.write_to_slice(&mut volume[g..g + LANES]);
-            ep.write_to_slice(&mut plastic[g..g + LANES]);
-            finite[g..g + LANES].fill(u.finite);
-            if u.finite {
-                report.elastic += u.elastic;
-                report.dissipated += u.dissipated;
-                report.max_volume = max(report.max_volume, u.max_volume);
-            }
-        }
-        // Step 4, particle side, for the chunk.
-        for i in 0..len {
-            let q = first + i;
-            let sigma = stress[i];
-            ps.stress[q] = sigma;
-            ps.volume[q] = volume[i];
-            if M::PLASTIC {
-                ps.plastic_strain[q] += plastic[i];
-            }
-            // Only a group that was not all finite is looked at particle by particle.
-            let ok = finite[i] || sigma.is_finite() && volume[i].is_finite() && volume[i] > 0.0;
-            if !ok {
-                report.bad(q, sigma.is_finite());
-                continue;
-            }
-            let cell = &mut nodes[origin[i]..origin[i] + span];
-            if D::DIM == 2 {
-                scatter_force_2d_packed::<D, S>(cell, p, &st[i], sigma * -volume[i]);
-            } else {
-                scatter_force::<D, S>(cell, p, &st[i], sigma * -volume[i]);
-            }
+/// The stress was updated before the forces (Sec. 4.2's order): the gather forms no
+/// gradients.
+pub struct StressUpdatedFirst;
+
+impl<D: Dim> AfterGather<D> for StressUpdatedFirst {
+    const GRADIENT: bool = false;
+    #[inline(always)]
+    fn chunk(&mut self, _: &mut Rates<D>, _: Range<usize>) {}
+}
+
+/// Steps 2–3 at the end of the step, on each chunk the gather walked.
+pub struct UpdateStressLast<'a, D: Dim, M> {
+    pub model: &'a M,
+    pub state: StressState<'a, D>,
+    pub dt: Real,
+    pub report: StressReport,
+}
+
+impl<D: Dim, M: Constitutive> AfterGather<D> for UpdateStressLast<'_, D, M> {
+    const GRADIENT: bool = true;
+    #[inline(always)]
+    fn chunk(&mut self, rates: &mut Rates<D>, chunk: Range<usize>) {
+        let first = chunk.start;
+        let state = self.state.slice(chunk);
+        update_chunk(self.model, rates, state, first, self.dt, &mut self.report);
+    }
+}
+
+impl<D: Dim> StressState<'_, D> {
+    /// The state of the particles of `r`.
+    #[inline(always)]
+    pub fn slice(&mut self, r: Range<usize>) -> StressState<'_, D> {
+        StressState {
+            stress: &mut self.stress[r.clone()],
+            volume: &mut self.volume[r.clone()],
+            plastic_strain: &mut self.plastic_strain[r],
         }
     }
-    grid.reduce_nodes(|o, h| o.new_vel += h.new_vel);
-    report
+}
+
+/// The strain rates and spins of one chunk of particles.
+pub struct Rates<D: Dim> {
+    pub rate: [D::Sym; CHUNK],
+    pub spin: [<D::Sym as SymTensor>::Spin; CHUNK],
+}
+
+impl<D: Dim> Rates<D> {
+    pub fn zero() -> Self {
+        Rates {
+            rate: [D::Sym::ZERO; CHUNK],
+            spin: [Default::default(); CHUNK],
+        }
+    }
+    /// Sets particle `i`'s rate and spin from its velocity gradient.
+    #[inline(always)]
+    pub fn set(&mut self, i: usize, grad: D::Grad) {
+        (self.rate[i], self.spin[i]) = D::rate_and_spin(grad);
+    }
+}
+
+/// Steps 2–3 for one particle (`q`: its index, for the report): the reference version of
+/// [`update_chunk`].
+#[allow(clippy::too_many_arguments)]
+pub fn update_one<D: Dim, M: Constitutive>(
+    model: &M,
+    rate: D::Sym,
+    spin: <D::Sym as SymTensor>::Spin,
+    stress: &mut D::Sym,
+    volume: &mut Real,
+    plastic_strain: &mut Real,
+    dt: Real,
+    q: usize,
+    report: &mut StressReport,
+) {
+    let u = model.update(stress, rate, spin, dt);
+    let before = *volume;
+    let v = before * exp_small(rate.trace() * dt);
+    *volume = v;
+    if M::PLASTIC {
+        *plastic_strain += u.plastic_strain;
+    }
+    if !(stress.is_finite() && v.is_finite() && v > 0.0) {
+        report.bad(q, stress.is_finite());
+        return;
+    }
+    report.elastic += (u.energy * v) as f64;
+    report.dissipated += (u.dissipation * before) as f64;
+    report.max_volume = max(report.max_volume, v);
+}
+
+/// Steps 2–3 for the particles of `ps` (at most [`CHUNK`], the first of them particle
+/// `first`), whose rates and spins are the first entries of `rates` — SIMD specialisation of
+/// [`update_one`]: four particles per model call. A short chunk is padded with zero stress
+/// and rate and a real particle's volume, whose update adds nothing.
+#[inline(always)]
+pub fn update_chunk<D: Dim, M: Constitutive>(
+    model: &M,
+    rates: &mut Rates<D>,
+    ps: StressState<'_, D>,
+    first: usize,
+    dt: Real,
+    report: &mut StressReport,
+) {
+    let len = ps.stress.len();
+    let mut stress = [D::Sym::ZERO; CHUNK];
+    let mut volume = [ps.volume[0]; CHUNK];
+    stress[..len].copy_from_slice(ps.stress);
+    volume[..len].copy_from_slice(ps.volume);
+    if len < CHUNK {
+        rates.rate[len..].fill(D::Sym::ZERO);
+        rates.spin[len..].fill(Default::default());
+    }
+    let mut plastic = [0.0; CHUNK];
+    // The eight particles in two groups of four lanes, updated in one call: the two groups'
+    // dependency chains interleave.
+    let pack = |g: usize| {
+        let group = |a: &[D::Sym]| -> [D::Sym; LANES] { a[g..g + LANES].try_into().unwrap() };
+        let spins: [_; LANES] = rates.spin[g..g + LANES].try_into().unwrap();
+        (
+            D::Sym::pack(&group(&stress)),
+            D::Sym::pack(&group(&rates.rate)),
+            D::Sym::pack_spin(&spins),
+            Lanes::from_slice(&volume[g..g + LANES]),
+        )
+    };
+    let ((s0, r0, w0, v0), (s1, r1, w1, v1)) = (pack(0), pack(LANES));
+    let mut lanes = D::Sym::zip(s0, s1);
+    let mut v = Lanes2(v0, v1);
+    let (ep, u) = update_group(
+        model,
+        &mut lanes,
+        D::Sym::zip(r0, r1),
+        D::Sym::zip_spin(w0, w1),
+        &mut v,
+        dt,
+    );
+    let (s0, s1) = D::Sym::unzip(lanes);
+    stress[..LANES].copy_from_slice(&D::Sym::unpack(s0));
+    stress[LANES..].copy_from_slice(&D::Sym::unpack(s1));
+    v.0.write_to_slice(&mut volume[..LANES]);
+    v.1.write_to_slice(&mut volume[LANES..]);
+    ep.0.write_to_slice(&mut plastic[..LANES]);
+    ep.1.write_to_slice(&mut plastic[LANES..]);
+    let finite = u.finite;
+    if finite {
+        report.elastic += u.elastic;
+        report.dissipated += u.dissipated;
+        report.max_volume = max(report.max_volume, u.max_volume);
+    }
+    ps.stress.copy_from_slice(&stress[..len]);
+    ps.volume.copy_from_slice(&volume[..len]);
+    if M::PLASTIC {
+        for (e, de) in ps.plastic_strain.iter_mut().zip(plastic) {
+            *e += de;
+        }
+    }
+    for i in 0..len {
+        // Only a chunk that was not all finite is looked at particle by particle.
+        let ok = finite || stress[i].is_finite() && volume[i].is_finite() && volume[i] > 0.0;
+        if !ok {
+            report.bad(first + i, stress[i].is_finite());
+        }
+    }
 }
 
 /// What one constitutive call (for `LANES` particles in SIMD lanes) adds to the report.
@@ -268,7 +350,7 @@ struct Group {
     finite: bool,
 }
 
-/// Step 3 for one group of particles in lanes: the stress by the model (returning their
+/// Steps 2–3 for one group of particles in lanes: the stress by the model (returning their
 /// plastic strain increments) and the volume.
 #[inline(always)]
 fn update_group<S: SymTensor, M: Constitutive>(
@@ -408,145 +490,92 @@ pub fn scatter_force_2d_packed<D: Dim, const S: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::kernel::{Gimp, KernelKind, Linear};
+    use crate::material::{Material, Model};
     use crate::math::{D2, D3};
-    use crate::step::test_util::{random_stencils, settled_block};
-    use crate::{Material, Simulation};
+    use crate::step::test_util::noise;
 
-    /// Runs the stress pass of body 0 with the lanes (`lanes = true`) or the reference.
-    fn run<D: Dim, K: Kernel<S>, const S: usize>(
-        sim: &mut Simulation<D>,
-        lanes: bool,
-    ) -> StressReport {
-        let inv_h = sim.world.inv_h;
-        let body = &mut sim.bodies[0];
-        let p = &mut sim.particles;
-        let state = StressState {
-            x: &p.x,
-            stress: &mut p.stress,
-            volume: &mut p.volume,
-            plastic_strain: &mut p.plastic_strain,
-        };
-        let (grid, lp, dt) = (&mut body.grid, body.radius * inv_h, 1e-4);
-        macro_rules! go {
-            ($m:expr) => {
-                if lanes {
-                    update_stress::<D, K, _, S>(grid, state, $m, dt, inv_h, lp)
-                } else {
-                    update_stress_plain::<D, K, _, S>(grid, state, $m, dt, inv_h, lp)
+    /// Made-up but plausible velocity gradients (1/s) and stresses (Pa) for `n` particles.
+    fn states<D: Dim>(n: usize) -> Vec<(D::Grad, D::Sym)> {
+        let mut seed = 11;
+        (0..n)
+            .map(|_| {
+                let mut cols = [D::vector([0.0; 3]); 3];
+                for c in &mut cols {
+                    *c = D::vector([0; 3].map(|_| 3.0 * noise(&mut seed)));
                 }
-            };
-        }
-        match &body.model {
-            Model::Elastic(m) => go!(m),
-            Model::VonMises(m) => go!(m),
-            Model::DruckerPrager(m) => go!(m),
-        }
+                let grad = D::from_columns(cols);
+                let (e, _) = D::rate_and_spin(D::from_columns(
+                    [0; 3].map(|_| D::vector([0; 3].map(|_| noise(&mut seed)))),
+                ));
+                (grad, e * 2e3 - D::Sym::IDENTITY * 1e3)
+            })
+            .collect()
     }
 
-    /// The SIMD-lane stress pass gives what the one-particle-at-a-time reference gives: the
-    /// same stresses, volumes, plastic strains, forces and energies up to rounding (the lanes
-    /// sum energies in a different order, and 2D's packed loops round differently).
-    fn lanes_match_the_reference<D: Dim, K: Kernel<S>, const S: usize>(material: Material) {
-        let mut a = settled_block::<D>(material, K::KIND, 30);
-        let mut b = a.clone();
-        let ra = run::<D, K, S>(&mut a, true);
-        let rb = run::<D, K, S>(&mut b, false);
-        let (pa, pb) = (a.particles(), b.particles());
-        let scale = pb
-            .stress
-            .iter()
-            .flat_map(|s| s.components().to_vec())
-            .fold(0.0, |m: Real, c| m.max(c.abs()));
-        assert!(scale > 0.0, "the block carries stress");
-        for q in 0..pa.len() {
-            for (x, y) in pa.stress[q]
-                .components()
-                .iter()
-                .zip(pb.stress[q].components())
-            {
-                assert!(
-                    (x - y).abs() <= 1e-4 * scale,
-                    "{}D particle {q}: {:?} vs {:?}",
-                    D::DIM,
-                    pa.stress[q],
-                    pb.stress[q]
-                );
-            }
-            assert!((pa.volume[q] - pb.volume[q]).abs() <= 1e-6 * pb.volume[q]);
-            assert!((pa.plastic_strain[q] - pb.plastic_strain[q]).abs() <= 1e-6);
-        }
-        let (na, nb) = (&a.bodies[0].grid.nodes, &b.bodies[0].grid.nodes);
-        let fmax = nb.iter().map(|n| n.new_vel.length()).fold(0.0, Real::max);
-        assert!(fmax > 0.0);
-        for (x, y) in na.iter().zip(nb) {
-            assert!(
-                (x.new_vel - y.new_vel).length() <= 1e-4 * fmax,
-                "{}D force",
-                D::DIM
-            );
-        }
-        assert!(
-            (ra.elastic - rb.elastic).abs() <= 1e-5 * rb.elastic.abs(),
-            "{} vs {}",
-            ra.elastic,
-            rb.elastic
+    /// The SIMD-lane update gives, particle by particle, exactly the stress, volume and
+    /// plastic strain the one-particle reference gives (the same IEEE operations in the same
+    /// order), and the same energies up to the order of the sums; for full and short chunks,
+    /// elastic and yielding particles.
+    fn lanes_match_the_reference<D: Dim, M: Constitutive>(model: &M) {
+        let n = 2 * CHUNK + 3;
+        let s = states::<D>(n);
+        let (mut stress, mut volume, mut plastic) = (
+            s.iter().map(|x| x.1).collect::<Vec<_>>(),
+            (0..n).map(|q| 1e-4 * (1.0 + q as Real)).collect::<Vec<_>>(),
+            vec![0.1; n],
         );
-        assert!((ra.dissipated - rb.dissipated).abs() <= 1e-4 * rb.dissipated.abs().max(1e-12));
-        assert_eq!((ra.bad, ra.max_volume), (rb.bad, rb.max_volume));
-    }
-
-    #[test]
-    fn stress_pass_in_lanes_matches_the_plain_reference() {
-        let sand = || Material::drucker_prager(3.5e5, 0.3, 2200.0, 35.0, 0.0, 0.0);
-        let solid = || Material::von_mises(1e5, 0.3, 1000.0, 2e3);
-        lanes_match_the_reference::<D2, Gimp, 3>(sand());
-        lanes_match_the_reference::<D3, Gimp, 3>(sand());
-        lanes_match_the_reference::<D2, Linear, 2>(solid());
-        lanes_match_the_reference::<D3, Linear, 2>(solid());
-        let _ = KernelKind::Gimp;
-    }
-
-    /// The packed 2D stencil loops give what the generic loops give, up to rounding.
-    fn packed_loops_match<K: Kernel<S>, const S: usize>() {
-        let p = 10;
-        let (nodes, stencils) = random_stencils::<D2, K, S>(50, p);
-        for st in &stencils {
-            let (g, h) = (
-                velocity_gradient::<D2, S>(&nodes, p, st),
-                velocity_gradient_2d_packed::<D2, S>(&nodes, p, st),
-            );
-            let scale = g
-                .abs()
-                .to_cols_array()
-                .iter()
-                .fold(1.0, |m: Real, x| m.max(*x));
-            assert!(
-                (g - h)
-                    .abs()
-                    .to_cols_array()
-                    .iter()
-                    .all(|d| *d <= 1e-5 * scale),
-                "{g} vs {h}"
-            );
-            let a = crate::math::Sym2 {
-                xx: 1.5,
-                yy: -0.7,
-                zz: 0.2,
-                xy: 0.4,
-            };
-            let (mut f, mut f2) = (nodes.clone(), nodes.clone());
-            scatter_force::<D2, S>(&mut f, p, st, a);
-            scatter_force_2d_packed::<D2, S>(&mut f2, p, st, a);
-            for (x, y) in f.iter().zip(&f2) {
-                assert!((x.new_vel - y.new_vel).length() <= 1e-5 * (1.0 + x.new_vel.length()));
+        let (mut stress2, mut volume2, mut plastic2) =
+            (stress.clone(), volume.clone(), plastic.clone());
+        let (mut lanes, mut plain) = (StressReport::default(), StressReport::default());
+        let dt = 1e-3;
+        let mut rates = Rates::<D>::zero();
+        for first in (0..n).step_by(CHUNK) {
+            let r = first..n.min(first + CHUNK);
+            for q in r.clone() {
+                rates.set(q - first, s[q].0);
             }
+            let ps = StressState::<D> {
+                stress: &mut stress[r.clone()],
+                volume: &mut volume[r.clone()],
+                plastic_strain: &mut plastic[r.clone()],
+            };
+            update_chunk(model, &mut rates, ps, first, dt, &mut lanes);
+            for q in r {
+                let (rate, spin) = D::rate_and_spin(s[q].0);
+                let (s2, v2, p2) = (&mut stress2[q], &mut volume2[q], &mut plastic2[q]);
+                update_one::<D, M>(model, rate, spin, s2, v2, p2, dt, q, &mut plain);
+            }
+        }
+        assert_eq!((stress, volume, plastic), (stress2, volume2, plastic2));
+        assert!((lanes.elastic - plain.elastic).abs() <= 1e-6 * plain.elastic);
+        assert!((lanes.dissipated - plain.dissipated).abs() <= 1e-6 * plain.dissipated.abs());
+        assert_eq!((lanes.max_volume, lanes.bad), (plain.max_volume, plain.bad));
+        if M::PLASTIC {
+            assert!(plain.dissipated > 0.0, "some particles yield");
         }
     }
 
     #[test]
-    fn packed_2d_loops_match_the_generic_ones() {
-        packed_loops_match::<Linear, 2>();
-        packed_loops_match::<Gimp, 3>();
+    fn stress_update_in_lanes_matches_the_plain_reference() {
+        for material in [
+            Material::elastic(1e6, 0.3, 1000.0),
+            Material::von_mises(1e6, 0.3, 1000.0, 3e3),
+            Material::drucker_prager(1e6, 0.3, 2000.0, 30.0, 5.0, 0.0),
+        ] {
+            match material.model() {
+                Model::Elastic(m) => {
+                    lanes_match_the_reference::<D2, _>(&m);
+                    lanes_match_the_reference::<D3, _>(&m);
+                }
+                Model::VonMises(m) => {
+                    lanes_match_the_reference::<D2, _>(&m);
+                    lanes_match_the_reference::<D3, _>(&m);
+                }
+                Model::DruckerPrager(m) => {
+                    lanes_match_the_reference::<D2, _>(&m);
+                    lanes_match_the_reference::<D3, _>(&m);
+                }
+            }
+        }
     }
 }

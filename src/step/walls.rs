@@ -1,7 +1,7 @@
 //! Step 5 at the walls of the domain, on the grid: every node on or beyond a wall takes the
 //! wall rule ([`crate::boundary::WallRule`]: the normal velocity into the wall removed, and
 //! with friction the tangential speed reduced by μ|v_n|, Coulomb friction proportional to the
-//! pressure). Then the halo nodes take their owners' final velocities, for the gather.
+//! pressure). Then the halo nodes take their owners' values, for the gather.
 
 use super::constraint_dissipation;
 use crate::boundary::Walls;
@@ -10,14 +10,14 @@ use crate::math::Dim;
 use crate::sim::Simulation;
 
 impl<D: Dim> Simulation<D> {
-    /// Step 5 at the walls for every body; then the halos take the final grid velocities.
+    /// Step 5 at the walls for every body; then the halos take their owners' values.
     pub(super) fn apply_walls(&mut self) {
         for body in &mut self.bodies {
             if !body.kinematic {
                 self.diagnostics.dissipated_boundary +=
                     grid_walls(&mut body.grid, &self.world.walls);
             }
-            fill_new_velocities(&mut body.grid);
+            body.grid.fill_nodes(|h, o| *h = *o);
         }
     }
 }
@@ -52,9 +52,4 @@ pub fn grid_walls<D: Dim>(grid: &mut Grid<D>, walls: &Walls<D>) -> f64 {
         });
     }
     dissipated
-}
-
-/// Copies the owners' updated velocities into the halos (before the particles gather).
-pub fn fill_new_velocities<D: Dim>(grid: &mut Grid<D>) {
-    grid.fill_nodes(|h, o| h.new_vel = o.new_vel);
 }
