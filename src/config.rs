@@ -102,9 +102,11 @@ pub struct BodyConfig {
     /// Transfer velocities with APIC (Jiang et al. 2015; the paper's Sec. 6 names it as future
     /// work): each particle carries an affine velocity field, which keeps the angular momentum
     /// and the detail that PIC smears, without FLIP's noise. `flip` still blends in FLIP.
-    /// Needs the `gimp` or `quadratic_bspline` kernel.
-    #[serde(default, skip_serializing_if = "is_false")]
-    pub apic: bool,
+    /// Absent: the material's default ([`BodyConfig::uses_apic`]: APIC for Drucker–Prager
+    /// sand with the `gimp` and `quadratic_bspline` kernels, PIC for solids). `true` needs the
+    /// `gimp` or `quadratic_bspline` kernel.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub apic: Option<bool>,
     /// When the body enters (s of simulated time): it is sampled when the scene is built and
     /// added, with its shape and `velocity`, once the simulation reaches this time. Absent or
     /// 0: from the start. A playground's saved scene gives each dropped body its drop time.
@@ -155,7 +157,7 @@ impl BodyConfig {
             jitter: 0.0,
             seed: 0,
             kinematic: false,
-            apic: false,
+            apic: None,
             appear_at: None,
         }
     }
@@ -170,8 +172,26 @@ impl BodyConfig {
     }
     /// Transfers this body's velocities with APIC.
     pub fn with_apic(mut self) -> Self {
-        self.apic = true;
+        self.apic = Some(true);
         self
+    }
+    /// Transfers this body's velocities with the paper's PIC/FLIP blend only (no APIC).
+    pub fn without_apic(mut self) -> Self {
+        self.apic = Some(false);
+        self
+    }
+    /// Whether the body's velocities travel with APIC under `kernel`: its `apic` if given,
+    /// else the material's default. Drucker–Prager sand takes APIC with the C¹ kernels: the
+    /// PIC part of the paper's blend damps a granular flow so much that plane columns ran out
+    /// 40–56 % short of Lube et al. (2005), and APIC removes that damping while keeping the
+    /// α slider's meaning (docs/validation.md). Solids keep PIC: APIC does not damp the
+    /// ringing of an elastic body released stress-free, which PIC does. The linear kernel
+    /// keeps PIC for every body: its APIC inertia D_p vanishes when a particle sits on a
+    /// node, and the multilinear form that avoids it was unstable for stiff bodies.
+    pub fn uses_apic(&self, kernel: KernelKind) -> bool {
+        self.apic.unwrap_or(
+            kernel != KernelKind::Linear && matches!(self.material, Material::DruckerPrager(_)),
+        )
     }
     /// Makes the body kinematic: it moves at its initial velocity whatever acts on it.
     pub fn kinematic(mut self) -> Self {
@@ -451,7 +471,7 @@ impl SceneConfig {
     /// APIC needs a kernel whose weights spread over every particle: not the linear one (its
     /// inertia D_p vanishes when a particle sits on a node).
     pub fn check_transfer(&self, body: &BodyConfig, path: &str) -> Result<()> {
-        if body.apic && self.kernel == KernelKind::Linear {
+        if body.apic == Some(true) && self.kernel == KernelKind::Linear {
             return Err(Error::invalid(
                 format!("{path}.apic"),
                 true,

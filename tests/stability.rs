@@ -130,17 +130,6 @@ fn scene_spec() -> impl Strategy<Value = SceneSpec> {
         )
 }
 
-/// α drawn in [0, 1], mapped into the documented stable range of the kernel: all of [0, 1]
-/// for the B-spline, [0, 0.6] for the linear and GIMP kernels, which gain energy at elastic
-/// impacts above α ≈ 0.7 (docs/stability.md, "FLIP at walls and contacts"; the bouncing-boxes test in
-/// tests/dynamics.rs).
-fn flip_in_stable_range(kernel: mpm::KernelKind, alpha: f64) -> f64 {
-    match kernel {
-        mpm::KernelKind::QuadraticBspline => alpha,
-        mpm::KernelKind::Linear | mpm::KernelKind::Gimp => 0.6 * alpha,
-    }
-}
-
 impl SceneSpec {
     fn scene(&self) -> SceneConfig {
         let d = self.dim;
@@ -192,9 +181,11 @@ impl SceneSpec {
             let mut body = BodyConfig::new(&format!("body {i}"), shape, material)
                 .with_velocity(&v)
                 .with_particles_per_cell(b.ppc)
-                .with_flip(flip_in_stable_range(scene.kernel, b.flip));
-            // APIC where the kernel allows it (not the linear one)
-            body.apic = b.apic && scene.kernel != mpm::KernelKind::Linear;
+                // α over the slider's whole range, every kernel (docs/stability.md, "FLIP at
+                // walls and contacts")
+                .with_flip(b.flip);
+            // APIC where the kernel allows it (not the linear one), else the material's default
+            body.apic = (b.apic && scene.kernel != mpm::KernelKind::Linear).then_some(true);
             scene.bodies.push(body);
         }
         scene

@@ -72,6 +72,9 @@ pub struct Body<D: Dim> {
     pub(crate) kinematic: bool,
     /// Momentum received through contact in the current step.
     pub(crate) contact_impulse: [f64; 3],
+    /// Whether a wall or a contact changed a velocity of this body's grid in the current step
+    /// (the gather then caps its FLIP share, [`Transfer::at_constraints`]).
+    pub(crate) constrained: bool,
     /// What the stress update of the current step measured.
     pub(crate) stress_report: StressReport,
 }
@@ -277,7 +280,8 @@ impl<D: Dim> Simulation<D> {
             .velocity
             .as_deref()
             .map_or(D::Vector::ZERO, |v| D::Vector::from_fn(|a| v[a] as Real));
-        if config.apic {
+        let apic = config.uses_apic(self.scene.kernel);
+        if apic {
             self.particles.enable_affine();
         }
         let start = self.particles.len();
@@ -296,7 +300,7 @@ impl<D: Dim> Simulation<D> {
             model: config.material.model(),
             transfer: Transfer {
                 flip: config.flip_ratio() as Real,
-                apic: config.apic,
+                apic,
             },
             range: start..self.particles.len(),
             grid: Grid::default(),
@@ -306,6 +310,7 @@ impl<D: Dim> Simulation<D> {
             radius,
             kinematic: config.kinematic,
             contact_impulse: [0.0; 3],
+            constrained: false,
             stress_report: StressReport::default(),
         });
         self.refresh_diagnostics();
@@ -430,15 +435,20 @@ impl<D: Dim> Simulation<D> {
         }
         next.validate()?;
         self.world = World::new(&next);
+        if next.bodies.iter().any(|b| b.uses_apic(next.kernel)) {
+            self.particles.enable_affine();
+        }
         for (body, cfg) in self.bodies.iter_mut().zip(&next.bodies) {
             body.model = cfg.material.model();
+            let apic = cfg.uses_apic(next.kernel);
+            if apic && !body.transfer.apic {
+                // a body that turns to APIC starts from a zero affine velocity
+                self.particles.affine[body.range.clone()].fill(D::GRAD_ZERO);
+            }
             body.transfer = Transfer {
                 flip: cfg.flip_ratio() as Real,
-                apic: cfg.apic,
+                apic,
             };
-        }
-        if next.bodies.iter().any(|b| b.apic) {
-            self.particles.enable_affine();
         }
         self.scene = next;
         Ok(())

@@ -20,6 +20,7 @@ impl<D: Dim> Simulation<D> {
     pub(super) fn resolve_contacts(&mut self) {
         for body in &mut self.bodies {
             body.contact_impulse = [0.0; 3];
+            body.constrained = false; // set again by the contacts and the walls of this step
         }
         for pair in &self.contacts {
             let (left, right) = self.bodies.split_at_mut(pair.b);
@@ -32,6 +33,8 @@ impl<D: Dim> Simulation<D> {
                 (a.kinematic, b.kinematic),
             );
             self.diagnostics.dissipated_contact += r.dissipated;
+            a.constrained |= r.changed_a;
+            b.constrained |= r.changed_b;
             for k in 0..3 {
                 a.contact_impulse[k] += r.impulse_on_a[k];
                 b.contact_impulse[k] -= r.impulse_on_a[k];
@@ -91,6 +94,10 @@ pub struct Resolved {
     pub dissipated: f64,
     /// Momentum given to body A (body B received the opposite).
     pub impulse_on_a: [f64; 3],
+    /// Whether a node velocity of A, of B changed (for
+    /// [`super::transfer::Transfer::at_constraints`]).
+    pub changed_a: bool,
+    pub changed_b: bool,
 }
 
 /// Applies the contact rule at the shared nodes of one pair. A kinematic body (`kinematic_a`,
@@ -156,11 +163,13 @@ pub fn resolve<D: Dim>(
                 let na = va + dp / ma;
                 out.dissipated += constraint_dissipation(ma, ga.nodes[ia].vel(), va, na);
                 ga.nodes[ia].new_vel = na;
+                out.changed_a = true;
             }
             if !kinematic_b {
                 let nb = vb - dp / mb;
                 out.dissipated += constraint_dissipation(mb, gb.nodes[ib].vel(), vb, nb);
                 gb.nodes[ib].new_vel = nb;
+                out.changed_b = true;
             }
         }
     }

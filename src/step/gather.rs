@@ -60,7 +60,7 @@ impl<D: Dim> Simulation<D> {
             }
             let pass = Pass {
                 grid: &body.grid,
-                transfer: body.transfer,
+                transfer: body.transfer.at_constraints(body.constrained),
                 dt,
                 inv_h: w.inv_h,
                 walls: &w.walls,

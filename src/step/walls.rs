@@ -14,19 +14,29 @@ impl<D: Dim> Simulation<D> {
     pub(super) fn apply_walls(&mut self) {
         for body in &mut self.bodies {
             if !body.kinematic {
-                self.diagnostics.dissipated_boundary +=
-                    grid_walls(&mut body.grid, &self.world.walls);
+                let w = grid_walls(&mut body.grid, &self.world.walls);
+                self.diagnostics.dissipated_boundary += w.dissipated;
+                body.constrained |= w.changed;
             }
             body.grid.fill_nodes(|h, o| *h = *o);
         }
     }
 }
 
-/// Constrains the nodes on or beyond the domain's faces; returns the energy the constraint
-/// removed.
-pub fn grid_walls<D: Dim>(grid: &mut Grid<D>, walls: &Walls<D>) -> f64 {
+/// What the walls did to one body's grid.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct WallsApplied {
+    /// Energy removed (see [`constraint_dissipation`]).
+    pub dissipated: f64,
+    /// Whether any node velocity changed (for [`super::transfer::Transfer::at_constraints`]).
+    pub changed: bool,
+}
+
+/// Constrains the nodes on or beyond the domain's faces.
+pub fn grid_walls<D: Dim>(grid: &mut Grid<D>, walls: &Walls<D>) -> WallsApplied {
     let edge = Grid::<D>::BLOCK as i32;
     let mut dissipated = 0.0;
+    let mut changed = false;
     let Grid {
         index,
         layout,
@@ -48,8 +58,12 @@ pub fn grid_walls<D: Dim>(grid: &mut Grid<D>, walls: &Walls<D>) -> f64 {
             if after != before {
                 dissipated += constraint_dissipation(m, node.vel(), before, after);
                 node.new_vel = after;
+                changed = true;
             }
         });
     }
-    dissipated
+    WallsApplied {
+        dissipated,
+        changed,
+    }
 }

@@ -29,8 +29,9 @@ pub struct Numerics {
     pub kernel: KernelKind,
     /// PIC/FLIP α of the body under test; `None` keeps the scene's.
     pub flip: Option<f64>,
-    /// APIC transfers for the body under test.
-    pub apic: bool,
+    /// APIC (`Some(true)`) or the plain PIC/FLIP blend (`Some(false)`) for the body under
+    /// test; `None` keeps the scene's (by default APIC for sand, PIC for solids).
+    pub apic: Option<bool>,
     pub cfl: f64,
 }
 
@@ -41,12 +42,18 @@ impl Numerics {
             ppc: 2,
             kernel,
             flip: None,
-            apic: false,
+            apic: None,
             cfl: 0.4,
         }
     }
     pub fn apic(mut self) -> Self {
-        self.apic = true;
+        self.apic = Some(true);
+        self
+    }
+    /// The paper's PIC/FLIP blend without APIC (sand's transfer before APIC became its
+    /// default).
+    pub fn pic(mut self) -> Self {
+        self.apic = Some(false);
         self
     }
     pub fn ppc(mut self, ppc: u32) -> Self {
@@ -73,7 +80,9 @@ impl Numerics {
         if let Some(a) = self.flip {
             scene.bodies[0].flip = Some(a);
         }
-        scene.bodies[0].apic = self.apic;
+        if self.apic.is_some() {
+            scene.bodies[0].apic = self.apic;
+        }
     }
     /// A short label, e.g. `gimp h=0.0125 ppc=2 α=1 cfl=0.4` (and ` apic`).
     pub fn label(&self) -> String {
@@ -84,7 +93,11 @@ impl Numerics {
             self.cell_size,
             self.ppc,
             self.cfl,
-            if self.apic { " apic" } else { "" }
+            match self.apic {
+                Some(true) => " apic",
+                Some(false) => " pic",
+                None => "",
+            }
         )
     }
 }
@@ -544,10 +557,18 @@ pub fn plane_strain_curve(e: f64, nu: f64, sy: f64, max_strain: f64, n: usize) -
 
 /// The plane (2D) collapse of a granular column of half-width L0 and height H0 = a L0 on a
 /// rough floor: normalised run-out (L∞ − L0)/L0 and final height H∞/H0.
+///
+/// Two run-outs are reported, since a deposit ends in a thin tail whose length depends on
+/// the resolution: `runout`, the farthest particle of the deposit (its end at the first gap
+/// wider than two particle spacings, [`deposit_front`]), and `runout_edge`, the edge of the
+/// continuous deposit: the first distance from the axis at which the deposit's thickness,
+/// averaged over a window of [`EDGE_WINDOW`], drops below [`EDGE_THICKNESS`] of H0
+/// ([`deposit_edge`]).
 #[derive(Clone, Debug)]
 pub struct Collapse {
     pub aspect_ratio: f64,
     pub runout: f64,
+    pub runout_edge: f64,
     pub height: f64,
     /// Axisymmetric runs: the largest minus the smallest front over the azimuthal sectors,
     /// over R0 (how far the deposit is from round); 0 for plane runs.
@@ -575,13 +596,18 @@ pub fn lube_height(a: f64) -> f64 {
     if a < 1.15 { 1.0 } else { a.powf(-0.6) }
 }
 
-/// Runs a collapse until every particle is slower than 1 % of √(g H0) (after at least
-/// 4 √(H0/g)) or until `t_max`; returns why the run stopped early, if it did. A run whose time
-/// step collapses (particles flung out at high speed) is stopped after ten times the steps it
-/// would take at the initial time step.
+/// A deposit counts as at rest when no particle is faster than this share of √(g H0): 0.1 %
+/// (with 1 % a PIC deposit that still crept was taken for at rest, and its run-out grew
+/// by another 6 % before 4 s).
+pub const REST_SPEED: f64 = 1e-3;
+
+/// Runs a collapse until every particle is slower than [`REST_SPEED`] √(g H0) (after at
+/// least 4 √(H0/g)) or until `t_max`; returns why the run stopped early, if it did. A run
+/// whose time step collapses (particles flung out at high speed) is stopped after ten times
+/// the steps it would take at the initial time step.
 fn run_until_rest<D: Dim>(sim: &mut Simulation<D>, h0: f64, g: f64, t_max: f64) -> Option<String> {
     let t_min = 4.0 * (h0 / g).sqrt();
-    let rest_speed = 0.01 * (g * h0).sqrt();
+    let rest_speed = REST_SPEED * (g * h0).sqrt();
     let budget = (10.0 * t_max / sim.stable_dt()) as u64;
     loop {
         if let Err(e) = sim.advance(0.02) {
@@ -617,6 +643,46 @@ fn deposit_front(mut d: Vec<f64>, s: f64) -> f64 {
     end + 0.5 * s
 }
 
+/// Width of the window over which the deposit's thickness is averaged for its edge (m; at
+/// least two particle spacings): one hole in a thin tail would otherwise end the deposit.
+pub const EDGE_WINDOW: f64 = 0.01;
+/// The deposit's edge is where its thickness drops below this share of H0.
+pub const EDGE_THICKNESS: f64 = 0.025;
+
+/// The edge of a deposit along a ray: `d` holds the distances of the particles from the axis
+/// (any order), each particle standing for the material `amount` gives at its distance (an
+/// area s² in a plane deposit, a volume s³ in an axisymmetric one), `band(r0, r1)` is the
+/// floor area between distances r0 and r1 (its length in a plane, an annulus's area about an
+/// axis). The thickness at r is the material within half a window of r over the window's
+/// floor area; the edge is the first r, stepping out from the axis by an eighth of a spacing
+/// `s`, where it drops below `min_thickness`.
+fn deposit_edge(
+    mut d: Vec<f64>,
+    s: f64,
+    amount: f64,
+    band: impl Fn(f64, f64) -> f64,
+    min_thickness: f64,
+) -> f64 {
+    d.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    let half = 0.5 * EDGE_WINDOW.max(2.0 * s);
+    let step = s / 8.0;
+    let (mut lo, mut hi) = (0, 0); // the particles in [r − half, r + half)
+    let mut r = 0.0;
+    loop {
+        while hi < d.len() && d[hi] < r + half {
+            hi += 1;
+        }
+        while lo < hi && d[lo] < r - half {
+            lo += 1;
+        }
+        let thickness = (hi - lo) as f64 * amount / band((r - half).max(0.0), r + half);
+        if thickness < min_thickness || lo == d.len() {
+            return r;
+        }
+        r += step;
+    }
+}
+
 pub fn column_collapse(file: &str, n: &Numerics, t_max: f64) -> Collapse {
     let scene = load(file, n);
     let s = spacing(&scene);
@@ -645,6 +711,19 @@ pub fn column_collapse(file: &str, n: &Numerics, t_max: f64) -> Collapse {
         )
     };
     let l_inf = 0.5 * (front(1.0) + front(-1.0));
+    let edge = |sign: f64| {
+        deposit_edge(
+            (0..p.len())
+                .map(|i| sign * (p.x[i][0] as f64 - xc))
+                .filter(|&d| d > 0.0)
+                .collect(),
+            s,
+            s * s,
+            |r0, r1| r1 - r0,
+            EDGE_THICKNESS * h0,
+        )
+    };
+    let l_edge = 0.5 * (edge(1.0) + edge(-1.0));
     let h_inf = (0..p.len())
         .filter(|&i| (p.x[i][0] as f64 - xc).abs() < l0)
         .map(|i| p.x[i][1] as f64)
@@ -653,6 +732,7 @@ pub fn column_collapse(file: &str, n: &Numerics, t_max: f64) -> Collapse {
     Collapse {
         aspect_ratio: h0 / l0,
         runout: (l_inf - l0) / l0,
+        runout_edge: (l_edge - l0) / l0,
         height: h_inf / h0,
         spread: 0.0,
         settled_at,
@@ -688,8 +768,9 @@ const SECTORS: usize = 16;
 
 /// The axisymmetric (3D) collapse of a cylindrical column of radius R0 and height H0 = a R0
 /// on a rough floor: normalised run-out (R∞ − R0)/R0 (R∞ the mean over [`SECTORS`] azimuthal
-/// sectors of the deposit's front) and final height H∞/H0 (the highest particle within R0 of
-/// the axis). R0 is the radius of the cylinder of height H0 holding the sampled volume.
+/// sectors of the deposit's front; the edge of the continuous deposit from its thickness
+/// averaged over annuli about the axis) and final height H∞/H0 (the highest particle within
+/// R0 of the axis). R0 is the radius of the cylinder of height H0 holding the sampled volume.
 pub fn axisymmetric_collapse(file: &str, n: &Numerics, t_max: f64) -> Collapse {
     let scene = load(file, n);
     let s = spacing(&scene);
@@ -719,6 +800,14 @@ pub fn axisymmetric_collapse(file: &str, n: &Numerics, t_max: f64) -> Collapse {
             h_inf = h_inf.max(p.x[i][1] as f64 + 0.5 * s);
         }
     }
+    let all: Vec<f64> = sectors.iter().flatten().copied().collect();
+    let r_edge = deposit_edge(
+        all,
+        s,
+        s.powi(3),
+        |r0, r1| std::f64::consts::PI * (r1 * r1 - r0 * r0),
+        EDGE_THICKNESS * h0,
+    );
     let fronts: Vec<f64> = sectors.into_iter().map(|d| deposit_front(d, s)).collect();
     let r_inf = fronts.iter().sum::<f64>() / SECTORS as f64;
     let (min, max) = fronts
@@ -727,6 +816,7 @@ pub fn axisymmetric_collapse(file: &str, n: &Numerics, t_max: f64) -> Collapse {
     Collapse {
         aspect_ratio: h0 / r0,
         runout: (r_inf - r0) / r0,
+        runout_edge: (r_edge - r0) / r0,
         height: h_inf / h0,
         spread: (max - min) / r0,
         settled_at,
@@ -1172,7 +1262,9 @@ pub fn flip_impacts<D: Dim>(n: &Numerics, alpha: f64, two: bool, duration: f64) 
     scene.cfl = n.cfl;
     for b in &mut scene.bodies {
         b.particles_per_cell = n.ppc;
-        b.apic = n.apic;
+        if n.apic.is_some() {
+            b.apic = n.apic;
+        }
     }
     let mut sim = Simulation::<D>::new(scene).expect("impact scene");
     let e0 = sim.diagnostics().total_energy();

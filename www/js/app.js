@@ -5,7 +5,7 @@
 // for the link. Commands to the simulation are asynchronous: an action awaits the answer
 // before it shows the result.
 
-import { banner, toast, warnCost, warnFlip } from './hud.js';
+import { banner, toast, warnCost } from './hud.js';
 import { readHash, writeHash, formatDrop } from './hash.js';
 import { LEVELS, QualityGovernor, applyQuality } from './quality.js';
 import { insideBox, nearestParticle } from './pointer.js';
@@ -161,7 +161,6 @@ export class App {
     this.session.timeScale(Number(this.view.time));
     this.session.colour(this.view.colour);
     this.session.play(this.playing);
-    warnFlip(this.session);
     buildDropControls(this);
     syncControls(this);
     if (lesson) {

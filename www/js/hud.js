@@ -39,8 +39,9 @@ export function banner(key, kind, html, action) {
 }
 
 /// Warns when a parameter value makes the simulation run in slow motion (prediction `p`
-/// against `before`, the current value's), when the CFL number is near the stability limit,
-/// and when FLIP ratios risk energy gain (see `warnFlip`).
+/// against `before`, the current value's) and when the CFL number is near the stability limit.
+/// (The FLIP ratio needs no warning: the solver caps it in steps where walls or contacts act,
+/// and no FLIP ratio in [0, 1] gains energy at impacts; docs/stability.md.)
 export function warnCost(spec, value, p, before, session) {
   const slower = p.substeps_per_frame > 1.5 * before.substeps_per_frame;
   const slow = p.realtime_ratio > 0 && p.realtime_ratio < 0.25;
@@ -52,19 +53,6 @@ export function warnCost(spec, value, p, before, session) {
   const cfl = session.parameter('cfl');
   banner('cfl', 'warn', cfl > 0.6
     ? `CFL number ${cfl}: steps this close to the stability limit can make fast impacts jitter or blow up; 0.3–0.5 is safe.`
-    : '');
-  warnFlip(session);
-}
-
-/// FLIP ratios above 0.6 with the linear or GIMP kernel can add energy when an elastic or
-/// von Mises body hits a wall or another body (docs/stability.md): say so.
-export function warnFlip(session) {
-  const scene = session.scene;
-  const risky = scene.kernel !== 'quadratic_bspline' && ['elastic', 'von_mises'].filter((m) =>
-    scene.bodies.some((b) => m in b.material) && session.parameter(`${m}.flip`) > 0.6);
-  banner('flip', 'warn', risky && risky.length
-    ? `FLIP ratio above 0.6 for ${risky.join(' and ')} bodies with the ${scene.kernel} kernel: impacts on walls and between bodies can add energy ` +
-      '(bounces grow). Up to 0.6 is safe; the quadratic B-spline kernel is safe at any ratio.'
     : '');
 }
 
