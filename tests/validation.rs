@@ -123,16 +123,18 @@ fn von_mises_squeeze_follows_the_elastic_perfectly_plastic_curve() {
     assert!(s3.max_error < 0.1, "3D max error {}", s3.max_error);
 }
 
-/// Plane granular column collapse on a rough floor against Lube et al. (2005): the final
-/// height follows the measured law within 10 %; the run-out grows with the aspect ratio but
-/// is about half the measured one (see docs/validation.md), bounded here so that a change of
-/// the solver's granular flow shows.
+/// Plane granular column collapse on a rough floor against Lube et al. (2005), with the
+/// sand's default transfer (APIC base, α = 0.05), at the validation resolution h = 0.01:
+/// the run-out within 20 % of the measured law, both as the farthest particle and as the edge
+/// of the continuous deposit. The final height is within 10 % at a = 0.5 but 11 % low at
+/// a = 2 (the deposit of a tall column stands below φ_ps; docs/validation.md), so there the
+/// bound is 15 %. (Before APIC became the sand's default, the run-out was 47 % short.)
 #[test]
 fn column_collapse_runout_and_height() {
     let mut runouts = Vec::new();
-    for (file, a) in [
-        ("column_collapse_a0.5_2d.json", 0.5),
-        ("column_collapse_a2_2d.json", 2.0),
+    for (file, a, height_tolerance) in [
+        ("column_collapse_a0.5_2d.json", 0.5, 0.1),
+        ("column_collapse_a2_2d.json", 2.0, 0.15),
     ] {
         let c = column_collapse(file, &Numerics::new(0.01, KernelKind::Gimp), 3.0);
         eprintln!(
@@ -144,21 +146,39 @@ fn column_collapse_runout_and_height() {
         assert!(c.failure.is_none(), "a = {a}: {:?}", c.failure);
         assert!(c.settled_at < 3.0, "a = {a}: still moving at 3 s");
         assert!(
-            (c.height / lube_height(a) - 1.0).abs() < 0.1,
+            (c.height / lube_height(a) - 1.0).abs() < height_tolerance,
             "a = {a}: H∞/H0 = {:.3}, Lube et al. {:.3}",
             c.height,
             lube_height(a)
         );
-        let ratio = c.runout / lube_runout(a);
-        assert!(
-            (0.4..1.0).contains(&ratio),
-            "a = {a}: run-out {:.3} is {ratio:.2} of Lube et al.'s {:.2}",
-            c.runout,
-            lube_runout(a)
-        );
+        for (what, runout) in [("farthest particle", c.runout), ("edge", c.runout_edge)] {
+            let ratio = runout / lube_runout(a);
+            assert!(
+                (ratio - 1.0).abs() < 0.2,
+                "a = {a}: run-out ({what}) {runout:.3} is {ratio:.2} of Lube et al.'s {:.2}",
+                lube_runout(a)
+            );
+        }
         runouts.push(c.runout);
     }
     assert!(runouts[1] > 2.0 * runouts[0], "run-out should grow with a");
+}
+
+/// With the paper's plain PIC/FLIP blend (α = 0.05, no APIC) the same column runs out about
+/// half as far as measured: the PIC part of the blend damps the flow. This is why sand takes
+/// APIC by default; the bound shows if that damping changes.
+#[test]
+fn pic_blend_damps_the_column_collapse() {
+    let a = 2.0;
+    let n = Numerics::new(0.01, KernelKind::Gimp).pic();
+    let c = column_collapse("column_collapse_a2_2d.json", &n, 4.0);
+    eprintln!("collapse a={a} PIC: {c:?}");
+    let ratio = c.runout / lube_runout(a);
+    assert!(
+        (0.4..0.7).contains(&ratio),
+        "PIC run-out {:.3} is {ratio:.2} of Lube et al.'s",
+        c.runout
+    );
 }
 
 /// A heap left by slowly lifted walls stands at about the friction angle.
@@ -227,7 +247,6 @@ fn a_slope_gentler_than_the_friction_angle_stands() {
 /// with 40° flanks of φ = 32° sand (φ_ps = 30.4°) avalanches (its flanks come halfway down to
 /// φ_ps within half a second) and comes to rest near φ_ps.
 #[test]
-#[ignore = "the sand's default transfer (issue 16) lands with the rebuilt step: with PIC/FLIP α = 0.05 the 40° slope creeps at mm/s (docs/validation.md)"]
 fn a_slope_steeper_than_the_friction_angle_fails() {
     let r = heap_slope(
         32.0,
@@ -247,11 +266,12 @@ fn a_slope_steeper_than_the_friction_angle_fails() {
     );
 }
 
-/// Axisymmetric collapse of a column with a = 1 against Lube et al. (2004): run-out within
-/// 25 %, final height within 15 % of Lube et al.'s or Lajeunesse et al.'s (2004) law, and a
-/// round deposit, at a coarse resolution (R0 = 5 cells).
+/// Axisymmetric collapse of a column with a = 1 against Lube et al. (2004), at a coarse
+/// resolution (R0 = 5 cells): the farthest-particle run-out within 25 % (−24 % measured), the
+/// edge of the continuous deposit within 30 % (−26 %: at this resolution it misses the 25 %
+/// the finer runs meet, docs/validation.md), the final height within 15 % of Lube et al.'s
+/// or Lajeunesse et al.'s (2004) law, and a round deposit.
 #[test]
-#[ignore = "the sand's default transfer (issue 16) lands with the rebuilt step: with PIC/FLIP α = 0.05 the run-out is 56-62 % short (docs/validation.md)"]
 fn axisymmetric_column_collapse() {
     let a = 1.0;
     let c = axisymmetric_collapse(
@@ -268,6 +288,11 @@ fn axisymmetric_column_collapse() {
         "run-out {:.3}, Lube et al. {r:.2}",
         c.runout
     );
+    assert!(
+        (c.runout_edge / r - 1.0).abs() < 0.3,
+        "run-out (edge) {:.3}, Lube et al. {r:.2}",
+        c.runout_edge
+    );
     // the two published final-height laws differ by 20 % at a = 1 (0.88 and 0.74)
     let (h1, h2) = (
         lube_axisymmetric_height(a),
@@ -282,22 +307,31 @@ fn axisymmetric_column_collapse() {
 
 /// Sand sheets one and two cells thick (two and four particle rows) thrown along a floor with
 /// μ = 0.5 stop after v0²/(2 μ g): the floor's friction is proportional to the weight it
-/// carries, for the rows that straddle the floor nodes too (the particles' half-width).
+/// carries, for the rows that straddle the floor nodes too (the particles' half-width). With
+/// the paper's plain blend the sheets slide as rigid slabs (within 2 %); with the sand's
+/// default transfer (APIC) the thicker sheet also shears internally and its centre of mass
+/// travels 3 % further (docs/validation.md), so the bound there is 5 %.
 #[test]
 fn sand_sheets_slide_the_coulomb_distance() {
-    for thickness in [0.01, 0.02] {
-        let r = sand_sheet_slide(thickness, 0.5, 1.0, &Numerics::new(0.01, KernelKind::Gimp));
-        eprintln!("sheet {thickness} m: {r:?}");
-        assert!(
-            (r.travel / r.travel_exact - 1.0).abs() < 0.02,
-            "a {thickness} m sheet slid {:.4} m, Coulomb {:.4} m",
-            r.travel,
-            r.travel_exact
-        );
-        assert!(
-            r.final_speed < 0.01,
-            "still sliding at {} m/s",
-            r.final_speed
-        );
+    for (n, tolerance) in [
+        (Numerics::new(0.01, KernelKind::Gimp).pic(), 0.02),
+        (Numerics::new(0.01, KernelKind::Gimp), 0.05),
+    ] {
+        for thickness in [0.01, 0.02] {
+            let r = sand_sheet_slide(thickness, 0.5, 1.0, &n);
+            eprintln!("sheet {thickness} m {}: {r:?}", n.label());
+            assert!(
+                (r.travel / r.travel_exact - 1.0).abs() < tolerance,
+                "a {thickness} m sheet ({}) slid {:.4} m, Coulomb {:.4} m",
+                n.label(),
+                r.travel,
+                r.travel_exact
+            );
+            assert!(
+                r.final_speed < 0.01,
+                "still sliding at {} m/s",
+                r.final_speed
+            );
+        }
     }
 }

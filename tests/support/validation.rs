@@ -630,12 +630,14 @@ fn run_until_rest<D: Dim>(sim: &mut Simulation<D>, h0: f64, g: f64, t_max: f64) 
 
 /// The end of a deposit along a ray: `d` holds the distances of the particles from the
 /// centre (any order); the deposit ends at the first gap wider than two particle spacings
-/// `s`, and the last particle stands for half a spacing of material beyond its centre.
-fn deposit_front(mut d: Vec<f64>, s: f64) -> f64 {
+/// `s` beyond `from` (gaps nearer the centre are ignored: an axisymmetric run's narrow
+/// sectors hold few particles near the axis), and the last particle stands for half a
+/// spacing of material beyond its centre.
+fn deposit_front(mut d: Vec<f64>, s: f64, from: f64) -> f64 {
     d.sort_by(|a, b| a.partial_cmp(b).unwrap());
     let mut end = d.first().copied().unwrap_or(0.0);
     for w in d.windows(2) {
-        if w[1] - w[0] > 2.0 * s {
+        if w[1] - w[0] > 2.0 * s && w[0] >= from {
             break;
         }
         end = w[1];
@@ -708,6 +710,7 @@ pub fn column_collapse(file: &str, n: &Numerics, t_max: f64) -> Collapse {
                 .filter(|&d| d > 0.0)
                 .collect(),
             s,
+            0.0,
         )
     };
     let l_inf = 0.5 * (front(1.0) + front(-1.0));
@@ -808,7 +811,10 @@ pub fn axisymmetric_collapse(file: &str, n: &Numerics, t_max: f64) -> Collapse {
         |r0, r1| std::f64::consts::PI * (r1 * r1 - r0 * r0),
         EDGE_THICKNESS * h0,
     );
-    let fronts: Vec<f64> = sectors.into_iter().map(|d| deposit_front(d, s)).collect();
+    let fronts: Vec<f64> = sectors
+        .into_iter()
+        .map(|d| deposit_front(d, s, r0))
+        .collect();
     let r_inf = fronts.iter().sum::<f64>() / SECTORS as f64;
     let (min, max) = fronts
         .iter()
