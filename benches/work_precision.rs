@@ -213,7 +213,7 @@ fn column_study(md: &mut String) {
     let (lube_r, lube_h) = (lube_runout(a), lube_height(a));
     let _ = writeln!(
         md,
-        "## Column collapse (2D, a = 2, `scenes/validation/{file}`)\n\nTwo errors, each the larger of the relative errors of the normalised run-out (L∞ − L0)/L0 and of the final height H∞/H0: **against experiment**, Lube et al. (2005): {lube_r:.2} and {lube_h:.3}; and **self-convergence**, against the finest run (GIMP, h = 0.0025 m, ppc 2, the scene's α, CFL 0.4, {} particles, {:.0} s): {:.3} and {:.3}. A method can converge to the wrong answer: the second error hides what the first shows.\n",
+        "## Column collapse (2D, a = 2, `scenes/validation/{file}`)\n\nThe sand's default transfer (APIC base, α = 0.05) unless a row says otherwise; the run-out is the farthest particle (the deposit's edge is in the details). Two errors, each the larger of the relative errors of the normalised run-out (L∞ − L0)/L0 and of the final height H∞/H0: **against experiment**, Lube et al. (2005): {lube_r:.2} and {lube_h:.3}; and **self-convergence**, against the finest run (GIMP, h = 0.0025 m, ppc 2, the scene's α, CFL 0.4, {} particles, {:.0} s): {:.3} and {:.3}. A method can converge to the wrong answer: the second error hides what the first shows.\n",
         reference.cost.particles, reference.cost.wall_seconds, reference.runout, reference.height,
     );
     let errors = |c: &Collapse| -> (f64, f64) {
@@ -241,9 +241,16 @@ fn column_study(md: &mut String) {
             extra: match &c.failure {
                 Some(f) => format!("FAILED: {f}"),
                 None => format!(
-                    "run-out {:.3} ({:+.0} % vs Lube), height {:.3} ({:+.0} %); vs reference {:.3e}; at rest at {:.2} s",
+                    "{}run-out {:.3} ({:+.0} % vs Lube; deposit edge {:.3}, {:+.0} %), height {:.3} ({:+.0} %); vs reference {:.3e}; at rest at {:.2} s",
+                    if n.apic == Some(false) {
+                        "paper's PIC/FLIP blend (no APIC): "
+                    } else {
+                        ""
+                    },
                     c.runout,
                     100.0 * (c.runout / lube_r - 1.0),
+                    c.runout_edge,
+                    100.0 * (c.runout_edge / lube_r - 1.0),
                     c.height,
                     100.0 * (c.height / lube_h - 1.0),
                     e_ref,
@@ -308,6 +315,13 @@ fn column_study(md: &mut String) {
             Numerics::new(0.01, KernelKind::Gimp).cfl(cfl),
         ));
     }
+    // the sand's transfer before APIC became its default
+    for alpha in [0.05, 1.0] {
+        variants.push((
+            format!("PIC/FLIP α {alpha}"),
+            Numerics::new(0.01, KernelKind::Gimp).flip(alpha).pic(),
+        ));
+    }
     let (mut pl, mut pr, mut labels) = (Vec::new(), Vec::new(), Vec::new());
     for (label, n) in variants {
         let (row, e_ref) = run(n);
@@ -316,7 +330,7 @@ fn column_study(md: &mut String) {
         labels.push(label);
         rows.push(row);
     }
-    let other = "gimp h=0.01, other α / ppc / CFL".to_string();
+    let other = "gimp h=0.01, other α / ppc / CFL / transfer".to_string();
     vs_lube.push(Series::labelled(
         other.clone(),
         COLOURS[4],
@@ -373,11 +387,12 @@ fn column_reference(file: &str) -> Collapse {
             .split_whitespace()
             .filter_map(|w| w.parse().ok())
             .collect();
-        if v.len() == 7 {
+        if v.len() == 8 {
             println!("column reference from {}", cache.display());
             return Collapse {
                 aspect_ratio: v[0],
                 runout: v[1],
+                runout_edge: v[7],
                 height: v[2],
                 spread: 0.0,
                 settled_at: v[3],
@@ -395,14 +410,15 @@ fn column_reference(file: &str) -> Collapse {
     let _ = std::fs::write(
         &cache,
         format!(
-            "{} {} {} {} {} {} {}\n",
+            "{} {} {} {} {} {} {} {}\n",
             c.aspect_ratio,
             c.runout,
             c.height,
             c.settled_at,
             c.cost.wall_seconds,
             c.cost.steps,
-            c.cost.particles
+            c.cost.particles,
+            c.runout_edge
         ),
     );
     c

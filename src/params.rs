@@ -306,7 +306,7 @@ pub const FLIP: Field = Field {
     field: "flip",
     label: "FLIP ratio",
     symbol: "α",
-    help: "0 = PIC (damped), 1 = FLIP (lively, noisy)",
+    help: "0 = PIC (damped; sand: APIC, smooth), 1 = FLIP (lively, noisy)",
     key: Some('a'),
     nudge: Nudge::Plus(0.05),
     access: Access::Flip,
