@@ -67,13 +67,23 @@ async function checkView(page, path) {
   // The simulation stops; the last frame it sent is drawn at the next animation frames.
   await page.evaluate(() => new Promise((r) => setTimeout(() => requestAnimationFrame(() => requestAnimationFrame(r)), 200)));
   const view = await page.$('#view');
-  const png = decodePng(await view.screenshot({ path }));
+  // A frame the worker sent before it took the pause may still be drawn after the first
+  // wait: the screenshot and the positions must be of the same frame (sand on the APIC base
+  // moves a particle's width in a frame while it spreads), so take both again if it changed.
+  let png, points, seq;
+  for (let tries = 0; tries < 5; tries++) {
+    seq = await page.evaluate(() => mpm.frame.seq);
+    png = decodePng(await view.screenshot({ path }));
+    // The sand's particles that the bunny or the ball do not cover.
+    points = await bodyPoints(page, 0, 200, 12);
+    if ((await page.evaluate(() => mpm.frame.seq)) === seq) break;
+    await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+  }
   const px = pixelStats(png);
   assert.ok(px.variance > 50 && px.colours > 5, `the view is not blank: ${JSON.stringify(px)}`);
-  const points = await bodyPoints(page, 0);
   const width = await page.evaluate(() => document.getElementById('view').clientWidth);
   const sand = fractionAt(png, points, width, orange);
-  assert.ok(points.length > 50 && sand > 0.8, `the sand is drawn where its particles are: ${sand} of ${points.length} points`);
+  assert.ok(points.length > 50 && sand > 0.8, `the sand is drawn where its particles are: ${sand} of ${points.length} points (frame ${seq})`);
   return { px, sand };
 }
 
