@@ -20,8 +20,7 @@ use super::stress::{
 };
 use super::transfer::Transfer;
 use super::{
-    constraint_dissipation, first_node, grid_coords, layout, third_axis, third_axis_nodes,
-    with_kernel,
+    Stencils, constraint_dissipation, first_node, layout, third_axis, third_axis_nodes, with_kernel,
 };
 use crate::boundary::Walls;
 use crate::grid::{Grid, Node, stencil_span};
@@ -164,12 +163,13 @@ fn gather_chunks<D: Dim, K: Kernel<S>, A: AfterGather<D>, const S: usize, const 
     let h = 1.0 / inv_h;
     let mut affine = ps.affine;
     let mut rates = Rates::<D>::zero();
+    let mut stencils = Stencils::<D, K, S>::new(inv_h, radius * inv_h);
     let n = ps.x.len();
     for first in (0..n).step_by(CHUNK) {
         let chunk = first..n.min(first + CHUNK);
         for q in chunk.clone() {
             let x = ps.x[q];
-            let st = K::stencil(grid_coords::<D>(x, inv_h), D::DIM, inv_h, radius * inv_h);
+            let st = stencils.at(ps.x, q);
             let cell = &nodes[first_node(layout, particle_node[q], &st)..][..span];
             // Step 6 (and 2).
             let (v_new, v_old) = if !A::GRADIENT {

@@ -44,7 +44,7 @@ pub mod walls;
 
 use crate::error::{Error, Result};
 use crate::grid::{BlockLayout, GHOST, Grid, stencil_span};
-use crate::kernel::{KernelKind, Stencil};
+use crate::kernel::{Kernel, KernelKind, Stencil};
 use crate::material::Model;
 use crate::math::{Dim, Real, VectorOps};
 use crate::sim::{Body, Diagnostics, PassTimings, Simulation};
@@ -197,6 +197,56 @@ pub fn grid_coords<D: Dim>(x: D::Vector, inv_h: Real) -> [Real; 3] {
         *c = x[a] * inv_h + GHOST as Real;
     }
     g
+}
+
+/// The particles' stencils, one particle after another, for a pass that walks them in order.
+/// In 2D two particles' GIMP stencils are evaluated at once ([`Kernel::stencil_pair_2d`], a packing
+/// specialisation of [`Kernel::stencil`]): the second waits here for the pass to ask for it.
+pub struct Stencils<D: Dim, K: Kernel<S>, const S: usize> {
+    inv_h: Real,
+    lp: Real,
+    /// The particle whose stencil `next` is (`usize::MAX`: none).
+    cached: usize,
+    next: Stencil<S>,
+    _kernel: std::marker::PhantomData<(D, K)>,
+}
+
+impl<D: Dim, K: Kernel<S>, const S: usize> Stencils<D, K, S> {
+    /// For particles of half-width `lp` grid units on a grid of 1/`inv_h` cells.
+    #[inline(always)]
+    pub fn new(inv_h: Real, lp: Real) -> Self {
+        Stencils {
+            inv_h,
+            lp,
+            cached: usize::MAX,
+            next: Stencil::at([0; 3]),
+            _kernel: std::marker::PhantomData,
+        }
+    }
+
+    /// The stencil of particle `q` at `x[q]` (in 2D, with particle q + 1's when q is not
+    /// the second of a pair: a pass asks for q + 1 next, whose position it has not moved yet).
+    #[inline(always)]
+    pub fn at(&mut self, x: &[D::Vector], q: usize) -> Stencil<S> {
+        let (inv_h, lp) = (self.inv_h, self.lp);
+        // Pairs pay for GIMP's weights; the linear kernel's and the B-spline's cost about
+        // what keeping the second stencil does (docs/performance.md).
+        if D::DIM != 2 || K::KIND != KernelKind::Gimp {
+            return K::stencil(grid_coords::<D>(x[q], inv_h), D::DIM, inv_h, lp);
+        }
+        if self.cached == q {
+            return self.next;
+        }
+        let b = x[if q + 1 < x.len() { q + 1 } else { q }];
+        let [first, second] = K::stencil_pair_2d(
+            grid_coords::<D>(x[q], inv_h),
+            grid_coords::<D>(b, inv_h),
+            inv_h,
+            lp,
+        );
+        (self.next, self.cached) = (second, q + 1);
+        first
+    }
 }
 
 /// Nodes per row of a padded block for a kernel of `S` nodes per axis, and the number of

@@ -9,7 +9,7 @@
 //! ∇m_i = Σ_p m_p ∇w_ip, the contact normal of Eq. 20.
 
 use super::transfer::Transfer;
-use super::{first_node, grid_coords, layout, third_axis, third_axis_nodes, with_kernel};
+use super::{Stencils, first_node, layout, third_axis, third_axis_nodes, with_kernel};
 use crate::grid::{Grid, Node, stencil_span};
 use crate::kernel::{Kernel, Stencil};
 use crate::math::{Dim, Real, SymTensor, Vec4, VectorOps};
@@ -69,12 +69,13 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
     let with_gradient = !mass_grad.is_empty();
     let h = 1.0 / inv_h;
     let force = |q: usize| ps.stress.map(|(s, v)| s[q] * -v[q]);
+    let mut stencils = Stencils::<D, K, S>::new(inv_h, lp);
     if ps.affine.is_none() && !with_gradient {
         // The common cases, with the APIC and contact terms compiled out.
         macro_rules! common {
             ($force:expr) => {
                 for q in 0..ps.x.len() {
-                    let st = K::stencil(grid_coords::<D>(ps.x[q], inv_h), D::DIM, inv_h, lp);
+                    let st = stencils.at(ps.x, q);
                     let cell = &mut nodes[first_node(layout, particle_node[q], &st)..][..span];
                     let (m, f) = (ps.mass[q], $force(q));
                     if D::DIM == 2 {
@@ -92,7 +93,7 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
         }
     } else {
         for q in 0..ps.x.len() {
-            let st = K::stencil(grid_coords::<D>(ps.x[q], inv_h), D::DIM, inv_h, lp);
+            let st = stencils.at(ps.x, q);
             let origin = first_node(layout, particle_node[q], &st);
             let grad = with_gradient.then(|| &mut mass_grad[origin..origin + span]);
             let m = ps.mass[q];

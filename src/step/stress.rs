@@ -21,7 +21,7 @@
 //! update is a long dependency chain, and in lanes four chains advance at once), with the
 //! energies and the finiteness test per group of four. A test checks that they agree.
 
-use super::{first_node, grid_coords, layout, third_axis, third_axis_nodes, with_kernel};
+use super::{Stencils, first_node, layout, third_axis, third_axis_nodes, with_kernel};
 use crate::grid::{Grid, Node, stencil_span};
 use crate::kernel::{Kernel, Stencil};
 use crate::material::{Constitutive, Model};
@@ -125,10 +125,11 @@ pub fn update_stress_first<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize
     let mut st = [Stencil::<S>::at([0; 3]); CHUNK];
     let mut origin = [0usize; CHUNK];
     let mut rates = Rates::<D>::zero();
+    let mut stencils = Stencils::<D, K, S>::new(inv_h, lp);
     for first in (0..x.len()).step_by(CHUNK) {
         let chunk = first..x.len().min(first + CHUNK);
         for (i, q) in chunk.clone().enumerate() {
-            st[i] = K::stencil(grid_coords::<D>(x[q], inv_h), D::DIM, inv_h, lp);
+            st[i] = stencils.at(x, q);
             origin[i] = first_node(layout, particle_node[q], &st[i]);
             let cell = &nodes[origin[i]..origin[i] + span];
             rates.set(
