@@ -164,12 +164,15 @@ mod simd {
 /// whose first node has grid index `base[a]`; `d[k][a]` is that node's offset from the particle
 /// along the axis, in cells (x_i − x_p = d h). Node-major with four lanes, so that a kernel
 /// computes all axes of one node at once in SIMD registers (lane 3, and lane 2 in 2D, unused).
+/// Only the first `reach[a]` nodes along axis `a` carry weight: the rest have weight and
+/// derivative exactly zero, and the stencil walks skip them.
 #[derive(Clone, Copy, Debug)]
 pub struct Stencil<const S: usize> {
     pub base: [i32; 3],
     pub w: [[Real; 4]; S],
     pub dw: [[Real; 4]; S],
     pub d: [[Real; 4]; S],
+    pub reach: [usize; 3],
 }
 
 impl<const S: usize> Stencil<S> {
@@ -181,6 +184,7 @@ impl<const S: usize> Stencil<S> {
             w: [[0.0; 4]; S],
             dw: [[0.0; 4]; S],
             d: [[0.0; 4]; S],
+            reach: [S; 3],
         }
     }
 }
@@ -251,7 +255,7 @@ pub trait Kernel<const S: usize>: Copy + Send + Sync + 'static {
         let last = xg[dim - 1];
         let x = [xg[0], xg[1], if dim == 3 { xg[2] } else { last }, last];
         let (base, st) = stencil_lanes::<S, Self>(x, inv_h, lp);
-        Stencil::from_lanes(&st, [base[0], base[1], base[2]], [0, 1, 2, 3])
+        Stencil::from_lanes(Self::KIND, &st, [base[0], base[1], base[2]], [0, 1, 2, 3])
     }
 
     /// The stencils of two 2D particles at grid coordinates `a` and `b` — packing
@@ -262,8 +266,8 @@ pub trait Kernel<const S: usize>: Copy + Send + Sync + 'static {
     fn stencil_pair_2d(a: [Real; 3], b: [Real; 3], inv_h: Real, lp: Real) -> [Stencil<S>; 2] {
         let (base, st) = stencil_lanes::<S, Self>([a[0], a[1], b[0], b[1]], inv_h, lp);
         [
-            Stencil::from_lanes(&st, [base[0], base[1], base[1]], [0, 1, 1, 1]),
-            Stencil::from_lanes(&st, [base[2], base[3], base[3]], [2, 3, 3, 3]),
+            Stencil::from_lanes(Self::KIND, &st, [base[0], base[1], base[1]], [0, 1, 1, 1]),
+            Stencil::from_lanes(Self::KIND, &st, [base[2], base[3], base[3]], [2, 3, 3, 3]),
         ]
     }
 }
@@ -277,15 +281,32 @@ struct LaneStencil<const S: usize> {
 }
 
 impl<const S: usize> Stencil<S> {
-    /// The stencil whose axis `a` is lane `lanes[a]` of `st`.
+    /// The stencil whose axis `a` is lane `lanes[a]` of `st`, for kernel `kind`.
     #[inline(always)]
-    fn from_lanes(st: &LaneStencil<S>, base: [i32; 3], lanes: [usize; 4]) -> Self {
+    fn from_lanes(
+        kind: KernelKind,
+        st: &LaneStencil<S>,
+        base: [i32; 3],
+        lanes: [usize; 4],
+    ) -> Self {
         let pick = |r: &[Real; 4]| lanes.map(|l| r[l]);
+        let w = st.w.map(|r| pick(&r));
+        // GIMP's last node along an axis has weight and derivative exactly zero where the
+        // particle's domain does not reach past the middle node (half the positions at two
+        // particles per cell): w = 0 there because hi = lo = −1 in `Gimp::shape`.
+        let reach = [0, 1, 2].map(|a| {
+            if kind == KernelKind::Gimp && w[S - 1][a] == 0.0 {
+                S - 1
+            } else {
+                S
+            }
+        });
         Stencil {
             base,
-            w: st.w.map(|r| pick(&r)),
+            w,
             dw: st.dw.map(|r| pick(&r)),
             d: st.d.map(|r| pick(&r)),
+            reach,
         }
     }
 }

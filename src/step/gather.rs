@@ -20,7 +20,8 @@ use super::stress::{
 };
 use super::transfer::Transfer;
 use super::{
-    Stencils, constraint_dissipation, first_node, layout, third_axis, third_axis_nodes, with_kernel,
+    Stencils, constraint_dissipation, first_node, layout, second_axis_nodes, third_axis,
+    third_axis_nodes, with_kernel,
 };
 use crate::boundary::Walls;
 use crate::grid::{Grid, Node, stencil_span};
@@ -249,9 +250,9 @@ pub fn gather_velocity<D: Dim, const S: usize, const OLD: bool>(
 ) -> (D::Vector, D::Vector) {
     let nodes = &nodes[..stencil_span(D::DIM, p, S)];
     let (mut new, mut old) = (D::Vector::ZERO, D::Vector::ZERO);
-    for k in 0..third_axis_nodes::<D, S>() {
+    for k in 0..third_axis_nodes::<D, S>(st) {
         let (wk, _) = third_axis::<D, S>(st, k);
-        for j in 0..S {
+        for j in 0..second_axis_nodes(st) {
             let base = j * p + k * p * p;
             let row = &nodes[base..base + S];
             let (mut rn, mut ro) = (D::Vector::ZERO, D::Vector::ZERO);
@@ -279,7 +280,7 @@ pub fn gather_velocity_2d_packed<D: Dim, const S: usize, const OLD: bool>(
 ) -> (D::Vector, D::Vector) {
     debug_assert_eq!(D::DIM, 2);
     let nodes = &nodes[..stencil_span(2, p, S)];
-    let acc = sum_from_first(S, |j| {
+    let acc = sum_from_first(second_axis_nodes(st), |j| {
         let row = &nodes[j * p..j * p + S];
         sum_from_first(S, |i| {
             let (n, o) = (row[i].new_vel, row[i].vel());
@@ -312,9 +313,9 @@ pub fn gather_particle<D: Dim, const S: usize, const OLD: bool>(
     // The first axis's weights as vectors, once.
     let w: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.w[i][0]));
     let dw: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.dw[i][0]));
-    for k in 0..third_axis_nodes::<D, S>() {
+    for k in 0..third_axis_nodes::<D, S>(st) {
         let (wk, dwk) = third_axis::<D, S>(st, k);
-        for j in 0..S {
+        for j in 0..second_axis_nodes(st) {
             let base = j * p + k * p * p;
             let row = &nodes[base..base + S];
             // Along the row: Σ_i w_i v_i^{n+1}, Σ_i w_i v_i^n and Σ_i ∂w_i v_i^{n+1}; then the
@@ -353,7 +354,7 @@ pub fn gather_2d_packed<D: Dim, const S: usize, const OLD: bool>(
     debug_assert_eq!(D::DIM, 2);
     let nodes = &nodes[..stencil_span(2, p, S)];
     let (mut vel, mut grad) = (Vec4::ZERO, Vec4::ZERO);
-    for j in 0..S {
+    for j in 0..second_axis_nodes(st) {
         let row = &nodes[j * p..j * p + S];
         // rn: Σ_i w_i v_i^{n+1}, rd: Σ_i ∂w_i v_i^{n+1}, ro: Σ_i w_i v_i^n.
         let (rn, rd, ro) = if OLD {
@@ -404,9 +405,9 @@ pub fn gather_affine<D: Dim, const S: usize>(
 ) -> D::Grad {
     let nodes = &nodes[..stencil_span(D::DIM, p, S)];
     let mut c = [D::Vector::ZERO; 3];
-    for k in 0..third_axis_nodes::<D, S>() {
+    for k in 0..third_axis_nodes::<D, S>(st) {
         let (wk, _) = third_axis::<D, S>(st, k);
-        for j in 0..S {
+        for j in 0..second_axis_nodes(st) {
             let base = j * p + k * p * p;
             let row = &nodes[base..base + S];
             let (mut rn, mut rx) = (D::Vector::ZERO, D::Vector::ZERO);

@@ -285,10 +285,17 @@ fn third_axis<D: Dim, const S: usize>(st: &Stencil<S>, k: usize) -> (Real, Real)
     }
 }
 
-/// Stencil nodes along the third axis: `S` in 3D, one in 2D.
+/// The stencil nodes with weight along the second axis (the first `reach` of `S`; the rest
+/// carry none, and the walks skip them).
 #[inline(always)]
-const fn third_axis_nodes<D: Dim, const S: usize>() -> usize {
-    if D::DIM == 3 { S } else { 1 }
+fn second_axis_nodes<const S: usize>(st: &Stencil<S>) -> usize {
+    st.reach[1]
+}
+
+/// The stencil nodes with weight along the third axis in 3D; one in 2D.
+#[inline(always)]
+fn third_axis_nodes<D: Dim, const S: usize>(st: &Stencil<S>) -> usize {
+    if D::DIM == 3 { st.reach[2] } else { 1 }
 }
 
 /// The energy a constraint removes from a mass `m` whose velocity it changes from `before` to

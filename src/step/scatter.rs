@@ -9,7 +9,9 @@
 //! ∇m_i = Σ_p m_p ∇w_ip, the contact normal of Eq. 20.
 
 use super::transfer::Transfer;
-use super::{Stencils, first_node, layout, third_axis, third_axis_nodes, with_kernel};
+use super::{
+    Stencils, first_node, layout, second_axis_nodes, third_axis, third_axis_nodes, with_kernel,
+};
 use crate::grid::{Grid, Node, stencil_span};
 use crate::kernel::{Kernel, Stencil};
 use crate::math::{Dim, Real, SymTensor, Vec4, VectorOps};
@@ -142,9 +144,9 @@ pub fn scatter_particle<D: Dim, const S: usize>(
     // The first axis's weights as vectors, once.
     let w: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.w[i][0]));
     let dw: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.dw[i][0]));
-    for k in 0..third_axis_nodes::<D, S>() {
+    for k in 0..third_axis_nodes::<D, S>(st) {
         let (wk, dwk) = third_axis::<D, S>(st, k);
-        for j in 0..S {
+        for j in 0..second_axis_nodes(st) {
             let base = j * p + k * p * p;
             let wjk = st.w[j][1] * wk;
             // F ∇w = F e_x ∂_x w + F e_y ∂_y w (+ F e_z ∂_z w): the row's factors first.
@@ -205,7 +207,7 @@ pub fn scatter_2d_packed<D: Dim, const S: usize>(
     let pm = mv.with_mass(m);
     let [c0, c1, _] = D::sym_columns(force.unwrap_or(D::Sym::ZERO));
     let f = Vec4::new(c0[0], c0[1], c1[0], c1[1]);
-    for j in 0..S {
+    for j in 0..second_axis_nodes(st) {
         let fj = f * Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
         let row = &mut nodes[j * p..j * p + S];
         for i in 0..S {

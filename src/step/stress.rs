@@ -21,7 +21,9 @@
 //! update is a long dependency chain, and in lanes four chains advance at once), with the
 //! energies and the finiteness test per group of four. A test checks that they agree.
 
-use super::{Stencils, first_node, layout, third_axis, third_axis_nodes, with_kernel};
+use super::{
+    Stencils, first_node, layout, second_axis_nodes, third_axis, third_axis_nodes, with_kernel,
+};
 use crate::grid::{Grid, Node, stencil_span};
 use crate::kernel::{Kernel, Stencil};
 use crate::material::{Constitutive, Model};
@@ -389,9 +391,9 @@ pub fn velocity_gradient<D: Dim, const S: usize>(
 ) -> D::Grad {
     let nodes = &nodes[..stencil_span(D::DIM, p, S)];
     let mut c = [D::Vector::ZERO; 3];
-    for k in 0..third_axis_nodes::<D, S>() {
+    for k in 0..third_axis_nodes::<D, S>(st) {
         let (wk, dwk) = third_axis::<D, S>(st, k);
-        for j in 0..S {
+        for j in 0..second_axis_nodes(st) {
             let base = j * p + k * p * p;
             let row = &nodes[base..base + S];
             // Σ_i v_i ∂w_i and Σ_i v_i w_i along the row, then the row's weights.
@@ -420,7 +422,7 @@ pub fn velocity_gradient_2d_packed<D: Dim, const S: usize>(
 ) -> D::Grad {
     debug_assert_eq!(D::DIM, 2);
     let nodes = &nodes[..stencil_span(2, p, S)];
-    let l = sum_from_first(S, |j| {
+    let l = sum_from_first(second_axis_nodes(st), |j| {
         let row = &nodes[j * p..j * p + S];
         let wj = Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
         sum_from_first(S, |i| {
@@ -447,9 +449,9 @@ pub fn scatter_force<D: Dim, const S: usize>(
 ) {
     let nodes = &mut nodes[..stencil_span(D::DIM, p, S)];
     let [a0, a1, a2] = D::sym_columns(a);
-    for k in 0..third_axis_nodes::<D, S>() {
+    for k in 0..third_axis_nodes::<D, S>(st) {
         let (wk, dwk) = third_axis::<D, S>(st, k);
-        for j in 0..S {
+        for j in 0..second_axis_nodes(st) {
             let base = j * p + k * p * p;
             // A ∇w = A e_x ∂_x w + A e_y ∂_y w (+ A e_z ∂_z w): the row's factors first.
             let pjk = a0 * (st.w[j][1] * wk);
@@ -478,7 +480,7 @@ pub fn scatter_force_2d_packed<D: Dim, const S: usize>(
     let nodes = &mut nodes[..stencil_span(2, p, S)];
     let [c0, c1, _] = D::sym_columns(a);
     let a = Vec4::new(c0[0], c0[1], c1[0], c1[1]);
-    for j in 0..S {
+    for j in 0..second_axis_nodes(st) {
         let wj = a * Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
         let row = &mut nodes[j * p..j * p + S];
         for i in 0..S {
