@@ -256,7 +256,7 @@ pub fn gather_velocity<D: Dim, const S: usize, const OLD: bool>(
             let base = j * p + k * p * p;
             let row = &nodes[base..base + S];
             let (mut rn, mut ro) = (D::Vector::ZERO, D::Vector::ZERO);
-            for i in 0..S {
+            for i in 0..st.reach[0] {
                 rn += row[i].new_vel * st.w[i][0];
                 if OLD {
                     ro += row[i].vel() * st.w[i][0];
@@ -282,7 +282,7 @@ pub fn gather_velocity_2d_packed<D: Dim, const S: usize, const OLD: bool>(
     let nodes = &nodes[..stencil_span(2, p, S)];
     let acc = sum_from_first(second_axis_nodes(st), |j| {
         let row = &nodes[j * p..j * p + S];
-        sum_from_first(S, |i| {
+        sum_from_first(st.reach[0], |i| {
             let (n, o) = (row[i].new_vel, row[i].vel());
             Vec4::new(n[0], n[1], o[0], o[1]) * st.w[i][0]
         }) * st.w[j][1]
@@ -321,7 +321,7 @@ pub fn gather_particle<D: Dim, const S: usize, const OLD: bool>(
             // Along the row: Σ_i w_i v_i^{n+1}, Σ_i w_i v_i^n and Σ_i ∂w_i v_i^{n+1}; then the
             // row's weights.
             let (mut rn, mut ro, mut rd) = (D::Vector::ZERO, D::Vector::ZERO, D::Vector::ZERO);
-            for i in 0..S {
+            for i in 0..st.reach[0] {
                 let v = row[i].new_vel;
                 rn += v * w[i];
                 if OLD {
@@ -359,7 +359,7 @@ pub fn gather_2d_packed<D: Dim, const S: usize, const OLD: bool>(
         // rn: Σ_i w_i v_i^{n+1}, rd: Σ_i ∂w_i v_i^{n+1}, ro: Σ_i w_i v_i^n.
         let (rn, rd, ro) = if OLD {
             let (mut rv, mut rd) = (Vec4::ZERO, Vec2::ZERO);
-            for i in 0..S {
+            for i in 0..st.reach[0] {
                 let (n, o) = (row[i].new_vel, row[i].vel());
                 rv += Vec4::new(n[0], n[1], o[0], o[1]) * st.w[i][0];
                 rd += Vec2::new(n[0], n[1]) * st.dw[i][0];
@@ -367,7 +367,7 @@ pub fn gather_2d_packed<D: Dim, const S: usize, const OLD: bool>(
             (Vec2::new(rv.x, rv.y), rd, Vec2::new(rv.z, rv.w))
         } else {
             let mut r = Vec4::ZERO;
-            for i in 0..S {
+            for i in 0..st.reach[0] {
                 let n = row[i].new_vel;
                 r += Vec4::new(n[0], n[1], n[0], n[1])
                     * Vec4::new(st.w[i][0], st.w[i][0], st.dw[i][0], st.dw[i][0]);
@@ -411,7 +411,7 @@ pub fn gather_affine<D: Dim, const S: usize>(
             let base = j * p + k * p * p;
             let row = &nodes[base..base + S];
             let (mut rn, mut rx) = (D::Vector::ZERO, D::Vector::ZERO);
-            for i in 0..S {
+            for i in 0..st.reach[0] {
                 let v = row[i].new_vel * st.w[i][0];
                 rn += v;
                 rx += v * st.d[i][0];

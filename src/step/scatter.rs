@@ -158,7 +158,7 @@ pub fn scatter_particle<D: Dim, const S: usize>(
             let row = &mut nodes[base..base + S];
             match affine {
                 None => {
-                    for i in 0..S {
+                    for i in 0..st.reach[0] {
                         row[i].vm += pm * (st.w[i][0] * wjk);
                         if force.is_some() {
                             row[i].new_vel += fx * dw[i] + fyz * w[i];
@@ -171,7 +171,7 @@ pub fn scatter_particle<D: Dim, const S: usize>(
                         r += D::column(&a, 2) * st.d[k][2];
                     }
                     let r = r.with_mass(m);
-                    for i in 0..S {
+                    for i in 0..st.reach[0] {
                         row[i].vm += (r + ax * st.d[i][0]) * (st.w[i][0] * wjk);
                         if force.is_some() {
                             row[i].new_vel += fx * dw[i] + fyz * w[i];
@@ -181,7 +181,7 @@ pub fn scatter_particle<D: Dim, const S: usize>(
             }
             if let Some(g) = grad.as_deref_mut() {
                 let (djk, wdjk) = (st.dw[j][1] * wk, st.w[j][1] * dwk);
-                for i in 0..S {
+                for i in 0..st.reach[0] {
                     g[base + i] +=
                         D::vector([st.dw[i][0] * wjk, st.w[i][0] * djk, st.w[i][0] * wdjk]) * m;
                 }
@@ -210,7 +210,7 @@ pub fn scatter_2d_packed<D: Dim, const S: usize>(
     for j in 0..second_axis_nodes(st) {
         let fj = f * Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
         let row = &mut nodes[j * p..j * p + S];
-        for i in 0..S {
+        for i in 0..st.reach[0] {
             row[i].vm += pm * (st.w[i][0] * st.w[j][1]);
             if force.is_some() {
                 let t = fj * Vec4::new(st.dw[i][0], st.dw[i][0], st.w[i][0], st.w[i][0]);

@@ -398,7 +398,7 @@ pub fn velocity_gradient<D: Dim, const S: usize>(
             let row = &nodes[base..base + S];
             // Σ_i v_i ∂w_i and Σ_i v_i w_i along the row, then the row's weights.
             let (mut a, mut b) = (D::Vector::ZERO, D::Vector::ZERO);
-            for i in 0..S {
+            for i in 0..st.reach[0] {
                 a += row[i].vel() * st.dw[i][0];
                 b += row[i].vel() * st.w[i][0];
             }
@@ -425,7 +425,7 @@ pub fn velocity_gradient_2d_packed<D: Dim, const S: usize>(
     let l = sum_from_first(second_axis_nodes(st), |j| {
         let row = &nodes[j * p..j * p + S];
         let wj = Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
-        sum_from_first(S, |i| {
+        sum_from_first(st.reach[0], |i| {
             let g = Vec4::new(st.dw[i][0], st.dw[i][0], st.w[i][0], st.w[i][0]) * wj;
             let v = row[i].vel();
             Vec4::new(v[0], v[1], v[0], v[1]) * g
@@ -460,7 +460,7 @@ pub fn scatter_force<D: Dim, const S: usize>(
                 qjk += a2 * (st.w[j][1] * dwk);
             }
             let row = &mut nodes[base..base + S];
-            for i in 0..S {
+            for i in 0..st.reach[0] {
                 row[i].new_vel += pjk * st.dw[i][0] + qjk * st.w[i][0];
             }
         }
@@ -483,7 +483,7 @@ pub fn scatter_force_2d_packed<D: Dim, const S: usize>(
     for j in 0..second_axis_nodes(st) {
         let wj = a * Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
         let row = &mut nodes[j * p..j * p + S];
-        for i in 0..S {
+        for i in 0..st.reach[0] {
             let t = wj * Vec4::new(st.dw[i][0], st.dw[i][0], st.w[i][0], st.w[i][0]);
             row[i].new_vel += D::vector([t.x + t.z, t.y + t.w, 0.0]);
         }
