@@ -129,17 +129,26 @@ pub fn gather<D: Dim, K: Kernel<S>, A: AfterGather<D>, const S: usize>(
     ps: GatherState<'_, D>,
     after: &mut A,
 ) -> GatherReport<D> {
-    // PIC (α = 0) needs no old grid velocities.
-    if pass.transfer.flip == 0.0 {
-        gather_chunks::<D, K, A, S, false>(pass, ps, after)
-    } else {
-        gather_chunks::<D, K, A, S, true>(pass, ps, after)
+    // PIC (α = 0) needs no old grid velocities; APIC bodies sum B_p in the same walk.
+    match (pass.transfer.flip == 0.0, ps.affine.is_some()) {
+        (true, false) => gather_chunks::<D, K, A, S, false, false>(pass, ps, after),
+        (false, false) => gather_chunks::<D, K, A, S, true, false>(pass, ps, after),
+        (true, true) => gather_chunks::<D, K, A, S, false, true>(pass, ps, after),
+        (false, true) => gather_chunks::<D, K, A, S, true, true>(pass, ps, after),
     }
 }
 
-/// [`gather`], with the old grid velocities interpolated or not (`OLD`).
+/// [`gather`], with the old grid velocities interpolated or not (`OLD`), and the APIC
+/// B_p or not (`APIC`).
 #[inline(always)]
-fn gather_chunks<D: Dim, K: Kernel<S>, A: AfterGather<D>, const S: usize, const OLD: bool>(
+fn gather_chunks<
+    D: Dim,
+    K: Kernel<S>,
+    A: AfterGather<D>,
+    const S: usize,
+    const OLD: bool,
+    const APIC: bool,
+>(
     pass: &Pass<'_, D>,
     ps: GatherState<'_, D>,
     after: &mut A,
@@ -173,23 +182,24 @@ fn gather_chunks<D: Dim, K: Kernel<S>, A: AfterGather<D>, const S: usize, const 
             let st = stencils.at(ps.x, q);
             let cell = &nodes[first_node(layout, particle_node[q], &st)..][..span];
             // Step 6 (and 2).
-            let (v_new, v_old) = if !A::GRADIENT {
-                if D::DIM == 2 {
-                    gather_velocity_2d_packed::<D, S, OLD>(cell, p, &st)
+            let (v_new, v_old, b) = if !A::GRADIENT {
+                if D::DIM == 2 && !APIC {
+                    let (n, o) = gather_velocity_2d_packed::<D, S, OLD>(cell, p, &st);
+                    (n, o, D::GRAD_ZERO)
                 } else {
-                    gather_velocity::<D, S, OLD>(cell, p, &st)
+                    gather_velocity::<D, S, OLD, APIC>(cell, p, &st)
                 }
             } else {
-                let (v_new, v_old, grad) = if D::DIM == 2 {
-                    gather_2d_packed::<D, S, OLD>(cell, p, &st)
+                let (v_new, v_old, grad, b) = if D::DIM == 2 && !APIC {
+                    let (n, o, g) = gather_2d_packed::<D, S, OLD>(cell, p, &st);
+                    (n, o, g, D::GRAD_ZERO)
                 } else {
-                    gather_particle::<D, S, OLD>(cell, p, &st)
+                    gather_particle::<D, S, OLD, APIC>(cell, p, &st)
                 };
                 rates.set(q - first, grad);
-                (v_new, v_old)
+                (v_new, v_old, b)
             };
-            if let Some(c) = affine.as_deref_mut() {
-                let b = gather_affine::<D, S>(cell, p, &st);
+            if APIC && let Some(c) = affine.as_deref_mut() {
                 c[q] = Transfer::affine_velocity::<D, S>(b, &st, h);
             }
             let blended = transfer.velocity(ps.v[q], v_new, v_old);
@@ -239,25 +249,31 @@ pub fn advect_kinematic<D: Dim>(
     r
 }
 
-/// Step 6 for one particle: (Σ_i w_ip v_i^{n+1}, Σ_i w_ip v_i^n); without `OLD` (PIC, which
-/// needs no old velocities) the second is the first. `nodes` starts at the stencil's first
-/// node (node (i, j, k) at `i + j p + k p²`).
+/// Step 6 for one particle: (Σ_i w_ip v_i^{n+1}, Σ_i w_ip v_i^n, B_p); without `OLD` (PIC,
+/// which needs no old velocities) the second is the first; with `APIC` the third is the B_p
+/// of [`gather_affine`], summed in the same walk (zero without). `nodes` starts at the
+/// stencil's first node (node (i, j, k) at `i + j p + k p²`).
 #[inline(always)]
-pub fn gather_velocity<D: Dim, const S: usize, const OLD: bool>(
+pub fn gather_velocity<D: Dim, const S: usize, const OLD: bool, const APIC: bool>(
     nodes: &[Node<D::Vector>],
     p: usize,
     st: &Stencil<S>,
-) -> (D::Vector, D::Vector) {
+) -> (D::Vector, D::Vector, D::Grad) {
     let nodes = &nodes[..stencil_span(D::DIM, p, S)];
     let (mut new, mut old) = (D::Vector::ZERO, D::Vector::ZERO);
+    let mut b = [D::Vector::ZERO; 3];
     for k in 0..third_axis_nodes::<D, S>(st) {
         let (wk, _) = third_axis::<D, S>(st, k);
         for j in 0..second_axis_nodes(st) {
             let base = j * p + k * p * p;
             let row = &nodes[base..base + S];
-            let (mut rn, mut ro) = (D::Vector::ZERO, D::Vector::ZERO);
+            let (mut rn, mut ro, mut rx) = (D::Vector::ZERO, D::Vector::ZERO, D::Vector::ZERO);
             for i in 0..st.reach[0] {
-                rn += row[i].new_vel * st.w[i][0];
+                let v = row[i].new_vel * st.w[i][0];
+                rn += v;
+                if APIC {
+                    rx += v * st.d[i][0];
+                }
                 if OLD {
                     ro += row[i].vel() * st.w[i][0];
                 }
@@ -265,9 +281,31 @@ pub fn gather_velocity<D: Dim, const S: usize, const OLD: bool>(
             let wjk = st.w[j][1] * wk;
             new += rn * wjk;
             old += ro * wjk;
+            if APIC {
+                affine_row::<D, S>(&mut b, st, rn, rx, wjk, j, k);
+            }
         }
     }
-    (new, if OLD { old } else { new })
+    (new, if OLD { old } else { new }, D::from_columns(b))
+}
+
+/// A row's share of B_p = Σ_i w_ip v_i^{n+1} ⊗ d_i: `rn` = Σ_i w_i v_i^{n+1} and
+/// `rx` = Σ_i w_i d_i v_i^{n+1} along the row, whose weight is `wjk`.
+#[inline(always)]
+fn affine_row<D: Dim, const S: usize>(
+    b: &mut [D::Vector; 3],
+    st: &Stencil<S>,
+    rn: D::Vector,
+    rx: D::Vector,
+    wjk: Real,
+    j: usize,
+    k: usize,
+) {
+    b[0] += rx * wjk;
+    b[1] += rn * (wjk * st.d[j][1]);
+    if D::DIM == 3 {
+        b[2] += rn * (wjk * st.d[k][2]);
+    }
 }
 
 /// [`gather_velocity`] in 2D, packing specialisation: v^{n+1} and v^n side by side in one
@@ -299,17 +337,19 @@ pub fn gather_velocity_2d_packed<D: Dim, const S: usize, const OLD: bool>(
 }
 
 /// Steps 6 and 2 for one particle: (Σ_i w_ip v_i^{n+1}, Σ_i w_ip v_i^n,
-/// Σ_i v_i^{n+1} ⊗ ∇w_ip); without `OLD` (PIC) the second is the first. `nodes` starts at the
-/// stencil's first node (node (i, j, k) at `i + j p + k p²`).
+/// Σ_i v_i^{n+1} ⊗ ∇w_ip, B_p); without `OLD` (PIC) the second is the first; with `APIC` the
+/// fourth is the B_p of [`gather_affine`], summed in the same walk (zero without). `nodes`
+/// starts at the stencil's first node (node (i, j, k) at `i + j p + k p²`).
 #[inline(always)]
-pub fn gather_particle<D: Dim, const S: usize, const OLD: bool>(
+pub fn gather_particle<D: Dim, const S: usize, const OLD: bool, const APIC: bool>(
     nodes: &[Node<D::Vector>],
     p: usize,
     st: &Stencil<S>,
-) -> (D::Vector, D::Vector, D::Grad) {
+) -> (D::Vector, D::Vector, D::Grad, D::Grad) {
     let nodes = &nodes[..stencil_span(D::DIM, p, S)];
     let (mut new, mut old) = (D::Vector::ZERO, D::Vector::ZERO);
     let mut c = [D::Vector::ZERO; 3];
+    let mut b = [D::Vector::ZERO; 3];
     // The first axis's weights as vectors, once.
     let w: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.w[i][0]));
     let dw: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.dw[i][0]));
@@ -321,9 +361,14 @@ pub fn gather_particle<D: Dim, const S: usize, const OLD: bool>(
             // Along the row: Σ_i w_i v_i^{n+1}, Σ_i w_i v_i^n and Σ_i ∂w_i v_i^{n+1}; then the
             // row's weights.
             let (mut rn, mut ro, mut rd) = (D::Vector::ZERO, D::Vector::ZERO, D::Vector::ZERO);
+            let mut rx = D::Vector::ZERO;
             for i in 0..st.reach[0] {
                 let v = row[i].new_vel;
-                rn += v * w[i];
+                let vw = v * w[i];
+                rn += vw;
+                if APIC {
+                    rx += vw * st.d[i][0];
+                }
                 if OLD {
                     ro += row[i].vel() * w[i];
                 }
@@ -337,9 +382,13 @@ pub fn gather_particle<D: Dim, const S: usize, const OLD: bool>(
             if D::DIM == 3 {
                 c[2] += rn * (st.w[j][1] * dwk);
             }
+            if APIC {
+                affine_row::<D, S>(&mut b, st, rn, rx, wjk, j, k);
+            }
         }
     }
-    (new, if OLD { old } else { new }, D::from_columns(c))
+    let old = if OLD { old } else { new };
+    (new, old, D::from_columns(c), D::from_columns(b))
 }
 
 /// [`gather_particle`] in 2D, packing specialisation: along a row, (v^{n+1} w_i, v^n w_i) —
@@ -396,7 +445,8 @@ pub fn gather_2d_packed<D: Dim, const S: usize, const OLD: bool>(
     )
 }
 
-/// Step 6 of APIC for one particle: B = Σ_i w_ip v_i^{n+1} ⊗ d_i (offsets in cells).
+/// Step 6 of APIC for one particle: B = Σ_i w_ip v_i^{n+1} ⊗ d_i (offsets in cells), in a walk
+/// of its own: the reference that the walks summing it on the way are tested against.
 #[inline(always)]
 pub fn gather_affine<D: Dim, const S: usize>(
     nodes: &[Node<D::Vector>],
@@ -511,13 +561,13 @@ mod tests {
         let p = 10;
         let (nodes, stencils) = random_stencils::<D2, K, S>(50, p);
         for st in &stencils {
-            let (n, o, g) = gather_particle::<D2, S, true>(&nodes, p, st);
+            let (n, o, g, _) = gather_particle::<D2, S, true, false>(&nodes, p, st);
             let (n2, o2, g2) = gather_2d_packed::<D2, S, true>(&nodes, p, st);
             // PIC: v^{n+1} twice and the same gradient up to rounding; the velocity-only walks
             // as the full ones.
             let (n3, o3, g3) = gather_2d_packed::<D2, S, false>(&nodes, p, st);
             let (n4, o4) = gather_velocity_2d_packed::<D2, S, true>(&nodes, p, st);
-            let (n5, o5) = gather_velocity::<D2, S, true>(&nodes, p, st);
+            let (n5, o5, _) = gather_velocity::<D2, S, true, false>(&nodes, p, st);
             let big = 1.0
                 + g2.abs()
                     .to_cols_array()

@@ -72,26 +72,35 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
     let h = 1.0 / inv_h;
     let force = |q: usize| ps.stress.map(|(s, v)| s[q] * -v[q]);
     let mut stencils = Stencils::<D, K, S>::new(inv_h, lp);
-    if ps.affine.is_none() && !with_gradient {
-        // The common cases, with the APIC and contact terms compiled out.
+    if !with_gradient {
+        // The common cases, with the contact term compiled out and the APIC and force terms
+        // compiled in or out.
         macro_rules! common {
-            ($force:expr) => {
+            ($force:expr, $affine:expr) => {
                 for q in 0..ps.x.len() {
                     let st = stencils.at(ps.x, q);
                     let cell = &mut nodes[first_node(layout, particle_node[q], &st)..][..span];
-                    let (m, f) = (ps.mass[q], $force(q));
-                    if D::DIM == 2 {
+                    let (m, f, a) = (ps.mass[q], $force(q), $affine(q));
+                    if D::DIM == 2 && a.is_none() {
                         scatter_2d_packed::<D, S>(cell, p, &st, m, ps.v[q] * m, f);
                     } else {
-                        scatter_particle::<D, S>(cell, None, p, &st, m, ps.v[q] * m, None, f);
+                        scatter_particle::<D, S>(cell, None, p, &st, m, ps.v[q] * m, a, f);
                     }
                 }
             };
         }
-        if ps.stress.is_some() {
-            common!(force);
-        } else {
-            common!(|_| None);
+        let m = ps.mass;
+        match (ps.affine, ps.stress.is_some()) {
+            (None, true) => common!(force, |_| None),
+            (None, false) => common!(|_| None, |_| None),
+            (Some(c), with_force) => {
+                let affine = |q: usize| Some(Transfer::affine_momentum::<D>(c[q], m[q], h));
+                if with_force {
+                    common!(force, affine);
+                } else {
+                    common!(|_| None, affine);
+                }
+            }
         }
     } else {
         for q in 0..ps.x.len() {
