@@ -553,7 +553,7 @@ impl<D: Dim> GatherReport<D> {
 mod tests {
     use super::*;
     use crate::kernel::{Gimp, Linear};
-    use crate::math::D2;
+    use crate::math::{D2, D3};
     use crate::step::test_util::random_stencils;
 
     /// The packed 2D gather gives what the generic walk gives, up to rounding.
@@ -599,6 +599,33 @@ mod tests {
                 "{n} {o} {g} vs {n2} {o2} {g2}"
             );
         }
+    }
+
+    /// The walks that sum APIC's B_p on the way give what its own walk gives.
+    fn fused_affine_matches<D: Dim, K: Kernel<S>, const S: usize>() {
+        let p = 10;
+        let (nodes, stencils) = random_stencils::<D, K, S>(50, p);
+        for st in &stencils {
+            let b = gather_affine::<D, S>(&nodes, p, st);
+            let (n, o, _) = gather_velocity::<D, S, true, false>(&nodes, p, st);
+            let (n1, o1, b1) = gather_velocity::<D, S, true, true>(&nodes, p, st);
+            let (n2, o2, _, b2) = gather_particle::<D, S, true, true>(&nodes, p, st);
+            assert_eq!((n1, o1), (n, o));
+            for (a, c) in [(b, b1), (b, b2)] {
+                for col in 0..D::DIM {
+                    let d = D::column(&a, col) - D::column(&c, col);
+                    assert!(d.length() <= 1e-6 * (1.0 + D::column(&a, col).length()));
+                }
+            }
+            assert!((n2 - n).length() <= 1e-6 && (o2 - o).length() <= 1e-6);
+        }
+    }
+
+    #[test]
+    fn walks_summing_apic_b_match_its_own_walk() {
+        fused_affine_matches::<D2, Gimp, 3>();
+        fused_affine_matches::<D3, Gimp, 3>();
+        fused_affine_matches::<D3, crate::kernel::QuadraticBspline, 3>();
     }
 
     #[test]
