@@ -72,48 +72,44 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
     let h = 1.0 / inv_h;
     let force = |q: usize| ps.stress.map(|(s, v)| s[q] * -v[q]);
     let mut stencils = Stencils::<D, K, S>::new(inv_h, lp);
-    if !with_gradient {
-        // The common cases, with the contact term compiled out and the APIC and force terms
-        // compiled in or out.
-        macro_rules! common {
-            ($force:expr, $affine:expr) => {
-                for q in 0..ps.x.len() {
-                    let st = stencils.at(ps.x, q);
-                    let cell = &mut nodes[first_node(layout, particle_node[q], &st)..][..span];
-                    let (m, f, a) = (ps.mass[q], $force(q), $affine(q));
-                    if D::DIM == 2 && a.is_none() {
-                        scatter_2d_packed::<D, S>(cell, p, &st, m, ps.v[q] * m, f);
-                    } else {
-                        scatter_particle::<D, S>(cell, None, p, &st, m, ps.v[q] * m, a, f);
-                    }
-                }
-            };
-        }
-        let m = ps.mass;
-        match (ps.affine, ps.stress.is_some()) {
-            (None, true) => common!(force, |_| None),
-            (None, false) => common!(|_| None, |_| None),
-            (Some(c), with_force) => {
-                let affine = |q: usize| Some(Transfer::affine_momentum::<D>(c[q], m[q], h));
-                if with_force {
-                    common!(force, affine);
+    // One loop per combination of the force, APIC and contact (mass gradient) terms, each
+    // compiled in or out.
+    macro_rules! walk {
+        ($force:expr, $affine:expr, $gradient:expr) => {
+            for q in 0..ps.x.len() {
+                let st = stencils.at(ps.x, q);
+                let origin = first_node(layout, particle_node[q], &st);
+                let cell = &mut nodes[origin..origin + span];
+                let (m, f, a) = (ps.mass[q], $force(q), $affine(q));
+                if D::DIM == 2 && a.is_none() && !$gradient {
+                    scatter_2d_packed::<D, S>(cell, p, &st, m, ps.v[q] * m, f);
                 } else {
-                    common!(|_| None, affine);
+                    let g = $gradient.then(|| &mut mass_grad[origin..origin + span]);
+                    scatter_particle::<D, S>(cell, g, p, &st, m, ps.v[q] * m, a, f);
                 }
             }
-        }
-    } else {
-        for q in 0..ps.x.len() {
-            let st = stencils.at(ps.x, q);
-            let origin = first_node(layout, particle_node[q], &st);
-            let grad = with_gradient.then(|| &mut mass_grad[origin..origin + span]);
-            let m = ps.mass[q];
-            let affine = ps
-                .affine
-                .map(|c| Transfer::affine_momentum::<D>(c[q], m, h));
-            let cell = &mut nodes[origin..origin + span];
-            scatter_particle::<D, S>(cell, grad, p, &st, m, ps.v[q] * m, affine, force(q));
-        }
+        };
+    }
+    macro_rules! with_affine {
+        ($force:expr, $gradient:expr) => {
+            match ps.affine {
+                None => walk!($force, |_| None, $gradient),
+                Some(c) => {
+                    let m = ps.mass;
+                    walk!(
+                        $force,
+                        |q: usize| Some(Transfer::affine_momentum::<D>(c[q], m[q], h)),
+                        $gradient
+                    )
+                }
+            }
+        };
+    }
+    match (ps.stress.is_some(), with_gradient) {
+        (true, false) => with_affine!(force, false),
+        (false, false) => with_affine!(|_| None, false),
+        (true, true) => with_affine!(force, true),
+        (false, true) => with_affine!(|_| None, true),
     }
     if ps.stress.is_some() {
         grid.reduce_nodes(|o, h| {
