@@ -20,8 +20,8 @@ use super::stress::{
 };
 use super::transfer::Transfer;
 use super::{
-    Stencils, constraint_dissipation, first_node, layout, second_axis_nodes, third_axis,
-    third_axis_nodes, with_kernel,
+    Stencils, constraint_dissipation, first_axis_nodes, first_node, layout, second_axis_nodes,
+    third_axis, third_axis_nodes, with_kernel,
 };
 use crate::boundary::Walls;
 use crate::grid::{Grid, Node, stencil_span};
@@ -184,17 +184,17 @@ fn gather_chunks<
             // Step 6 (and 2).
             let (v_new, v_old, b) = if !A::GRADIENT {
                 if D::DIM == 2 && !APIC {
-                    let (n, o) = gather_velocity_2d_packed::<D, S, OLD>(cell, p, &st);
+                    let (n, o) = gather_velocity_2d_packed::<D, K, S, OLD>(cell, p, &st);
                     (n, o, D::GRAD_ZERO)
                 } else {
-                    gather_velocity::<D, S, OLD, APIC>(cell, p, &st)
+                    gather_velocity::<D, K, S, OLD, APIC>(cell, p, &st)
                 }
             } else {
                 let (v_new, v_old, grad, b) = if D::DIM == 2 && !APIC {
-                    let (n, o, g) = gather_2d_packed::<D, S, OLD>(cell, p, &st);
+                    let (n, o, g) = gather_2d_packed::<D, K, S, OLD>(cell, p, &st);
                     (n, o, g, D::GRAD_ZERO)
                 } else {
-                    gather_particle::<D, S, OLD, APIC>(cell, p, &st)
+                    gather_particle::<D, K, S, OLD, APIC>(cell, p, &st)
                 };
                 rates.set(q - first, grad);
                 (v_new, v_old, b)
@@ -254,7 +254,7 @@ pub fn advect_kinematic<D: Dim>(
 /// of [`gather_affine`], summed in the same walk (zero without). `nodes` starts at the
 /// stencil's first node (node (i, j, k) at `i + j p + k p²`).
 #[inline(always)]
-pub fn gather_velocity<D: Dim, const S: usize, const OLD: bool, const APIC: bool>(
+pub fn gather_velocity<D: Dim, K: Kernel<S>, const S: usize, const OLD: bool, const APIC: bool>(
     nodes: &[Node<D::Vector>],
     p: usize,
     st: &Stencil<S>,
@@ -262,13 +262,13 @@ pub fn gather_velocity<D: Dim, const S: usize, const OLD: bool, const APIC: bool
     let nodes = &nodes[..stencil_span(D::DIM, p, S)];
     let (mut new, mut old) = (D::Vector::ZERO, D::Vector::ZERO);
     let mut b = [D::Vector::ZERO; 3];
-    for k in 0..third_axis_nodes::<D, S>(st) {
+    for k in 0..third_axis_nodes::<D, K, S>(st) {
         let (wk, _) = third_axis::<D, S>(st, k);
-        for j in 0..second_axis_nodes(st) {
+        for j in 0..second_axis_nodes::<K, S>(st) {
             let base = j * p + k * p * p;
             let row = &nodes[base..base + S];
             let (mut rn, mut ro, mut rx) = (D::Vector::ZERO, D::Vector::ZERO, D::Vector::ZERO);
-            for i in 0..st.reach[0] {
+            for i in 0..first_axis_nodes::<K, S>(st) {
                 let v = row[i].new_vel * st.w[i][0];
                 rn += v;
                 if APIC {
@@ -311,16 +311,16 @@ fn affine_row<D: Dim, const S: usize>(
 /// [`gather_velocity`] in 2D, packing specialisation: v^{n+1} and v^n side by side in one
 /// `Vec4`.
 #[inline(always)]
-pub fn gather_velocity_2d_packed<D: Dim, const S: usize, const OLD: bool>(
+pub fn gather_velocity_2d_packed<D: Dim, K: Kernel<S>, const S: usize, const OLD: bool>(
     nodes: &[Node<D::Vector>],
     p: usize,
     st: &Stencil<S>,
 ) -> (D::Vector, D::Vector) {
     debug_assert_eq!(D::DIM, 2);
     let nodes = &nodes[..stencil_span(2, p, S)];
-    let acc = sum_from_first(second_axis_nodes(st), |j| {
+    let acc = sum_from_first(second_axis_nodes::<K, S>(st), |j| {
         let row = &nodes[j * p..j * p + S];
-        sum_from_first(st.reach[0], |i| {
+        sum_from_first(first_axis_nodes::<K, S>(st), |i| {
             let (n, o) = (row[i].new_vel, row[i].vel());
             Vec4::new(n[0], n[1], o[0], o[1]) * st.w[i][0]
         }) * st.w[j][1]
@@ -341,7 +341,7 @@ pub fn gather_velocity_2d_packed<D: Dim, const S: usize, const OLD: bool>(
 /// fourth is the B_p of [`gather_affine`], summed in the same walk (zero without). `nodes`
 /// starts at the stencil's first node (node (i, j, k) at `i + j p + k p²`).
 #[inline(always)]
-pub fn gather_particle<D: Dim, const S: usize, const OLD: bool, const APIC: bool>(
+pub fn gather_particle<D: Dim, K: Kernel<S>, const S: usize, const OLD: bool, const APIC: bool>(
     nodes: &[Node<D::Vector>],
     p: usize,
     st: &Stencil<S>,
@@ -353,16 +353,16 @@ pub fn gather_particle<D: Dim, const S: usize, const OLD: bool, const APIC: bool
     // The first axis's weights as vectors, once.
     let w: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.w[i][0]));
     let dw: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.dw[i][0]));
-    for k in 0..third_axis_nodes::<D, S>(st) {
+    for k in 0..third_axis_nodes::<D, K, S>(st) {
         let (wk, dwk) = third_axis::<D, S>(st, k);
-        for j in 0..second_axis_nodes(st) {
+        for j in 0..second_axis_nodes::<K, S>(st) {
             let base = j * p + k * p * p;
             let row = &nodes[base..base + S];
             // Along the row: Σ_i w_i v_i^{n+1}, Σ_i w_i v_i^n and Σ_i ∂w_i v_i^{n+1}; then the
             // row's weights.
             let (mut rn, mut ro, mut rd) = (D::Vector::ZERO, D::Vector::ZERO, D::Vector::ZERO);
             let mut rx = D::Vector::ZERO;
-            for i in 0..st.reach[0] {
+            for i in 0..first_axis_nodes::<K, S>(st) {
                 let v = row[i].new_vel;
                 let vw = v * w[i];
                 rn += vw;
@@ -395,7 +395,7 @@ pub fn gather_particle<D: Dim, const S: usize, const OLD: bool, const APIC: bool
 /// or for PIC (v^{n+1} w_i, v^{n+1} ∂w_i) — in one `Vec4`, then the two gradient columns
 /// (Σ_i ∂w_i v_i^{n+1}) w_j and (Σ_i w_i v_i^{n+1}) ∂w_j side by side in another.
 #[inline(always)]
-pub fn gather_2d_packed<D: Dim, const S: usize, const OLD: bool>(
+pub fn gather_2d_packed<D: Dim, K: Kernel<S>, const S: usize, const OLD: bool>(
     nodes: &[Node<D::Vector>],
     p: usize,
     st: &Stencil<S>,
@@ -403,12 +403,12 @@ pub fn gather_2d_packed<D: Dim, const S: usize, const OLD: bool>(
     debug_assert_eq!(D::DIM, 2);
     let nodes = &nodes[..stencil_span(2, p, S)];
     let (mut vel, mut grad) = (Vec4::ZERO, Vec4::ZERO);
-    for j in 0..second_axis_nodes(st) {
+    for j in 0..second_axis_nodes::<K, S>(st) {
         let row = &nodes[j * p..j * p + S];
         // rn: Σ_i w_i v_i^{n+1}, rd: Σ_i ∂w_i v_i^{n+1}, ro: Σ_i w_i v_i^n.
         let (rn, rd, ro) = if OLD {
             let (mut rv, mut rd) = (Vec4::ZERO, Vec2::ZERO);
-            for i in 0..st.reach[0] {
+            for i in 0..first_axis_nodes::<K, S>(st) {
                 let (n, o) = (row[i].new_vel, row[i].vel());
                 rv += Vec4::new(n[0], n[1], o[0], o[1]) * st.w[i][0];
                 rd += Vec2::new(n[0], n[1]) * st.dw[i][0];
@@ -416,7 +416,7 @@ pub fn gather_2d_packed<D: Dim, const S: usize, const OLD: bool>(
             (Vec2::new(rv.x, rv.y), rd, Vec2::new(rv.z, rv.w))
         } else {
             let mut r = Vec4::ZERO;
-            for i in 0..st.reach[0] {
+            for i in 0..first_axis_nodes::<K, S>(st) {
                 let n = row[i].new_vel;
                 r += Vec4::new(n[0], n[1], n[0], n[1])
                     * Vec4::new(st.w[i][0], st.w[i][0], st.dw[i][0], st.dw[i][0]);
@@ -448,20 +448,20 @@ pub fn gather_2d_packed<D: Dim, const S: usize, const OLD: bool>(
 /// Step 6 of APIC for one particle: B = Σ_i w_ip v_i^{n+1} ⊗ d_i (offsets in cells), in a walk
 /// of its own: the reference that the walks summing it on the way are tested against.
 #[inline(always)]
-pub fn gather_affine<D: Dim, const S: usize>(
+pub fn gather_affine<D: Dim, K: Kernel<S>, const S: usize>(
     nodes: &[Node<D::Vector>],
     p: usize,
     st: &Stencil<S>,
 ) -> D::Grad {
     let nodes = &nodes[..stencil_span(D::DIM, p, S)];
     let mut c = [D::Vector::ZERO; 3];
-    for k in 0..third_axis_nodes::<D, S>(st) {
+    for k in 0..third_axis_nodes::<D, K, S>(st) {
         let (wk, _) = third_axis::<D, S>(st, k);
-        for j in 0..second_axis_nodes(st) {
+        for j in 0..second_axis_nodes::<K, S>(st) {
             let base = j * p + k * p * p;
             let row = &nodes[base..base + S];
             let (mut rn, mut rx) = (D::Vector::ZERO, D::Vector::ZERO);
-            for i in 0..st.reach[0] {
+            for i in 0..first_axis_nodes::<K, S>(st) {
                 let v = row[i].new_vel * st.w[i][0];
                 rn += v;
                 rx += v * st.d[i][0];
@@ -573,13 +573,13 @@ mod tests {
         let p = 10;
         let (nodes, stencils) = random_stencils::<D2, K, S>(50, p);
         for st in &stencils {
-            let (n, o, g, _) = gather_particle::<D2, S, true, false>(&nodes, p, st);
-            let (n2, o2, g2) = gather_2d_packed::<D2, S, true>(&nodes, p, st);
+            let (n, o, g, _) = gather_particle::<D2, K, S, true, false>(&nodes, p, st);
+            let (n2, o2, g2) = gather_2d_packed::<D2, K, S, true>(&nodes, p, st);
             // PIC: v^{n+1} twice and the same gradient up to rounding; the velocity-only walks
             // as the full ones.
-            let (n3, o3, g3) = gather_2d_packed::<D2, S, false>(&nodes, p, st);
-            let (n4, o4) = gather_velocity_2d_packed::<D2, S, true>(&nodes, p, st);
-            let (n5, o5, _) = gather_velocity::<D2, S, true, false>(&nodes, p, st);
+            let (n3, o3, g3) = gather_2d_packed::<D2, K, S, false>(&nodes, p, st);
+            let (n4, o4) = gather_velocity_2d_packed::<D2, K, S, true>(&nodes, p, st);
+            let (n5, o5, _) = gather_velocity::<D2, K, S, true, false>(&nodes, p, st);
             let big = 1.0
                 + g2.abs()
                     .to_cols_array()
@@ -618,10 +618,10 @@ mod tests {
         let p = 10;
         let (nodes, stencils) = random_stencils::<D, K, S>(50, p);
         for st in &stencils {
-            let b = gather_affine::<D, S>(&nodes, p, st);
-            let (n, o, _) = gather_velocity::<D, S, true, false>(&nodes, p, st);
-            let (n1, o1, b1) = gather_velocity::<D, S, true, true>(&nodes, p, st);
-            let (n2, o2, _, b2) = gather_particle::<D, S, true, true>(&nodes, p, st);
+            let b = gather_affine::<D, K, S>(&nodes, p, st);
+            let (n, o, _) = gather_velocity::<D, K, S, true, false>(&nodes, p, st);
+            let (n1, o1, b1) = gather_velocity::<D, K, S, true, true>(&nodes, p, st);
+            let (n2, o2, _, b2) = gather_particle::<D, K, S, true, true>(&nodes, p, st);
             assert_eq!((n1, o1), (n, o));
             for (a, c) in [(b, b1), (b, b2)] {
                 for col in 0..D::DIM {

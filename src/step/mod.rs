@@ -31,7 +31,11 @@
 //! Each pass is a loop over one body's particles or grid nodes, generic over the dimension
 //! `D` and the kernel `K` (with `S` nodes per axis). The stencil loops follow the tensor
 //! product of the weights, w_ijk = w_i w_j w_k, so that each node costs a few multiply-adds;
-//! 2D uses the same loops with the third axis's weight 1 (LLVM folds it away).
+//! 2D uses the same loops with the third axis's weight 1 (LLVM folds it away). They stop at
+//! the last node with weight along each axis ([`Stencil::reach`]): a GIMP stencil has two
+//! along an axis where the particle's domain does not cross a node, three elsewhere. The
+//! passes take the stencils from [`Stencils`], which in 2D evaluates GIMP's for two particles
+//! at once.
 
 pub mod allocate;
 pub mod contact;
@@ -285,17 +289,38 @@ fn third_axis<D: Dim, const S: usize>(st: &Stencil<S>, k: usize) -> (Real, Real)
     }
 }
 
-/// The stencil nodes with weight along the second axis (the first `reach` of `S`; the rest
-/// carry none, and the walks skip them).
+/// The stencil nodes with weight along axis `a`: the first `reach[a]` of `S` for GIMP (the
+/// rest carry none, and the walks skip them), all `S` for the other kernels (a constant, so
+/// that their loops unroll).
 #[inline(always)]
-fn second_axis_nodes<const S: usize>(st: &Stencil<S>) -> usize {
-    st.reach[1]
+fn nodes_along<K: Kernel<S>, const S: usize>(st: &Stencil<S>, a: usize) -> usize {
+    if K::KIND == KernelKind::Gimp {
+        st.reach[a]
+    } else {
+        S
+    }
+}
+
+/// The stencil nodes with weight along the first axis.
+#[inline(always)]
+fn first_axis_nodes<K: Kernel<S>, const S: usize>(st: &Stencil<S>) -> usize {
+    nodes_along::<K, S>(st, 0)
+}
+
+/// The stencil nodes with weight along the second axis.
+#[inline(always)]
+fn second_axis_nodes<K: Kernel<S>, const S: usize>(st: &Stencil<S>) -> usize {
+    nodes_along::<K, S>(st, 1)
 }
 
 /// The stencil nodes with weight along the third axis in 3D; one in 2D.
 #[inline(always)]
-fn third_axis_nodes<D: Dim, const S: usize>(st: &Stencil<S>) -> usize {
-    if D::DIM == 3 { st.reach[2] } else { 1 }
+fn third_axis_nodes<D: Dim, K: Kernel<S>, const S: usize>(st: &Stencil<S>) -> usize {
+    if D::DIM == 3 {
+        nodes_along::<K, S>(st, 2)
+    } else {
+        1
+    }
 }
 
 /// The energy a constraint removes from a mass `m` whose velocity it changes from `before` to
