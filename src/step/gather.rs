@@ -264,11 +264,11 @@ pub fn gather_velocity<D: Dim, K: Kernel<S>, const S: usize, const OLD: bool, co
     let mut b = [D::Vector::ZERO; 3];
     for k in 0..third_axis_nodes::<D, K, S>(st) {
         let (wk, _) = third_axis::<D, S>(st, k);
-        for j in 0..second_axis_nodes::<K, S>(st) {
+        for j in 0..second_axis_nodes::<D, K, S>(st) {
             let base = j * p + k * p * p;
             let row = &nodes[base..base + S];
             let (mut rn, mut ro, mut rx) = (D::Vector::ZERO, D::Vector::ZERO, D::Vector::ZERO);
-            for i in 0..first_axis_nodes::<K, S>(st) {
+            for i in 0..first_axis_nodes::<D, K, S>(st) {
                 let v = row[i].new_vel * st.w[i][0];
                 rn += v;
                 if APIC {
@@ -318,9 +318,9 @@ pub fn gather_velocity_2d_packed<D: Dim, K: Kernel<S>, const S: usize, const OLD
 ) -> (D::Vector, D::Vector) {
     debug_assert_eq!(D::DIM, 2);
     let nodes = &nodes[..stencil_span(2, p, S)];
-    let acc = sum_from_first(second_axis_nodes::<K, S>(st), |j| {
+    let acc = sum_from_first(second_axis_nodes::<D, K, S>(st), |j| {
         let row = &nodes[j * p..j * p + S];
-        sum_from_first(first_axis_nodes::<K, S>(st), |i| {
+        sum_from_first(first_axis_nodes::<D, K, S>(st), |i| {
             let (n, o) = (row[i].new_vel, row[i].vel());
             Vec4::new(n[0], n[1], o[0], o[1]) * st.w[i][0]
         }) * st.w[j][1]
@@ -355,14 +355,14 @@ pub fn gather_particle<D: Dim, K: Kernel<S>, const S: usize, const OLD: bool, co
     let dw: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.dw[i][0]));
     for k in 0..third_axis_nodes::<D, K, S>(st) {
         let (wk, dwk) = third_axis::<D, S>(st, k);
-        for j in 0..second_axis_nodes::<K, S>(st) {
+        for j in 0..second_axis_nodes::<D, K, S>(st) {
             let base = j * p + k * p * p;
             let row = &nodes[base..base + S];
             // Along the row: Σ_i w_i v_i^{n+1}, Σ_i w_i v_i^n and Σ_i ∂w_i v_i^{n+1}; then the
             // row's weights.
             let (mut rn, mut ro, mut rd) = (D::Vector::ZERO, D::Vector::ZERO, D::Vector::ZERO);
             let mut rx = D::Vector::ZERO;
-            for i in 0..first_axis_nodes::<K, S>(st) {
+            for i in 0..first_axis_nodes::<D, K, S>(st) {
                 let v = row[i].new_vel;
                 let vw = v * w[i];
                 rn += vw;
@@ -403,12 +403,12 @@ pub fn gather_2d_packed<D: Dim, K: Kernel<S>, const S: usize, const OLD: bool>(
     debug_assert_eq!(D::DIM, 2);
     let nodes = &nodes[..stencil_span(2, p, S)];
     let (mut vel, mut grad) = (Vec4::ZERO, Vec4::ZERO);
-    for j in 0..second_axis_nodes::<K, S>(st) {
+    for j in 0..second_axis_nodes::<D, K, S>(st) {
         let row = &nodes[j * p..j * p + S];
         // rn: Σ_i w_i v_i^{n+1}, rd: Σ_i ∂w_i v_i^{n+1}, ro: Σ_i w_i v_i^n.
         let (rn, rd, ro) = if OLD {
             let (mut rv, mut rd) = (Vec4::ZERO, Vec2::ZERO);
-            for i in 0..first_axis_nodes::<K, S>(st) {
+            for i in 0..first_axis_nodes::<D, K, S>(st) {
                 let (n, o) = (row[i].new_vel, row[i].vel());
                 rv += Vec4::new(n[0], n[1], o[0], o[1]) * st.w[i][0];
                 rd += Vec2::new(n[0], n[1]) * st.dw[i][0];
@@ -416,7 +416,7 @@ pub fn gather_2d_packed<D: Dim, K: Kernel<S>, const S: usize, const OLD: bool>(
             (Vec2::new(rv.x, rv.y), rd, Vec2::new(rv.z, rv.w))
         } else {
             let mut r = Vec4::ZERO;
-            for i in 0..first_axis_nodes::<K, S>(st) {
+            for i in 0..first_axis_nodes::<D, K, S>(st) {
                 let n = row[i].new_vel;
                 r += Vec4::new(n[0], n[1], n[0], n[1])
                     * Vec4::new(st.w[i][0], st.w[i][0], st.dw[i][0], st.dw[i][0]);
@@ -457,11 +457,11 @@ pub fn gather_affine<D: Dim, K: Kernel<S>, const S: usize>(
     let mut c = [D::Vector::ZERO; 3];
     for k in 0..third_axis_nodes::<D, K, S>(st) {
         let (wk, _) = third_axis::<D, S>(st, k);
-        for j in 0..second_axis_nodes::<K, S>(st) {
+        for j in 0..second_axis_nodes::<D, K, S>(st) {
             let base = j * p + k * p * p;
             let row = &nodes[base..base + S];
             let (mut rn, mut rx) = (D::Vector::ZERO, D::Vector::ZERO);
-            for i in 0..first_axis_nodes::<K, S>(st) {
+            for i in 0..first_axis_nodes::<D, K, S>(st) {
                 let v = row[i].new_vel * st.w[i][0];
                 rn += v;
                 rx += v * st.d[i][0];

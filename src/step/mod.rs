@@ -204,7 +204,7 @@ pub fn grid_coords<D: Dim>(x: D::Vector, inv_h: Real) -> [Real; 3] {
 }
 
 /// The particles' stencils, one particle after another, for a pass that walks them in order.
-/// In 2D two particles' GIMP stencils are evaluated at once ([`Kernel::stencil_pair_2d`], a packing
+/// In 2D two particles' GIMP stencils are evaluated at once (natively) ([`Kernel::stencil_pair_2d`], a packing
 /// specialisation of [`Kernel::stencil`]): the second waits here for the pass to ask for it.
 pub struct Stencils<D: Dim, K: Kernel<S>, const S: usize> {
     inv_h: Real,
@@ -233,9 +233,10 @@ impl<D: Dim, K: Kernel<S>, const S: usize> Stencils<D, K, S> {
     #[inline(always)]
     pub fn at(&mut self, x: &[D::Vector], q: usize) -> Stencil<S> {
         let (inv_h, lp) = (self.inv_h, self.lp);
-        // Pairs pay for GIMP's weights; the linear kernel's and the B-spline's cost about
-        // what keeping the second stencil does (docs/performance.md).
-        if D::DIM != 2 || K::KIND != KernelKind::Gimp {
+        // Pairs pay for GIMP's weights natively; the linear kernel's and the B-spline's cost
+        // about what keeping the second stencil does, and in WebAssembly V8 ran the pairs
+        // slower (docs/performance.md).
+        if D::DIM != 2 || K::KIND != KernelKind::Gimp || cfg!(target_arch = "wasm32") {
             return K::stencil(grid_coords::<D>(x[q], inv_h), D::DIM, inv_h, lp);
         }
         if self.cached == q {
@@ -291,10 +292,12 @@ fn third_axis<D: Dim, const S: usize>(st: &Stencil<S>, k: usize) -> (Real, Real)
 
 /// The stencil nodes with weight along axis `a`: the first `reach[a]` of `S` for GIMP (the
 /// rest carry none, and the walks skip them), all `S` for the other kernels (a constant, so
-/// that their loops unroll).
+/// that their loops unroll) — and for GIMP in the 2D WebAssembly build, where V8 ran the
+/// loops of varying length slower than the unrolled ones (docs/performance.md).
 #[inline(always)]
-fn nodes_along<K: Kernel<S>, const S: usize>(st: &Stencil<S>, a: usize) -> usize {
-    if K::KIND == KernelKind::Gimp {
+fn nodes_along<D: Dim, K: Kernel<S>, const S: usize>(st: &Stencil<S>, a: usize) -> usize {
+    let skip = D::DIM == 3 || !cfg!(target_arch = "wasm32");
+    if K::KIND == KernelKind::Gimp && skip {
         st.reach[a]
     } else {
         S
@@ -303,21 +306,21 @@ fn nodes_along<K: Kernel<S>, const S: usize>(st: &Stencil<S>, a: usize) -> usize
 
 /// The stencil nodes with weight along the first axis.
 #[inline(always)]
-fn first_axis_nodes<K: Kernel<S>, const S: usize>(st: &Stencil<S>) -> usize {
-    nodes_along::<K, S>(st, 0)
+fn first_axis_nodes<D: Dim, K: Kernel<S>, const S: usize>(st: &Stencil<S>) -> usize {
+    nodes_along::<D, K, S>(st, 0)
 }
 
 /// The stencil nodes with weight along the second axis.
 #[inline(always)]
-fn second_axis_nodes<K: Kernel<S>, const S: usize>(st: &Stencil<S>) -> usize {
-    nodes_along::<K, S>(st, 1)
+fn second_axis_nodes<D: Dim, K: Kernel<S>, const S: usize>(st: &Stencil<S>) -> usize {
+    nodes_along::<D, K, S>(st, 1)
 }
 
 /// The stencil nodes with weight along the third axis in 3D; one in 2D.
 #[inline(always)]
 fn third_axis_nodes<D: Dim, K: Kernel<S>, const S: usize>(st: &Stencil<S>) -> usize {
     if D::DIM == 3 {
-        nodes_along::<K, S>(st, 2)
+        nodes_along::<D, K, S>(st, 2)
     } else {
         1
     }

@@ -152,7 +152,7 @@ pub fn scatter_particle<D: Dim, K: Kernel<S>, const S: usize>(
     let dw: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.dw[i][0]));
     for k in 0..third_axis_nodes::<D, K, S>(st) {
         let (wk, dwk) = third_axis::<D, S>(st, k);
-        for j in 0..second_axis_nodes::<K, S>(st) {
+        for j in 0..second_axis_nodes::<D, K, S>(st) {
             let base = j * p + k * p * p;
             let wjk = st.w[j][1] * wk;
             // F ∇w = F e_x ∂_x w + F e_y ∂_y w (+ F e_z ∂_z w): the row's factors first.
@@ -164,7 +164,7 @@ pub fn scatter_particle<D: Dim, K: Kernel<S>, const S: usize>(
             let row = &mut nodes[base..base + S];
             match affine {
                 None => {
-                    for i in 0..first_axis_nodes::<K, S>(st) {
+                    for i in 0..first_axis_nodes::<D, K, S>(st) {
                         row[i].vm += pm * (st.w[i][0] * wjk);
                         if force.is_some() {
                             row[i].new_vel += fx * dw[i] + fyz * w[i];
@@ -177,7 +177,7 @@ pub fn scatter_particle<D: Dim, K: Kernel<S>, const S: usize>(
                         r += D::column(&a, 2) * st.d[k][2];
                     }
                     let r = r.with_mass(m);
-                    for i in 0..first_axis_nodes::<K, S>(st) {
+                    for i in 0..first_axis_nodes::<D, K, S>(st) {
                         row[i].vm += (r + ax * st.d[i][0]) * (st.w[i][0] * wjk);
                         if force.is_some() {
                             row[i].new_vel += fx * dw[i] + fyz * w[i];
@@ -187,7 +187,7 @@ pub fn scatter_particle<D: Dim, K: Kernel<S>, const S: usize>(
             }
             if let Some(g) = grad.as_deref_mut() {
                 let (djk, wdjk) = (st.dw[j][1] * wk, st.w[j][1] * dwk);
-                for i in 0..first_axis_nodes::<K, S>(st) {
+                for i in 0..first_axis_nodes::<D, K, S>(st) {
                     g[base + i] +=
                         D::vector([st.dw[i][0] * wjk, st.w[i][0] * djk, st.w[i][0] * wdjk]) * m;
                 }
@@ -213,10 +213,10 @@ pub fn scatter_2d_packed<D: Dim, K: Kernel<S>, const S: usize>(
     let pm = mv.with_mass(m);
     let [c0, c1, _] = D::sym_columns(force.unwrap_or(D::Sym::ZERO));
     let f = Vec4::new(c0[0], c0[1], c1[0], c1[1]);
-    for j in 0..second_axis_nodes::<K, S>(st) {
+    for j in 0..second_axis_nodes::<D, K, S>(st) {
         let fj = f * Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
         let row = &mut nodes[j * p..j * p + S];
-        for i in 0..first_axis_nodes::<K, S>(st) {
+        for i in 0..first_axis_nodes::<D, K, S>(st) {
             row[i].vm += pm * (st.w[i][0] * st.w[j][1]);
             if force.is_some() {
                 let t = fj * Vec4::new(st.dw[i][0], st.dw[i][0], st.w[i][0], st.w[i][0]);

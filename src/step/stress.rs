@@ -394,12 +394,12 @@ pub fn velocity_gradient<D: Dim, K: Kernel<S>, const S: usize>(
     let mut c = [D::Vector::ZERO; 3];
     for k in 0..third_axis_nodes::<D, K, S>(st) {
         let (wk, dwk) = third_axis::<D, S>(st, k);
-        for j in 0..second_axis_nodes::<K, S>(st) {
+        for j in 0..second_axis_nodes::<D, K, S>(st) {
             let base = j * p + k * p * p;
             let row = &nodes[base..base + S];
             // Σ_i v_i ∂w_i and Σ_i v_i w_i along the row, then the row's weights.
             let (mut a, mut b) = (D::Vector::ZERO, D::Vector::ZERO);
-            for i in 0..first_axis_nodes::<K, S>(st) {
+            for i in 0..first_axis_nodes::<D, K, S>(st) {
                 a += row[i].vel() * st.dw[i][0];
                 b += row[i].vel() * st.w[i][0];
             }
@@ -423,10 +423,10 @@ pub fn velocity_gradient_2d_packed<D: Dim, K: Kernel<S>, const S: usize>(
 ) -> D::Grad {
     debug_assert_eq!(D::DIM, 2);
     let nodes = &nodes[..stencil_span(2, p, S)];
-    let l = sum_from_first(second_axis_nodes::<K, S>(st), |j| {
+    let l = sum_from_first(second_axis_nodes::<D, K, S>(st), |j| {
         let row = &nodes[j * p..j * p + S];
         let wj = Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
-        sum_from_first(first_axis_nodes::<K, S>(st), |i| {
+        sum_from_first(first_axis_nodes::<D, K, S>(st), |i| {
             let g = Vec4::new(st.dw[i][0], st.dw[i][0], st.w[i][0], st.w[i][0]) * wj;
             let v = row[i].vel();
             Vec4::new(v[0], v[1], v[0], v[1]) * g
@@ -452,7 +452,7 @@ pub fn scatter_force<D: Dim, K: Kernel<S>, const S: usize>(
     let [a0, a1, a2] = D::sym_columns(a);
     for k in 0..third_axis_nodes::<D, K, S>(st) {
         let (wk, dwk) = third_axis::<D, S>(st, k);
-        for j in 0..second_axis_nodes::<K, S>(st) {
+        for j in 0..second_axis_nodes::<D, K, S>(st) {
             let base = j * p + k * p * p;
             // A ∇w = A e_x ∂_x w + A e_y ∂_y w (+ A e_z ∂_z w): the row's factors first.
             let pjk = a0 * (st.w[j][1] * wk);
@@ -461,7 +461,7 @@ pub fn scatter_force<D: Dim, K: Kernel<S>, const S: usize>(
                 qjk += a2 * (st.w[j][1] * dwk);
             }
             let row = &mut nodes[base..base + S];
-            for i in 0..first_axis_nodes::<K, S>(st) {
+            for i in 0..first_axis_nodes::<D, K, S>(st) {
                 row[i].new_vel += pjk * st.dw[i][0] + qjk * st.w[i][0];
             }
         }
@@ -481,10 +481,10 @@ pub fn scatter_force_2d_packed<D: Dim, K: Kernel<S>, const S: usize>(
     let nodes = &mut nodes[..stencil_span(2, p, S)];
     let [c0, c1, _] = D::sym_columns(a);
     let a = Vec4::new(c0[0], c0[1], c1[0], c1[1]);
-    for j in 0..second_axis_nodes::<K, S>(st) {
+    for j in 0..second_axis_nodes::<D, K, S>(st) {
         let wj = a * Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
         let row = &mut nodes[j * p..j * p + S];
-        for i in 0..first_axis_nodes::<K, S>(st) {
+        for i in 0..first_axis_nodes::<D, K, S>(st) {
             let t = wj * Vec4::new(st.dw[i][0], st.dw[i][0], st.w[i][0], st.w[i][0]);
             row[i].new_vel += D::vector([t.x + t.z, t.y + t.w, 0.0]);
         }
