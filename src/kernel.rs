@@ -164,12 +164,15 @@ mod simd {
 /// whose first node has grid index `base[a]`; `d[k][a]` is that node's offset from the particle
 /// along the axis, in cells (x_i − x_p = d h). Node-major with four lanes, so that a kernel
 /// computes all axes of one node at once in SIMD registers (lane 3, and lane 2 in 2D, unused).
+/// Only the first `reach[a]` nodes along axis `a` carry weight: the rest have weight and
+/// derivative exactly zero, and the stencil walks skip them.
 #[derive(Clone, Copy, Debug)]
 pub struct Stencil<const S: usize> {
     pub base: [i32; 3],
     pub w: [[Real; 4]; S],
     pub dw: [[Real; 4]; S],
     pub d: [[Real; 4]; S],
+    pub reach: [usize; 3],
 }
 
 impl<const S: usize> Stencil<S> {
@@ -181,6 +184,7 @@ impl<const S: usize> Stencil<S> {
             w: [[0.0; 4]; S],
             dw: [[0.0; 4]; S],
             d: [[0.0; 4]; S],
+            reach: [S; 3],
         }
     }
 }
@@ -250,7 +254,60 @@ pub trait Kernel<const S: usize>: Copy + Send + Sync + 'static {
     fn stencil(xg: [Real; 3], dim: usize, inv_h: Real, lp: Real) -> Stencil<S> {
         let last = xg[dim - 1];
         let x = [xg[0], xg[1], if dim == 3 { xg[2] } else { last }, last];
-        stencil_lanes::<S, Self>(x, inv_h, lp)
+        let (base, st) = stencil_lanes::<S, Self>(x, inv_h, lp);
+        Stencil::from_lanes(Self::KIND, &st, [base[0], base[1], base[2]], [0, 1, 2, 3])
+    }
+
+    /// The stencils of two 2D particles at grid coordinates `a` and `b` — packing
+    /// specialisation of [`Kernel::stencil`]: a 2D stencil uses two of the four lanes, so
+    /// both particles' axes go through the lanes at once, (a_x, a_y, b_x, b_y). Each comes
+    /// out laid out as [`Kernel::stencil`] lays it out, bit for bit (a test checks it).
+    #[inline(always)]
+    fn stencil_pair_2d(a: [Real; 3], b: [Real; 3], inv_h: Real, lp: Real) -> [Stencil<S>; 2] {
+        let (base, st) = stencil_lanes::<S, Self>([a[0], a[1], b[0], b[1]], inv_h, lp);
+        [
+            Stencil::from_lanes(Self::KIND, &st, [base[0], base[1], base[1]], [0, 1, 1, 1]),
+            Stencil::from_lanes(Self::KIND, &st, [base[2], base[3], base[3]], [2, 3, 3, 3]),
+        ]
+    }
+}
+
+/// Weights, derivatives and offsets in four lanes, as [`stencil_lanes`] computes them.
+#[derive(Clone, Copy)]
+struct LaneStencil<const S: usize> {
+    w: [[Real; 4]; S],
+    dw: [[Real; 4]; S],
+    d: [[Real; 4]; S],
+}
+
+impl<const S: usize> Stencil<S> {
+    /// The stencil whose axis `a` is lane `lanes[a]` of `st`, for kernel `kind`.
+    #[inline(always)]
+    fn from_lanes(
+        kind: KernelKind,
+        st: &LaneStencil<S>,
+        base: [i32; 3],
+        lanes: [usize; 4],
+    ) -> Self {
+        let pick = |r: &[Real; 4]| lanes.map(|l| r[l]);
+        let w = st.w.map(|r| pick(&r));
+        // GIMP's last node along an axis has weight and derivative exactly zero where the
+        // particle's domain does not reach past the middle node (half the positions at two
+        // particles per cell): w = 0 there because hi = lo = −1 in `Gimp::shape`.
+        let reach = [0, 1, 2].map(|a| {
+            if kind == KernelKind::Gimp && w[S - 1][a] == 0.0 {
+                S - 1
+            } else {
+                S
+            }
+        });
+        Stencil {
+            base,
+            w,
+            dw: st.dw.map(|r| pick(&r)),
+            d: st.d.map(|r| pick(&r)),
+            reach,
+        }
     }
 }
 
@@ -261,7 +318,11 @@ pub trait Kernel<const S: usize>: Copy + Send + Sync + 'static {
     not(feature = "f64")
 )))]
 #[inline(always)]
-fn stencil_lanes<const S: usize, K: Kernel<S>>(x: [Real; 4], inv_h: Real, lp: Real) -> Stencil<S> {
+fn stencil_lanes<const S: usize, K: Kernel<S>>(
+    x: [Real; 4],
+    inv_h: Real,
+    lp: Real,
+) -> ([i32; 4], LaneStencil<S>) {
     let mut base = [0i32; 4];
     let mut f = [0.0; 4];
     for a in 0..4 {
@@ -269,7 +330,11 @@ fn stencil_lanes<const S: usize, K: Kernel<S>>(x: [Real; 4], inv_h: Real, lp: Re
         (base[a], first) = K::first(x[a], lp);
         f[a] = x[a] - first;
     }
-    let mut st = Stencil::at([base[0], base[1], base[2]]);
+    let mut st = LaneStencil {
+        w: [[0.0; 4]; S],
+        dw: [[0.0; 4]; S],
+        d: [[0.0; 4]; S],
+    };
     for k in 0..S {
         for a in 0..4 {
             let (w, dw) = K::node(f[a], k, lp);
@@ -278,7 +343,7 @@ fn stencil_lanes<const S: usize, K: Kernel<S>>(x: [Real; 4], inv_h: Real, lp: Re
             st.d[k][a] = k as Real - f[a];
         }
     }
-    st
+    (base, st)
 }
 
 /// [`Kernel::stencil`] in four SIMD lanes — SIMD specialisation of the scalar lane loop above,
@@ -290,18 +355,26 @@ fn stencil_lanes<const S: usize, K: Kernel<S>>(x: [Real; 4], inv_h: Real, lp: Re
     not(feature = "f64")
 ))]
 #[inline(always)]
-fn stencil_lanes<const S: usize, K: Kernel<S>>(x: [Real; 4], inv_h: Real, lp: Real) -> Stencil<S> {
+fn stencil_lanes<const S: usize, K: Kernel<S>>(
+    x: [Real; 4],
+    inv_h: Real,
+    lp: Real,
+) -> ([i32; 4], LaneStencil<S>) {
     let x = F4::new(x);
     let (base, first) = K::first(x, lp);
     let f = x - first;
-    let mut st = Stencil::at([base[0], base[1], base[2]]);
+    let mut st = LaneStencil {
+        w: [[0.0; 4]; S],
+        dw: [[0.0; 4]; S],
+        d: [[0.0; 4]; S],
+    };
     for k in 0..S {
         let (w, dw) = K::node(f, k, lp);
         w.store(&mut st.w[k]);
         (dw * F4::splat(inv_h)).store(&mut st.dw[k]);
         (F4::splat(k as Real) - f).store(&mut st.d[k]);
     }
-    st
+    (base, st)
 }
 
 /// The paper's linear shape function (Eq. 16–17): N = ½(1 + N_x N_Ix) per axis.
@@ -439,6 +512,32 @@ mod tests {
         check_stencil::<2, Linear>(0.0);
         check_stencil::<3, QuadraticBspline>(0.0);
         check_stencil::<3, Gimp>(0.25);
+    }
+
+    /// Two 2D stencils evaluated in one set of lanes are the two single ones, bit for bit.
+    fn check_pairs<const S: usize, K: Kernel<S>>(lp: Real) {
+        let inv_h = 50.0;
+        for i in 0..300 {
+            let a = [3.0 + i as Real * 0.0137, 4.1 + i as Real * 0.0071, 0.0];
+            let b = [2.5 + i as Real * 0.011, 7.3 - i as Real * 0.0093, 0.0];
+            let [sa, sb] = K::stencil_pair_2d(a, b, inv_h, lp);
+            for (pair, single) in [
+                (sa, K::stencil(a, 2, inv_h, lp)),
+                (sb, K::stencil(b, 2, inv_h, lp)),
+            ] {
+                assert_eq!(pair.base[..2], single.base[..2]);
+                let bits =
+                    |s: &Stencil<S>| [s.w, s.dw, s.d].map(|r| r.map(|l| l.map(Real::to_bits)));
+                assert_eq!(bits(&pair), bits(&single), "{:?} at {a:?}, {b:?}", K::KIND);
+            }
+        }
+    }
+
+    #[test]
+    fn stencils_in_pairs_are_the_single_ones() {
+        check_pairs::<2, Linear>(0.0);
+        check_pairs::<3, QuadraticBspline>(0.0);
+        check_pairs::<3, Gimp>(0.25);
     }
 
     #[test]

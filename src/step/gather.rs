@@ -20,8 +20,8 @@ use super::stress::{
 };
 use super::transfer::Transfer;
 use super::{
-    constraint_dissipation, first_node, grid_coords, layout, third_axis, third_axis_nodes,
-    with_kernel,
+    Stencils, constraint_dissipation, first_axis_nodes, first_node, layout, second_axis_nodes,
+    third_axis, third_axis_nodes, with_kernel,
 };
 use crate::boundary::Walls;
 use crate::grid::{Grid, Node, stencil_span};
@@ -129,17 +129,26 @@ pub fn gather<D: Dim, K: Kernel<S>, A: AfterGather<D>, const S: usize>(
     ps: GatherState<'_, D>,
     after: &mut A,
 ) -> GatherReport<D> {
-    // PIC (α = 0) needs no old grid velocities.
-    if pass.transfer.flip == 0.0 {
-        gather_chunks::<D, K, A, S, false>(pass, ps, after)
-    } else {
-        gather_chunks::<D, K, A, S, true>(pass, ps, after)
+    // PIC (α = 0) needs no old grid velocities; APIC bodies sum B_p in the same walk.
+    match (pass.transfer.flip == 0.0, ps.affine.is_some()) {
+        (true, false) => gather_chunks::<D, K, A, S, false, false>(pass, ps, after),
+        (false, false) => gather_chunks::<D, K, A, S, true, false>(pass, ps, after),
+        (true, true) => gather_chunks::<D, K, A, S, false, true>(pass, ps, after),
+        (false, true) => gather_chunks::<D, K, A, S, true, true>(pass, ps, after),
     }
 }
 
-/// [`gather`], with the old grid velocities interpolated or not (`OLD`).
+/// [`gather`], with the old grid velocities interpolated or not (`OLD`), and the APIC
+/// B_p or not (`APIC`).
 #[inline(always)]
-fn gather_chunks<D: Dim, K: Kernel<S>, A: AfterGather<D>, const S: usize, const OLD: bool>(
+fn gather_chunks<
+    D: Dim,
+    K: Kernel<S>,
+    A: AfterGather<D>,
+    const S: usize,
+    const OLD: bool,
+    const APIC: bool,
+>(
     pass: &Pass<'_, D>,
     ps: GatherState<'_, D>,
     after: &mut A,
@@ -164,31 +173,33 @@ fn gather_chunks<D: Dim, K: Kernel<S>, A: AfterGather<D>, const S: usize, const 
     let h = 1.0 / inv_h;
     let mut affine = ps.affine;
     let mut rates = Rates::<D>::zero();
+    let mut stencils = Stencils::<D, K, S>::new(inv_h, radius * inv_h);
     let n = ps.x.len();
     for first in (0..n).step_by(CHUNK) {
         let chunk = first..n.min(first + CHUNK);
         for q in chunk.clone() {
             let x = ps.x[q];
-            let st = K::stencil(grid_coords::<D>(x, inv_h), D::DIM, inv_h, radius * inv_h);
+            let st = stencils.at(ps.x, q);
             let cell = &nodes[first_node(layout, particle_node[q], &st)..][..span];
             // Step 6 (and 2).
-            let (v_new, v_old) = if !A::GRADIENT {
-                if D::DIM == 2 {
-                    gather_velocity_2d_packed::<D, S, OLD>(cell, p, &st)
+            let (v_new, v_old, b) = if !A::GRADIENT {
+                if D::DIM == 2 && !APIC {
+                    let (n, o) = gather_velocity_2d_packed::<D, K, S, OLD>(cell, p, &st);
+                    (n, o, D::GRAD_ZERO)
                 } else {
-                    gather_velocity::<D, S, OLD>(cell, p, &st)
+                    gather_velocity::<D, K, S, OLD, APIC>(cell, p, &st)
                 }
             } else {
-                let (v_new, v_old, grad) = if D::DIM == 2 {
-                    gather_2d_packed::<D, S, OLD>(cell, p, &st)
+                let (v_new, v_old, grad, b) = if D::DIM == 2 && !APIC {
+                    let (n, o, g) = gather_2d_packed::<D, K, S, OLD>(cell, p, &st);
+                    (n, o, g, D::GRAD_ZERO)
                 } else {
-                    gather_particle::<D, S, OLD>(cell, p, &st)
+                    gather_particle::<D, K, S, OLD, APIC>(cell, p, &st)
                 };
                 rates.set(q - first, grad);
-                (v_new, v_old)
+                (v_new, v_old, b)
             };
-            if let Some(c) = affine.as_deref_mut() {
-                let b = gather_affine::<D, S>(cell, p, &st);
+            if APIC && let Some(c) = affine.as_deref_mut() {
                 c[q] = Transfer::affine_velocity::<D, S>(b, &st, h);
             }
             let blended = transfer.velocity(ps.v[q], v_new, v_old);
@@ -238,25 +249,31 @@ pub fn advect_kinematic<D: Dim>(
     r
 }
 
-/// Step 6 for one particle: (Σ_i w_ip v_i^{n+1}, Σ_i w_ip v_i^n); without `OLD` (PIC, which
-/// needs no old velocities) the second is the first. `nodes` starts at the stencil's first
-/// node (node (i, j, k) at `i + j p + k p²`).
+/// Step 6 for one particle: (Σ_i w_ip v_i^{n+1}, Σ_i w_ip v_i^n, B_p); without `OLD` (PIC,
+/// which needs no old velocities) the second is the first; with `APIC` the third is the B_p
+/// of [`gather_affine`], summed in the same walk (zero without). `nodes` starts at the
+/// stencil's first node (node (i, j, k) at `i + j p + k p²`).
 #[inline(always)]
-pub fn gather_velocity<D: Dim, const S: usize, const OLD: bool>(
+pub fn gather_velocity<D: Dim, K: Kernel<S>, const S: usize, const OLD: bool, const APIC: bool>(
     nodes: &[Node<D::Vector>],
     p: usize,
     st: &Stencil<S>,
-) -> (D::Vector, D::Vector) {
+) -> (D::Vector, D::Vector, D::Grad) {
     let nodes = &nodes[..stencil_span(D::DIM, p, S)];
     let (mut new, mut old) = (D::Vector::ZERO, D::Vector::ZERO);
-    for k in 0..third_axis_nodes::<D, S>() {
+    let mut b = [D::Vector::ZERO; 3];
+    for k in 0..third_axis_nodes::<D, K, S>(st) {
         let (wk, _) = third_axis::<D, S>(st, k);
-        for j in 0..S {
+        for j in 0..second_axis_nodes::<D, K, S>(st) {
             let base = j * p + k * p * p;
             let row = &nodes[base..base + S];
-            let (mut rn, mut ro) = (D::Vector::ZERO, D::Vector::ZERO);
-            for i in 0..S {
-                rn += row[i].new_vel * st.w[i][0];
+            let (mut rn, mut ro, mut rx) = (D::Vector::ZERO, D::Vector::ZERO, D::Vector::ZERO);
+            for i in 0..first_axis_nodes::<D, K, S>(st) {
+                let v = row[i].new_vel * st.w[i][0];
+                rn += v;
+                if APIC {
+                    rx += v * st.d[i][0];
+                }
                 if OLD {
                     ro += row[i].vel() * st.w[i][0];
                 }
@@ -264,24 +281,46 @@ pub fn gather_velocity<D: Dim, const S: usize, const OLD: bool>(
             let wjk = st.w[j][1] * wk;
             new += rn * wjk;
             old += ro * wjk;
+            if APIC {
+                affine_row::<D, S>(&mut b, st, rn, rx, wjk, j, k);
+            }
         }
     }
-    (new, if OLD { old } else { new })
+    (new, if OLD { old } else { new }, D::from_columns(b))
+}
+
+/// A row's share of B_p = Σ_i w_ip v_i^{n+1} ⊗ d_i: `rn` = Σ_i w_i v_i^{n+1} and
+/// `rx` = Σ_i w_i d_i v_i^{n+1} along the row, whose weight is `wjk`.
+#[inline(always)]
+fn affine_row<D: Dim, const S: usize>(
+    b: &mut [D::Vector; 3],
+    st: &Stencil<S>,
+    rn: D::Vector,
+    rx: D::Vector,
+    wjk: Real,
+    j: usize,
+    k: usize,
+) {
+    b[0] += rx * wjk;
+    b[1] += rn * (wjk * st.d[j][1]);
+    if D::DIM == 3 {
+        b[2] += rn * (wjk * st.d[k][2]);
+    }
 }
 
 /// [`gather_velocity`] in 2D, packing specialisation: v^{n+1} and v^n side by side in one
 /// `Vec4`.
 #[inline(always)]
-pub fn gather_velocity_2d_packed<D: Dim, const S: usize, const OLD: bool>(
+pub fn gather_velocity_2d_packed<D: Dim, K: Kernel<S>, const S: usize, const OLD: bool>(
     nodes: &[Node<D::Vector>],
     p: usize,
     st: &Stencil<S>,
 ) -> (D::Vector, D::Vector) {
     debug_assert_eq!(D::DIM, 2);
     let nodes = &nodes[..stencil_span(2, p, S)];
-    let acc = sum_from_first(S, |j| {
+    let acc = sum_from_first(second_axis_nodes::<D, K, S>(st), |j| {
         let row = &nodes[j * p..j * p + S];
-        sum_from_first(S, |i| {
+        sum_from_first(first_axis_nodes::<D, K, S>(st), |i| {
             let (n, o) = (row[i].new_vel, row[i].vel());
             Vec4::new(n[0], n[1], o[0], o[1]) * st.w[i][0]
         }) * st.w[j][1]
@@ -298,31 +337,38 @@ pub fn gather_velocity_2d_packed<D: Dim, const S: usize, const OLD: bool>(
 }
 
 /// Steps 6 and 2 for one particle: (Σ_i w_ip v_i^{n+1}, Σ_i w_ip v_i^n,
-/// Σ_i v_i^{n+1} ⊗ ∇w_ip); without `OLD` (PIC) the second is the first. `nodes` starts at the
-/// stencil's first node (node (i, j, k) at `i + j p + k p²`).
+/// Σ_i v_i^{n+1} ⊗ ∇w_ip, B_p); without `OLD` (PIC) the second is the first; with `APIC` the
+/// fourth is the B_p of [`gather_affine`], summed in the same walk (zero without). `nodes`
+/// starts at the stencil's first node (node (i, j, k) at `i + j p + k p²`).
 #[inline(always)]
-pub fn gather_particle<D: Dim, const S: usize, const OLD: bool>(
+pub fn gather_particle<D: Dim, K: Kernel<S>, const S: usize, const OLD: bool, const APIC: bool>(
     nodes: &[Node<D::Vector>],
     p: usize,
     st: &Stencil<S>,
-) -> (D::Vector, D::Vector, D::Grad) {
+) -> (D::Vector, D::Vector, D::Grad, D::Grad) {
     let nodes = &nodes[..stencil_span(D::DIM, p, S)];
     let (mut new, mut old) = (D::Vector::ZERO, D::Vector::ZERO);
     let mut c = [D::Vector::ZERO; 3];
+    let mut b = [D::Vector::ZERO; 3];
     // The first axis's weights as vectors, once.
     let w: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.w[i][0]));
     let dw: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.dw[i][0]));
-    for k in 0..third_axis_nodes::<D, S>() {
+    for k in 0..third_axis_nodes::<D, K, S>(st) {
         let (wk, dwk) = third_axis::<D, S>(st, k);
-        for j in 0..S {
+        for j in 0..second_axis_nodes::<D, K, S>(st) {
             let base = j * p + k * p * p;
             let row = &nodes[base..base + S];
             // Along the row: Σ_i w_i v_i^{n+1}, Σ_i w_i v_i^n and Σ_i ∂w_i v_i^{n+1}; then the
             // row's weights.
             let (mut rn, mut ro, mut rd) = (D::Vector::ZERO, D::Vector::ZERO, D::Vector::ZERO);
-            for i in 0..S {
+            let mut rx = D::Vector::ZERO;
+            for i in 0..first_axis_nodes::<D, K, S>(st) {
                 let v = row[i].new_vel;
-                rn += v * w[i];
+                let vw = v * w[i];
+                rn += vw;
+                if APIC {
+                    rx += vw * st.d[i][0];
+                }
                 if OLD {
                     ro += row[i].vel() * w[i];
                 }
@@ -336,16 +382,20 @@ pub fn gather_particle<D: Dim, const S: usize, const OLD: bool>(
             if D::DIM == 3 {
                 c[2] += rn * (st.w[j][1] * dwk);
             }
+            if APIC {
+                affine_row::<D, S>(&mut b, st, rn, rx, wjk, j, k);
+            }
         }
     }
-    (new, if OLD { old } else { new }, D::from_columns(c))
+    let old = if OLD { old } else { new };
+    (new, old, D::from_columns(c), D::from_columns(b))
 }
 
 /// [`gather_particle`] in 2D, packing specialisation: along a row, (v^{n+1} w_i, v^n w_i) —
 /// or for PIC (v^{n+1} w_i, v^{n+1} ∂w_i) — in one `Vec4`, then the two gradient columns
 /// (Σ_i ∂w_i v_i^{n+1}) w_j and (Σ_i w_i v_i^{n+1}) ∂w_j side by side in another.
 #[inline(always)]
-pub fn gather_2d_packed<D: Dim, const S: usize, const OLD: bool>(
+pub fn gather_2d_packed<D: Dim, K: Kernel<S>, const S: usize, const OLD: bool>(
     nodes: &[Node<D::Vector>],
     p: usize,
     st: &Stencil<S>,
@@ -353,12 +403,12 @@ pub fn gather_2d_packed<D: Dim, const S: usize, const OLD: bool>(
     debug_assert_eq!(D::DIM, 2);
     let nodes = &nodes[..stencil_span(2, p, S)];
     let (mut vel, mut grad) = (Vec4::ZERO, Vec4::ZERO);
-    for j in 0..S {
+    for j in 0..second_axis_nodes::<D, K, S>(st) {
         let row = &nodes[j * p..j * p + S];
         // rn: Σ_i w_i v_i^{n+1}, rd: Σ_i ∂w_i v_i^{n+1}, ro: Σ_i w_i v_i^n.
         let (rn, rd, ro) = if OLD {
             let (mut rv, mut rd) = (Vec4::ZERO, Vec2::ZERO);
-            for i in 0..S {
+            for i in 0..first_axis_nodes::<D, K, S>(st) {
                 let (n, o) = (row[i].new_vel, row[i].vel());
                 rv += Vec4::new(n[0], n[1], o[0], o[1]) * st.w[i][0];
                 rd += Vec2::new(n[0], n[1]) * st.dw[i][0];
@@ -366,7 +416,7 @@ pub fn gather_2d_packed<D: Dim, const S: usize, const OLD: bool>(
             (Vec2::new(rv.x, rv.y), rd, Vec2::new(rv.z, rv.w))
         } else {
             let mut r = Vec4::ZERO;
-            for i in 0..S {
+            for i in 0..first_axis_nodes::<D, K, S>(st) {
                 let n = row[i].new_vel;
                 r += Vec4::new(n[0], n[1], n[0], n[1])
                     * Vec4::new(st.w[i][0], st.w[i][0], st.dw[i][0], st.dw[i][0]);
@@ -395,22 +445,23 @@ pub fn gather_2d_packed<D: Dim, const S: usize, const OLD: bool>(
     )
 }
 
-/// Step 6 of APIC for one particle: B = Σ_i w_ip v_i^{n+1} ⊗ d_i (offsets in cells).
+/// Step 6 of APIC for one particle: B = Σ_i w_ip v_i^{n+1} ⊗ d_i (offsets in cells), in a walk
+/// of its own: the reference that the walks summing it on the way are tested against.
 #[inline(always)]
-pub fn gather_affine<D: Dim, const S: usize>(
+pub fn gather_affine<D: Dim, K: Kernel<S>, const S: usize>(
     nodes: &[Node<D::Vector>],
     p: usize,
     st: &Stencil<S>,
 ) -> D::Grad {
     let nodes = &nodes[..stencil_span(D::DIM, p, S)];
     let mut c = [D::Vector::ZERO; 3];
-    for k in 0..third_axis_nodes::<D, S>() {
+    for k in 0..third_axis_nodes::<D, K, S>(st) {
         let (wk, _) = third_axis::<D, S>(st, k);
-        for j in 0..S {
+        for j in 0..second_axis_nodes::<D, K, S>(st) {
             let base = j * p + k * p * p;
             let row = &nodes[base..base + S];
             let (mut rn, mut rx) = (D::Vector::ZERO, D::Vector::ZERO);
-            for i in 0..S {
+            for i in 0..first_axis_nodes::<D, K, S>(st) {
                 let v = row[i].new_vel * st.w[i][0];
                 rn += v;
                 rx += v * st.d[i][0];
@@ -443,6 +494,9 @@ pub struct GatherReport<D: Dim> {
     pub dissipated_walls: f64,
     pub bad: usize,
     pub first_bad: Option<usize>,
+    /// Σ m, Σ ½ m v², Σ m v and Σ m x while recording, side by side so that the f64 sums go
+    /// through SIMD registers two at a time ([`Self::finish`] hands them out).
+    sums: [f64; 8],
 }
 
 impl<D: Dim> GatherReport<D> {
@@ -461,6 +515,7 @@ impl<D: Dim> GatherReport<D> {
             dissipated_walls: 0.0,
             bad: 0,
             first_bad: None,
+            sums: [0.0; 8],
         }
     }
 
@@ -468,6 +523,11 @@ impl<D: Dim> GatherReport<D> {
     /// −Σ m g·x = −g·Σ m x from the first moment (one accumulator fewer per particle).
     #[inline(always)]
     pub fn finish(&mut self, gravity: D::Vector) {
+        let (s, d) = (self.sums, D::DIM);
+        (self.mass, self.kinetic) = (s[0], s[1]);
+        for a in 0..d {
+            (self.momentum[a], self.first_moment[a]) = (s[2 + a], s[2 + d + a]);
+        }
         self.max_speed = self.max_speed.sqrt();
         self.gravitational = -(0..D::DIM)
             .map(|a| gravity[a] as f64 * self.first_moment[a])
@@ -478,11 +538,14 @@ impl<D: Dim> GatherReport<D> {
     #[inline(always)]
     pub fn record(&mut self, m: Real, x: D::Vector, v: D::Vector) {
         let (md, v2) = (m as f64, v.length_squared());
-        self.mass += md;
-        self.kinetic += 0.5 * md * v2 as f64;
-        for a in 0..D::DIM {
-            self.momentum[a] += md * v[a] as f64;
-            self.first_moment[a] += md * x[a] as f64;
+        // m · (1, ½ v², v, x); ½ m v² as md (½ v²) is (½ md) v² exactly (a power of two).
+        let d = D::DIM;
+        let mut per_mass = [1.0, 0.5 * v2 as f64, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+        for a in 0..d {
+            (per_mass[2 + a], per_mass[2 + d + a]) = (v[a] as f64, x[a] as f64);
+        }
+        for i in 0..2 + 2 * d {
+            self.sums[i] += md * per_mass[i];
         }
         self.min = self.min.min(x);
         self.max = self.max.max(x);
@@ -502,7 +565,7 @@ impl<D: Dim> GatherReport<D> {
 mod tests {
     use super::*;
     use crate::kernel::{Gimp, Linear};
-    use crate::math::D2;
+    use crate::math::{D2, D3};
     use crate::step::test_util::random_stencils;
 
     /// The packed 2D gather gives what the generic walk gives, up to rounding.
@@ -510,13 +573,13 @@ mod tests {
         let p = 10;
         let (nodes, stencils) = random_stencils::<D2, K, S>(50, p);
         for st in &stencils {
-            let (n, o, g) = gather_particle::<D2, S, true>(&nodes, p, st);
-            let (n2, o2, g2) = gather_2d_packed::<D2, S, true>(&nodes, p, st);
+            let (n, o, g, _) = gather_particle::<D2, K, S, true, false>(&nodes, p, st);
+            let (n2, o2, g2) = gather_2d_packed::<D2, K, S, true>(&nodes, p, st);
             // PIC: v^{n+1} twice and the same gradient up to rounding; the velocity-only walks
             // as the full ones.
-            let (n3, o3, g3) = gather_2d_packed::<D2, S, false>(&nodes, p, st);
-            let (n4, o4) = gather_velocity_2d_packed::<D2, S, true>(&nodes, p, st);
-            let (n5, o5) = gather_velocity::<D2, S, true>(&nodes, p, st);
+            let (n3, o3, g3) = gather_2d_packed::<D2, K, S, false>(&nodes, p, st);
+            let (n4, o4) = gather_velocity_2d_packed::<D2, K, S, true>(&nodes, p, st);
+            let (n5, o5, _) = gather_velocity::<D2, K, S, true, false>(&nodes, p, st);
             let big = 1.0
                 + g2.abs()
                     .to_cols_array()
@@ -548,6 +611,33 @@ mod tests {
                 "{n} {o} {g} vs {n2} {o2} {g2}"
             );
         }
+    }
+
+    /// The walks that sum APIC's B_p on the way give what its own walk gives.
+    fn fused_affine_matches<D: Dim, K: Kernel<S>, const S: usize>() {
+        let p = 10;
+        let (nodes, stencils) = random_stencils::<D, K, S>(50, p);
+        for st in &stencils {
+            let b = gather_affine::<D, K, S>(&nodes, p, st);
+            let (n, o, _) = gather_velocity::<D, K, S, true, false>(&nodes, p, st);
+            let (n1, o1, b1) = gather_velocity::<D, K, S, true, true>(&nodes, p, st);
+            let (n2, o2, _, b2) = gather_particle::<D, K, S, true, true>(&nodes, p, st);
+            assert_eq!((n1, o1), (n, o));
+            for (a, c) in [(b, b1), (b, b2)] {
+                for col in 0..D::DIM {
+                    let d = D::column(&a, col) - D::column(&c, col);
+                    assert!(d.length() <= 1e-6 * (1.0 + D::column(&a, col).length()));
+                }
+            }
+            assert!((n2 - n).length() <= 1e-6 && (o2 - o).length() <= 1e-6);
+        }
+    }
+
+    #[test]
+    fn walks_summing_apic_b_match_its_own_walk() {
+        fused_affine_matches::<D2, Gimp, 3>();
+        fused_affine_matches::<D3, Gimp, 3>();
+        fused_affine_matches::<D3, crate::kernel::QuadraticBspline, 3>();
     }
 
     #[test]

@@ -9,7 +9,10 @@
 //! ∇m_i = Σ_p m_p ∇w_ip, the contact normal of Eq. 20.
 
 use super::transfer::Transfer;
-use super::{first_node, grid_coords, layout, third_axis, third_axis_nodes, with_kernel};
+use super::{
+    Stencils, first_axis_nodes, first_node, layout, second_axis_nodes, third_axis,
+    third_axis_nodes, with_kernel,
+};
 use crate::grid::{Grid, Node, stencil_span};
 use crate::kernel::{Kernel, Stencil};
 use crate::math::{Dim, Real, SymTensor, Vec4, VectorOps};
@@ -69,39 +72,45 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
     let with_gradient = !mass_grad.is_empty();
     let h = 1.0 / inv_h;
     let force = |q: usize| ps.stress.map(|(s, v)| s[q] * -v[q]);
-    if ps.affine.is_none() && !with_gradient {
-        // The common cases, with the APIC and contact terms compiled out.
-        macro_rules! common {
-            ($force:expr) => {
-                for q in 0..ps.x.len() {
-                    let st = K::stencil(grid_coords::<D>(ps.x[q], inv_h), D::DIM, inv_h, lp);
-                    let cell = &mut nodes[first_node(layout, particle_node[q], &st)..][..span];
-                    let (m, f) = (ps.mass[q], $force(q));
-                    if D::DIM == 2 {
-                        scatter_2d_packed::<D, S>(cell, p, &st, m, ps.v[q] * m, f);
-                    } else {
-                        scatter_particle::<D, S>(cell, None, p, &st, m, ps.v[q] * m, None, f);
-                    }
+    let mut stencils = Stencils::<D, K, S>::new(inv_h, lp);
+    // One loop per combination of the force, APIC and contact (mass gradient) terms, each
+    // compiled in or out.
+    macro_rules! walk {
+        ($force:expr, $affine:expr, $gradient:expr) => {
+            for q in 0..ps.x.len() {
+                let st = stencils.at(ps.x, q);
+                let origin = first_node(layout, particle_node[q], &st);
+                let cell = &mut nodes[origin..origin + span];
+                let (m, f, a) = (ps.mass[q], $force(q), $affine(q));
+                if D::DIM == 2 && a.is_none() && !$gradient {
+                    scatter_2d_packed::<D, K, S>(cell, p, &st, m, ps.v[q] * m, f);
+                } else {
+                    let g = $gradient.then(|| &mut mass_grad[origin..origin + span]);
+                    scatter_particle::<D, K, S>(cell, g, p, &st, m, ps.v[q] * m, a, f);
                 }
-            };
-        }
-        if ps.stress.is_some() {
-            common!(force);
-        } else {
-            common!(|_| None);
-        }
-    } else {
-        for q in 0..ps.x.len() {
-            let st = K::stencil(grid_coords::<D>(ps.x[q], inv_h), D::DIM, inv_h, lp);
-            let origin = first_node(layout, particle_node[q], &st);
-            let grad = with_gradient.then(|| &mut mass_grad[origin..origin + span]);
-            let m = ps.mass[q];
-            let affine = ps
-                .affine
-                .map(|c| Transfer::affine_momentum::<D>(c[q], m, h));
-            let cell = &mut nodes[origin..origin + span];
-            scatter_particle::<D, S>(cell, grad, p, &st, m, ps.v[q] * m, affine, force(q));
-        }
+            }
+        };
+    }
+    macro_rules! with_affine {
+        ($force:expr, $gradient:expr) => {
+            match ps.affine {
+                None => walk!($force, |_| None, $gradient),
+                Some(c) => {
+                    let m = ps.mass;
+                    walk!(
+                        $force,
+                        |q: usize| Some(Transfer::affine_momentum::<D>(c[q], m[q], h)),
+                        $gradient
+                    )
+                }
+            }
+        };
+    }
+    match (ps.stress.is_some(), with_gradient) {
+        (true, false) => with_affine!(force, false),
+        (false, false) => with_affine!(|_| None, false),
+        (true, true) => with_affine!(force, true),
+        (false, true) => with_affine!(|_| None, true),
     }
     if ps.stress.is_some() {
         grid.reduce_nodes(|o, h| {
@@ -122,7 +131,7 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
 /// first node, whose row length is `p`: node (i, j, k) is `nodes[i + j p + k p²]`.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-pub fn scatter_particle<D: Dim, const S: usize>(
+pub fn scatter_particle<D: Dim, K: Kernel<S>, const S: usize>(
     nodes: &mut [Node<D::Vector>],
     mut grad: Option<&mut [D::Vector]>,
     p: usize,
@@ -141,9 +150,9 @@ pub fn scatter_particle<D: Dim, const S: usize>(
     // The first axis's weights as vectors, once.
     let w: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.w[i][0]));
     let dw: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.dw[i][0]));
-    for k in 0..third_axis_nodes::<D, S>() {
+    for k in 0..third_axis_nodes::<D, K, S>(st) {
         let (wk, dwk) = third_axis::<D, S>(st, k);
-        for j in 0..S {
+        for j in 0..second_axis_nodes::<D, K, S>(st) {
             let base = j * p + k * p * p;
             let wjk = st.w[j][1] * wk;
             // F ∇w = F e_x ∂_x w + F e_y ∂_y w (+ F e_z ∂_z w): the row's factors first.
@@ -155,7 +164,7 @@ pub fn scatter_particle<D: Dim, const S: usize>(
             let row = &mut nodes[base..base + S];
             match affine {
                 None => {
-                    for i in 0..S {
+                    for i in 0..first_axis_nodes::<D, K, S>(st) {
                         row[i].vm += pm * (st.w[i][0] * wjk);
                         if force.is_some() {
                             row[i].new_vel += fx * dw[i] + fyz * w[i];
@@ -168,7 +177,7 @@ pub fn scatter_particle<D: Dim, const S: usize>(
                         r += D::column(&a, 2) * st.d[k][2];
                     }
                     let r = r.with_mass(m);
-                    for i in 0..S {
+                    for i in 0..first_axis_nodes::<D, K, S>(st) {
                         row[i].vm += (r + ax * st.d[i][0]) * (st.w[i][0] * wjk);
                         if force.is_some() {
                             row[i].new_vel += fx * dw[i] + fyz * w[i];
@@ -178,7 +187,7 @@ pub fn scatter_particle<D: Dim, const S: usize>(
             }
             if let Some(g) = grad.as_deref_mut() {
                 let (djk, wdjk) = (st.dw[j][1] * wk, st.w[j][1] * dwk);
-                for i in 0..S {
+                for i in 0..first_axis_nodes::<D, K, S>(st) {
                     g[base + i] +=
                         D::vector([st.dw[i][0] * wjk, st.w[i][0] * djk, st.w[i][0] * wdjk]) * m;
                 }
@@ -191,7 +200,7 @@ pub fn scatter_particle<D: Dim, const S: usize>(
 /// node's force from both columns of F in one `Vec4`, (F_xx, F_xy) ∂_x w_i and
 /// (F_xy, F_yy) ∂_y w_i side by side.
 #[inline(always)]
-pub fn scatter_2d_packed<D: Dim, const S: usize>(
+pub fn scatter_2d_packed<D: Dim, K: Kernel<S>, const S: usize>(
     nodes: &mut [Node<D::Vector>],
     p: usize,
     st: &Stencil<S>,
@@ -204,10 +213,10 @@ pub fn scatter_2d_packed<D: Dim, const S: usize>(
     let pm = mv.with_mass(m);
     let [c0, c1, _] = D::sym_columns(force.unwrap_or(D::Sym::ZERO));
     let f = Vec4::new(c0[0], c0[1], c1[0], c1[1]);
-    for j in 0..S {
+    for j in 0..second_axis_nodes::<D, K, S>(st) {
         let fj = f * Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
         let row = &mut nodes[j * p..j * p + S];
-        for i in 0..S {
+        for i in 0..first_axis_nodes::<D, K, S>(st) {
             row[i].vm += pm * (st.w[i][0] * st.w[j][1]);
             if force.is_some() {
                 let t = fj * Vec4::new(st.dw[i][0], st.dw[i][0], st.w[i][0], st.w[i][0]);
@@ -237,8 +246,8 @@ mod tests {
         let mv = crate::math::Vec2::new(0.3, -1.2);
         let (mut a, mut b) = (nodes.clone(), nodes);
         for st in &stencils {
-            scatter_particle::<D2, S>(&mut a, None, p, st, 2.5, mv, None, Some(f));
-            scatter_2d_packed::<D2, S>(&mut b, p, st, 2.5, mv, Some(f));
+            scatter_particle::<D2, K, S>(&mut a, None, p, st, 2.5, mv, None, Some(f));
+            scatter_2d_packed::<D2, K, S>(&mut b, p, st, 2.5, mv, Some(f));
         }
         for (x, y) in a.iter().zip(&b) {
             assert!((x.vm - y.vm).length() <= 1e-5 * (1.0 + x.vm.length()));

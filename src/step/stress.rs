@@ -21,7 +21,10 @@
 //! update is a long dependency chain, and in lanes four chains advance at once), with the
 //! energies and the finiteness test per group of four. A test checks that they agree.
 
-use super::{first_node, grid_coords, layout, third_axis, third_axis_nodes, with_kernel};
+use super::{
+    Stencils, first_axis_nodes, first_node, layout, second_axis_nodes, third_axis,
+    third_axis_nodes, with_kernel,
+};
 use crate::grid::{Grid, Node, stencil_span};
 use crate::kernel::{Kernel, Stencil};
 use crate::material::{Constitutive, Model};
@@ -125,18 +128,19 @@ pub fn update_stress_first<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize
     let mut st = [Stencil::<S>::at([0; 3]); CHUNK];
     let mut origin = [0usize; CHUNK];
     let mut rates = Rates::<D>::zero();
+    let mut stencils = Stencils::<D, K, S>::new(inv_h, lp);
     for first in (0..x.len()).step_by(CHUNK) {
         let chunk = first..x.len().min(first + CHUNK);
         for (i, q) in chunk.clone().enumerate() {
-            st[i] = K::stencil(grid_coords::<D>(x[q], inv_h), D::DIM, inv_h, lp);
+            st[i] = stencils.at(x, q);
             origin[i] = first_node(layout, particle_node[q], &st[i]);
             let cell = &nodes[origin[i]..origin[i] + span];
             rates.set(
                 i,
                 if D::DIM == 2 {
-                    velocity_gradient_2d_packed::<D, S>(cell, p, &st[i])
+                    velocity_gradient_2d_packed::<D, K, S>(cell, p, &st[i])
                 } else {
-                    velocity_gradient::<D, S>(cell, p, &st[i])
+                    velocity_gradient::<D, K, S>(cell, p, &st[i])
                 },
             );
         }
@@ -158,9 +162,9 @@ pub fn update_stress_first<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize
             }
             let cell = &mut nodes[origin[i]..origin[i] + span];
             if D::DIM == 2 {
-                scatter_force_2d_packed::<D, S>(cell, p, &st[i], sigma * -v);
+                scatter_force_2d_packed::<D, K, S>(cell, p, &st[i], sigma * -v);
             } else {
-                scatter_force::<D, S>(cell, p, &st[i], sigma * -v);
+                scatter_force::<D, K, S>(cell, p, &st[i], sigma * -v);
             }
         }
     }
@@ -381,21 +385,21 @@ fn update_group<S: SymTensor, M: Constitutive>(
 /// Step 2 for one particle: ∇v_p = Σ_i v_i ⊗ ∇w_ip from the nodes' `vel`. `nodes` starts at
 /// the stencil's first node (node (i, j, k) at `i + j p + k p²`).
 #[inline(always)]
-pub fn velocity_gradient<D: Dim, const S: usize>(
+pub fn velocity_gradient<D: Dim, K: Kernel<S>, const S: usize>(
     nodes: &[Node<D::Vector>],
     p: usize,
     st: &Stencil<S>,
 ) -> D::Grad {
     let nodes = &nodes[..stencil_span(D::DIM, p, S)];
     let mut c = [D::Vector::ZERO; 3];
-    for k in 0..third_axis_nodes::<D, S>() {
+    for k in 0..third_axis_nodes::<D, K, S>(st) {
         let (wk, dwk) = third_axis::<D, S>(st, k);
-        for j in 0..S {
+        for j in 0..second_axis_nodes::<D, K, S>(st) {
             let base = j * p + k * p * p;
             let row = &nodes[base..base + S];
             // Σ_i v_i ∂w_i and Σ_i v_i w_i along the row, then the row's weights.
             let (mut a, mut b) = (D::Vector::ZERO, D::Vector::ZERO);
-            for i in 0..S {
+            for i in 0..first_axis_nodes::<D, K, S>(st) {
                 a += row[i].vel() * st.dw[i][0];
                 b += row[i].vel() * st.w[i][0];
             }
@@ -412,17 +416,17 @@ pub fn velocity_gradient<D: Dim, const S: usize>(
 /// [`velocity_gradient`] in 2D, packing specialisation: both columns in one `Vec4`,
 /// (L_xx, L_yx, L_xy, L_yy) = Σ_i (v_i, v_i) ∘ (∂_x w_i ×2, ∂_y w_i ×2).
 #[inline(always)]
-pub fn velocity_gradient_2d_packed<D: Dim, const S: usize>(
+pub fn velocity_gradient_2d_packed<D: Dim, K: Kernel<S>, const S: usize>(
     nodes: &[Node<D::Vector>],
     p: usize,
     st: &Stencil<S>,
 ) -> D::Grad {
     debug_assert_eq!(D::DIM, 2);
     let nodes = &nodes[..stencil_span(2, p, S)];
-    let l = sum_from_first(S, |j| {
+    let l = sum_from_first(second_axis_nodes::<D, K, S>(st), |j| {
         let row = &nodes[j * p..j * p + S];
         let wj = Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
-        sum_from_first(S, |i| {
+        sum_from_first(first_axis_nodes::<D, K, S>(st), |i| {
             let g = Vec4::new(st.dw[i][0], st.dw[i][0], st.w[i][0], st.w[i][0]) * wj;
             let v = row[i].vel();
             Vec4::new(v[0], v[1], v[0], v[1]) * g
@@ -438,7 +442,7 @@ pub fn velocity_gradient_2d_packed<D: Dim, const S: usize>(
 /// Step 4 for one particle: f_i += A ∇w_ip for the symmetric A = −V_p σ_p, into the nodes'
 /// `new_vel`.
 #[inline(always)]
-pub fn scatter_force<D: Dim, const S: usize>(
+pub fn scatter_force<D: Dim, K: Kernel<S>, const S: usize>(
     nodes: &mut [Node<D::Vector>],
     p: usize,
     st: &Stencil<S>,
@@ -446,9 +450,9 @@ pub fn scatter_force<D: Dim, const S: usize>(
 ) {
     let nodes = &mut nodes[..stencil_span(D::DIM, p, S)];
     let [a0, a1, a2] = D::sym_columns(a);
-    for k in 0..third_axis_nodes::<D, S>() {
+    for k in 0..third_axis_nodes::<D, K, S>(st) {
         let (wk, dwk) = third_axis::<D, S>(st, k);
-        for j in 0..S {
+        for j in 0..second_axis_nodes::<D, K, S>(st) {
             let base = j * p + k * p * p;
             // A ∇w = A e_x ∂_x w + A e_y ∂_y w (+ A e_z ∂_z w): the row's factors first.
             let pjk = a0 * (st.w[j][1] * wk);
@@ -457,7 +461,7 @@ pub fn scatter_force<D: Dim, const S: usize>(
                 qjk += a2 * (st.w[j][1] * dwk);
             }
             let row = &mut nodes[base..base + S];
-            for i in 0..S {
+            for i in 0..first_axis_nodes::<D, K, S>(st) {
                 row[i].new_vel += pjk * st.dw[i][0] + qjk * st.w[i][0];
             }
         }
@@ -467,7 +471,7 @@ pub fn scatter_force<D: Dim, const S: usize>(
 /// [`scatter_force`] in 2D, packing specialisation: a node's force from both columns of A in
 /// one `Vec4`, (a_xx, a_xy) ∂_x w_i and (a_xy, a_yy) ∂_y w_i side by side.
 #[inline(always)]
-pub fn scatter_force_2d_packed<D: Dim, const S: usize>(
+pub fn scatter_force_2d_packed<D: Dim, K: Kernel<S>, const S: usize>(
     nodes: &mut [Node<D::Vector>],
     p: usize,
     st: &Stencil<S>,
@@ -477,10 +481,10 @@ pub fn scatter_force_2d_packed<D: Dim, const S: usize>(
     let nodes = &mut nodes[..stencil_span(2, p, S)];
     let [c0, c1, _] = D::sym_columns(a);
     let a = Vec4::new(c0[0], c0[1], c1[0], c1[1]);
-    for j in 0..S {
+    for j in 0..second_axis_nodes::<D, K, S>(st) {
         let wj = a * Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
         let row = &mut nodes[j * p..j * p + S];
-        for i in 0..S {
+        for i in 0..first_axis_nodes::<D, K, S>(st) {
             let t = wj * Vec4::new(st.dw[i][0], st.dw[i][0], st.w[i][0], st.w[i][0]);
             row[i].new_vel += D::vector([t.x + t.z, t.y + t.w, 0.0]);
         }

@@ -20,7 +20,9 @@ const files = wasm.assetPaths(text);
 const assets = files.length
   ? JSON.stringify(Object.fromEntries(files.map((f) => [f, readFileSync(`${root}${dir}${f}`, 'utf8')])))
   : undefined;
-const pg = new wasm.Playground(text, assets);
+// The scene as written (the `fine` quality level), as the native bench loads it: the page's
+// default level resamples it more coarsely.
+const pg = wasm.qualityLevels ? new wasm.Playground(text, assets, 'fine') : new wasm.Playground(text, assets);
 // Warm up: V8 first runs wasm in its baseline compiler (Liftoff) and tiers hot functions up
 // to TurboFan; a step-sized function needs a few dozen calls before it is tiered up.
 const warm = performance.now();
