@@ -34,8 +34,8 @@
 //! 2D uses the same loops with the third axis's weight 1 (LLVM folds it away). They stop at
 //! the last node with weight along each axis ([`Stencil::reach`]): a GIMP stencil has two
 //! along an axis where the particle's domain does not cross a node, three elsewhere. The
-//! passes take the stencils from [`Stencils`], which in 2D evaluates GIMP's for two particles
-//! at once.
+//! passes take the stencils from [`Stencils`], which in native 2D builds evaluates GIMP's for
+//! two particles at once.
 
 pub mod allocate;
 pub mod contact;
@@ -204,8 +204,9 @@ pub fn grid_coords<D: Dim>(x: D::Vector, inv_h: Real) -> [Real; 3] {
 }
 
 /// The particles' stencils, one particle after another, for a pass that walks them in order.
-/// In 2D two particles' GIMP stencils are evaluated at once (natively) ([`Kernel::stencil_pair_2d`], a packing
-/// specialisation of [`Kernel::stencil`]): the second waits here for the pass to ask for it.
+/// In native 2D builds two particles' GIMP stencils are evaluated at once
+/// ([`Kernel::stencil_pair_2d`], a packing specialisation of [`Kernel::stencil`]): the second
+/// waits here for the pass to ask for it.
 pub struct Stencils<D: Dim, K: Kernel<S>, const S: usize> {
     inv_h: Real,
     lp: Real,
