@@ -92,10 +92,11 @@ test('3D: the default scene runs in a worker, a click drops a bunny, the frictio
   const slider = page.locator('input[type=range][data-param="drucker_prager.friction_angle"]');
   await slider.focus();
   for (let i = 0; i < 40; i++) await page.keyboard.press('ArrowLeft');
-  // The page holds the slider's value once the simulation took it.
+  // The page holds the slider's value once the simulation took it: every command the key
+  // presses sent has been answered (they are applied in order).
   await page.waitForFunction(() => {
     const phi = mpm.sim.parameters['drucker_prager.friction_angle'];
-    return phi < 35 && location.hash.includes(`friction_angle=${phi}`);
+    return mpm.session.waiting.size === 0 && phi < 35 && location.hash.includes(`friction_angle=${phi}`);
   }, null, { timeout: 10_000 });
   const phi = await page.evaluate(() => mpm.sim.parameters['drucker_prager.friction_angle']);
   assert.ok(phi < 35 && phi >= 0, `friction angle moved: ${phi}`);
