@@ -8,22 +8,26 @@
 use super::*;
 use crate::sim::AnySimulation;
 
-fn read(path: &str) -> String {
+pub(super) fn read(path: &str) -> String {
     std::fs::read_to_string(format!("{}/{path}", env!("CARGO_MANIFEST_DIR"))).unwrap()
 }
 
-/// A shipped scene at quality level `quality`.
-fn scene_at(file: &str, quality: &str) -> Playground {
-    let text = read(&format!("scenes/{file}"));
-    let assets: HashMap<String, String> = asset_paths(&text)
+/// The files a shipped scene's text references, read from `scenes/`, by the paths it names.
+pub(super) fn shipped_assets(text: &str) -> HashMap<String, String> {
+    asset_paths(text)
         .unwrap()
         .into_iter()
         .map(|p| {
             let t = read(&format!("scenes/{p}"));
             (p, t)
         })
-        .collect();
-    Playground::load(&text, &assets, quality).unwrap()
+        .collect()
+}
+
+/// A shipped scene at quality level `quality`.
+fn scene_at(file: &str, quality: &str) -> Playground {
+    let text = read(&format!("scenes/{file}"));
+    Playground::load(&text, &shipped_assets(&text), quality).unwrap()
 }
 
 /// A shipped scene at the default quality, with at least the particles a recognisable scene

@@ -1002,14 +1002,7 @@ mod tests {
         .unwrap();
         for name in names {
             let text = read(&format!("scenes/{name}"));
-            let assets: HashMap<String, String> = asset_paths(&text)
-                .unwrap()
-                .into_iter()
-                .map(|p| {
-                    let t = read(&format!("scenes/{p}"));
-                    (p, t)
-                })
-                .collect();
+            let assets = super::figures::shipped_assets(&text);
             if !assets.is_empty() {
                 let e = Playground::from_json(&text).unwrap_err().to_string();
                 assert!(e.contains("not provided"), "{name}: {e}");
