@@ -179,7 +179,7 @@ pub const CFL: Field = Field {
     field: "cfl",
     label: "CFL number",
     symbol: "C",
-    help: "time step = C · h / (wave speed + |v|max)",
+    help: "time step = C · h / (wave speed + |v|max); above about 0.6 stiff solids may go unstable",
     min: 0.05,
     access: Access::World {
         get: |s| s.cfl,

@@ -16,6 +16,7 @@ fn vibrating_bar_period_and_amplitude() {
     let n = Numerics::new(0.025, KernelKind::Gimp).flip(1.0);
     let b2 = vibrating_bar::<D2>("vibrating_bar_2d.json", &n, 3.0);
     eprintln!("bar 2D: {b2:?}");
+    assert!(b2.failure.is_none(), "2D bar failed {:?}", b2.failure);
     assert!(
         b2.period_error().abs() < 0.01,
         "2D period {} vs {}",
@@ -32,6 +33,7 @@ fn vibrating_bar_period_and_amplitude() {
     let n3 = Numerics::new(0.05, KernelKind::Gimp).flip(1.0);
     let b3 = vibrating_bar::<D3>("vibrating_bar_3d.json", &n3, 2.0);
     eprintln!("bar 3D: {b3:?}");
+    assert!(b3.failure.is_none(), "3D bar failed {:?}", b3.failure);
     assert!(
         b3.period_error().abs() < 0.02,
         "3D period {} vs {}",

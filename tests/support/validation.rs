@@ -167,6 +167,8 @@ pub struct Bar {
     pub amplitude_kept: f64,
     /// ‖q − q_exact‖₂ / ‖q_exact‖₂ over the run (the modal displacement history).
     pub l2_error: f64,
+    /// Why the run stopped early (the solver's error and the time), if it did.
+    pub failure: Option<String>,
     pub cost: Cost,
 }
 
@@ -209,9 +211,13 @@ pub fn vibrating_bar<D: Dim>(file: &str, n: &Numerics, periods: f64) -> Bar {
     let start = Instant::now();
     let (mut t, mut q) = (vec![0.0], vec![0.0]);
     let (mut err2, mut ref2) = (0.0, 0.0);
+    let mut failure = None;
     while sim.time() < periods * period_exact {
         let dt = sim.stable_dt();
-        sim.step().expect("bar step");
+        if let Err(e) = sim.step() {
+            failure = Some(format!("at t = {:.4} s: {e}", sim.time()));
+            break;
+        }
         let p = sim.particles();
         let s: f64 = (0..p.len())
             .map(|i| {
@@ -252,6 +258,7 @@ pub fn vibrating_bar<D: Dim>(file: &str, n: &Numerics, periods: f64) -> Bar {
         amplitude_exact,
         amplitude_kept,
         l2_error: (err2 / ref2).sqrt(),
+        failure,
         cost,
     }
 }
