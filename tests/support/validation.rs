@@ -33,6 +33,9 @@ pub struct Numerics {
     /// test; `None` keeps the scene's (by default APIC for sand, PIC for solids).
     pub apic: Option<bool>,
     pub cfl: f64,
+    /// Grain diameter (m) of a rate-dependent friction μ(I) for the body under test when it
+    /// is sand; `None` keeps the scene's (rate-independent unless the scene says).
+    pub mu_i: Option<f64>,
 }
 
 impl Numerics {
@@ -44,7 +47,13 @@ impl Numerics {
             flip: None,
             apic: None,
             cfl: 0.4,
+            mu_i: None,
         }
+    }
+    /// Sand with the μ(I) friction of grain diameter `d` (m).
+    pub fn mu_i(mut self, d: f64) -> Self {
+        self.mu_i = Some(d);
+        self
     }
     pub fn apic(mut self) -> Self {
         self.apic = Some(true);
@@ -83,12 +92,15 @@ impl Numerics {
         if self.apic.is_some() {
             scene.bodies[0].apic = self.apic;
         }
+        if let (Some(d), Material::DruckerPrager(m)) = (self.mu_i, &mut scene.bodies[0].material) {
+            m.mu_i = Some(mpm::material::mu_i::MuIParams { grain_diameter: d });
+        }
     }
     /// A short label, e.g. `gimp h=0.0125 ppc=2 α=1 cfl=0.4` (and ` apic`).
     pub fn label(&self) -> String {
         let alpha = self.flip.map_or("scene".to_string(), |a| format!("{a}"));
         format!(
-            "{} h={} ppc={} α={alpha} cfl={}{}",
+            "{} h={} ppc={} α={alpha} cfl={}{}{}",
             kernel_name(self.kernel),
             self.cell_size,
             self.ppc,
@@ -97,7 +109,9 @@ impl Numerics {
                 Some(true) => " apic",
                 Some(false) => " pic",
                 None => "",
-            }
+            },
+            self.mu_i
+                .map_or(String::new(), |d| format!(" μ(I) d={}mm", 1e3 * d))
         )
     }
 }
