@@ -1107,6 +1107,10 @@ pub struct HeapSlope {
     pub final_speed: f64,
     /// Widening of the heap (m).
     pub widening: f64,
+    /// Mean over the first second (sampled every 0.01 s) of the fraction of the heap's
+    /// particles whose stress the tension cut-off has returned to the cone's apex (zero
+    /// pressure).
+    pub apex_fraction: f64,
     pub cost: Cost,
 }
 
@@ -1157,9 +1161,16 @@ pub fn heap_slope(
     let start = Instant::now();
     let (mut peak_speed, mut failed_at) = (0.0f64, None);
     let mut creep_start: Option<Vec<[f64; 3]>> = None;
+    let (mut apex_sum, mut apex_samples) = (0.0, 0usize);
     while sim.time() < duration - 1e-9 {
         sim.advance(0.01).expect("heap step");
         peak_speed = peak_speed.max(sim.diagnostics().max_speed);
+        if sim.time() <= 1.0 + 1e-9 {
+            let p = sim.particles();
+            let at_apex = p.stress.iter().filter(|s| s.trace() > -1e-3).count();
+            apex_sum += at_apex as f64 / p.len() as f64;
+            apex_samples += 1;
+        }
         if failed_at.is_none() && initial_angle > phi_ps && flank(&sim) <= halfway {
             failed_at = Some(sim.time());
         }
@@ -1189,6 +1200,7 @@ pub fn heap_slope(
         peak_speed,
         final_speed: sim.diagnostics().max_speed,
         widening: width(&sim) - w0,
+        apex_fraction: apex_sum / apex_samples.max(1) as f64,
         cost,
     }
 }
