@@ -4,7 +4,9 @@
 //!
 //! `taskset -c 0 cargo bench --bench validate` (or `cargo xtask validate`; about 10 minutes
 //! on one core). Arguments filter the cases: `bar`, `wave`, `squeeze`, `collapse`, `axi`,
-//! `repose`, `slopes`, `flip`, `resting`.
+//! `repose`, `slopes`, `flip`, `resting`; `stopping` (where flowing sand comes to rest, with
+//! and without μ(I): about 25 minutes) runs only when named and writes
+//! `docs/validation-report-stopping.md`.
 
 #[path = "support/report.rs"]
 mod report;
