@@ -4,7 +4,9 @@
 //!
 //! `taskset -c 0 cargo bench --bench validate` (or `cargo xtask validate`; about 10 minutes
 //! on one core). Arguments filter the cases: `bar`, `wave`, `squeeze`, `collapse`, `axi`,
-//! `repose`, `slopes`, `flip`, `resting`.
+//! `repose`, `slopes`, `flip`, `resting`; `stopping` (where flowing sand comes to rest, with
+//! and without μ(I): about 25 minutes) runs only when named and writes
+//! `docs/validation-report-stopping.md`.
 
 #[path = "support/report.rs"]
 mod report;
@@ -404,6 +406,13 @@ fn main() {
         );
     }
     std::fs::write(&path, &md).unwrap();
+    // Opt-in (`cargo bench --bench validate -- stopping`): where flowing sand comes to rest,
+    // over the cell size and the numerical and constitutive options, with and without the
+    // rate-dependent friction μ(I).
+    if filters.0.iter().any(|f| f == "stopping") {
+        stopping_study(&mut md, &path);
+    }
+    std::fs::write(&path, &md).unwrap();
     if want("flip") {
         let mut rows = Vec::new();
         let alphas = [0.0, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95, 1.0];
@@ -499,4 +508,135 @@ fn main() {
     }
     std::fs::write(&path, md).unwrap();
     println!("wrote {}", path.display());
+}
+
+/// The over-steep slope (φ = 32°, θ = 40°, 3 s) under each numerical factor at h = 0.01 and
+/// 0.005 m, and at 0.0025 m; the heaps (φ = 32°, 45°) and the a = 2 plane collapse at h = 0.01
+/// and 0.005 m; each rate-independent and with μ(I) for a sand grain (d = 0.5 mm) and a coarse
+/// one (d = 2 mm).
+fn stopping_study(md: &mut String, path: &std::path::Path) {
+    let gimp = |h: f64| Numerics::new(h, KernelKind::Gimp);
+    let (fine, coarse) = (0.5e-3, 2e-3);
+    let mut cases: Vec<(&str, f64, Numerics)> = Vec::new();
+    for h in [0.01, 0.005] {
+        cases.push(("", 3.5e5, gimp(h)));
+        cases.push(("ppc 3", 3.5e5, gimp(h).ppc(3)));
+        cases.push(("ppc 4", 3.5e5, gimp(h).ppc(4)));
+        cases.push(("E / 3", 3.5e5 / 3.0, gimp(h)));
+        cases.push(("E × 3", 3.5e5 * 3.0, gimp(h)));
+        cases.push(("CFL 0.2", 3.5e5, gimp(h).cfl(0.2)));
+        cases.push(("α = 0", 3.5e5, gimp(h).flip(0.0)));
+        cases.push(("μ(I)", 3.5e5, gimp(h).mu_i(fine)));
+        cases.push(("μ(I)", 3.5e5, gimp(h).mu_i(coarse)));
+    }
+    cases.push(("", 3.5e5, gimp(0.0025)));
+    cases.push(("μ(I)", 3.5e5, gimp(0.0025).mu_i(fine)));
+    let mut rows = Vec::new();
+    for (what, e, n) in cases {
+        let r = heap_slope(32.0, 40.0, e, &n, 3.0);
+        println!("stopping slope {what} E={e} {}: {r:?}", n.label());
+        rows.push(vec![
+            n.label(),
+            what.to_string(),
+            format!("{e:.2e}"),
+            r.failed_at.map_or("—".to_string(), |t| format!("{t:.2}")),
+            format!("{:.1}", r.angle),
+            format!("{:+.1}°", r.angle - r.plane_strain_angle),
+            format!("{:.3}", r.peak_speed),
+            format!("{:.1e}", r.final_speed),
+            format!("{:.3}", r.apex_fraction),
+            format!("{:.1}", r.cost.wall_seconds),
+        ]);
+    }
+    let _ = writeln!(
+        md,
+        "## Where flowing sand stops: the over-steep slope (φ = 32°, φ_ps = 30.4°, θ = 40°, 3 s)\n\nPeak speed: the largest particle speed seen. At apex: the mean fraction of particles at zero pressure (the tension cut-off) over the first second.\n\n{}",
+        table(
+            &[
+                "numerics",
+                "factor",
+                "E (Pa)",
+                "failed at (s)",
+                "flanks after 3 s (°)",
+                "vs φ_ps",
+                "peak speed (m/s)",
+                "final speed (m/s)",
+                "at apex",
+                "s"
+            ],
+            &rows
+        )
+    );
+    std::fs::write(path, &*md).unwrap();
+    let mut rows = Vec::new();
+    for phi in [32.0, 45.0] {
+        for h in [0.01, 0.005] {
+            for n in [gimp(h), gimp(h).mu_i(fine), gimp(h).mu_i(coarse)] {
+                let p = repose_pile(&n, 1.2 * 0.24 / LIFT_SPEED + 6.0, Some(phi), LIFT_SPEED);
+                println!("stopping repose φ={phi} {}: {p:?}", n.label());
+                rows.push(vec![
+                    n.label(),
+                    format!("{phi}"),
+                    format!("{:.1}", p.plane_strain_angle),
+                    format!("{:.1} ({:.1}, {:.1})", p.angle, p.flanks[0], p.flanks[1]),
+                    format!("{:+.1}°", p.angle - p.plane_strain_angle),
+                    format!("{:.1}", p.cost.wall_seconds),
+                ]);
+            }
+        }
+    }
+    let _ = writeln!(
+        md,
+        "## Where flowing sand stops: heaps (lifted walls at {LIFT_SPEED} m/s, floor μ = tan φ)\n\n{}",
+        table(
+            &[
+                "numerics",
+                "φ (°)",
+                "φ_ps (°)",
+                "heap angle (°) (left, right)",
+                "vs φ_ps",
+                "s"
+            ],
+            &rows
+        )
+    );
+    std::fs::write(path, &*md).unwrap();
+    let mut rows = Vec::new();
+    for h in [0.01, 0.005] {
+        for n in [gimp(h), gimp(h).mu_i(fine), gimp(h).mu_i(coarse)] {
+            let c = column_collapse("column_collapse_a2_2d.json", &n, 4.0);
+            println!("stopping collapse a=2 {}: {c:?}", n.label());
+            rows.push(vec![
+                n.label(),
+                format!("{:.3} / {:.3}", c.runout, c.runout_edge),
+                format!(
+                    "{} / {}",
+                    pct(c.runout / lube_runout(2.0) - 1.0),
+                    pct(c.runout_edge / lube_runout(2.0) - 1.0)
+                ),
+                format!("{:.3}", c.height),
+                pct(c.height / lube_height(2.0) - 1.0),
+                format!("{:.2}", c.settled_at),
+                format!("{:.1}", c.cost.wall_seconds),
+            ]);
+        }
+    }
+    let _ = writeln!(
+        md,
+        "## Where flowing sand stops: plane collapse a = 2 (Lube 2005: (L∞−L0)/L0 = {:.2}, H∞/H0 = {:.3})\n\n{}",
+        lube_runout(2.0),
+        lube_height(2.0),
+        table(
+            &[
+                "numerics",
+                "(L∞−L0)/L0 farthest / edge",
+                "error",
+                "H∞/H0",
+                "error",
+                "at rest (s)",
+                "s"
+            ],
+            &rows
+        )
+    );
 }

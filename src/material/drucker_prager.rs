@@ -12,7 +12,12 @@
 //! Then Bui et al.'s two safeguards: a stress past the apex (tension) has its hydrostatic part
 //! shifted back to the apex, and a remaining f > 0 is removed by scaling the deviatoric stress
 //! back onto the cone. Cohesionless sand (c = 0) therefore carries no tension.
+//!
+//! Optionally the friction rises with the inertial number of the flow, μ(I) of Jop et al.
+//! (2006) ([`super::mu_i`]): the cone's α_φ is then formed per particle from its strain rate
+//! and pressure, and equals the rate-independent one at rest.
 
+use super::mu_i::{MuI, MuIParams};
 use super::{Constitutive, Elastic, ElasticParams, StressUpdate};
 use crate::error::{Error, Result, check_non_negative, check_range};
 use crate::math::{Lane, Real, SymTensor};
@@ -33,6 +38,9 @@ pub struct DruckerPragerParams {
     pub dilatancy_angle: f64,
     #[serde(default)]
     pub cohesion: f64,
+    /// Rate-dependent friction μ(I) (off when absent).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mu_i: Option<MuIParams>,
 }
 
 /// tan θ / √(9 + 12 tan²θ) (Eq. 13).
@@ -70,7 +78,11 @@ impl DruckerPragerParams {
                 ),
             ));
         }
-        check_non_negative(format!("{path}.cohesion"), self.cohesion, "Pa")
+        check_non_negative(format!("{path}.cohesion"), self.cohesion, "Pa")?;
+        match &self.mu_i {
+            Some(m) => m.validate(&format!("{path}.mu_i")),
+            None => Ok(()),
+        }
     }
     /// f = √J2 + α_φ I1 − k_c = 0 with I1 = −3p and √J2 = q/√3: q = √3 (k_c + 3 α_φ p), a cone
     /// whose apex is at p = −k_c / (3 α_φ) (the model's apex I1 = k_c/α_φ).
@@ -105,6 +117,9 @@ impl DruckerPragerParams {
         let inv_hardening =
             1.0 / (elastic.g as f64 + 9.0 * alpha_phi * alpha_psi * elastic.k as f64);
         DruckerPrager {
+            mu_i: self
+                .mu_i
+                .map(|m| m.model(self.friction_angle, self.density)),
             elastic,
             alpha_phi: alpha_phi as Real,
             alpha_psi: alpha_psi as Real,
@@ -126,6 +141,8 @@ pub struct DruckerPrager {
     pub apex: Real,
     /// 1/(G + 9 α_φ α_ψ K), the denominator of Eq. 15.
     pub inv_hardening: Real,
+    /// Rate-dependent friction: α_φ, the denominator and the apex per particle.
+    pub mu_i: Option<MuI>,
 }
 
 impl DruckerPrager {
@@ -153,7 +170,26 @@ impl Constitutive for DruckerPrager {
         let s_trial = trial - S::iso(i1_trial * (1.0 / 3.0));
         let j2_trial = s_trial.ddot(s_trial) * 0.5;
         let sqrt_j2_trial = j2_trial.sqrt();
-        let f = sqrt_j2_trial + i1_trial * self.alpha_phi - self.k_c;
+        // The cone: fixed, or widened by the flow's inertial number (the same in every lane
+        // when μ(I) is off; the branch is on the model, not on a particle).
+        let (alpha_phi, apex, inv_hardening) = match &self.mu_i {
+            None => (
+                S::Scalar::splat(self.alpha_phi),
+                S::Scalar::splat(self.apex),
+                S::Scalar::splat(self.inv_hardening),
+            ),
+            Some(m) => {
+                let a = m.alpha_phi(rate, i1_trial);
+                let apex = if self.k_c == 0.0 {
+                    S::Scalar::ZERO
+                } else {
+                    S::Scalar::splat(self.k_c) / a
+                };
+                let inv = S::Scalar::ONE / (a * (9.0 * e.k * self.alpha_psi) + g);
+                (a, apex, inv)
+            }
+        };
+        let f = sqrt_j2_trial + i1_trial * alpha_phi - self.k_c;
         let energy_trial = e.energy_from_invariants(j2_trial, i1_trial * (1.0 / 3.0));
         // 1/√J2 is formed while the correction below is (the division is off the critical
         // path: at steady state every particle of a flowing sand body is plastic).
@@ -161,14 +197,14 @@ impl Constitutive for DruckerPrager {
             S::Scalar::select_gt(sqrt_j2_trial, zero, S::Scalar::ONE / sqrt_j2_trial, zero);
         // Plastic correction of Eq. 14 with the multiplier Δλ (radial in the deviatoric
         // plane), zero inside the cone. No branch: every lane does the same arithmetic.
-        let dl = f.max(zero) * self.inv_hardening;
+        let dl = f.max(zero) * inv_hardening;
         // Safeguard 1 (tension cracking): shift the hydrostatic part back to the apex.
-        let i1 = (i1_trial - dl * (9.0 * e.k * self.alpha_psi)).min(S::Scalar::splat(self.apex));
+        let i1 = (i1_trial - dl * (9.0 * e.k * self.alpha_psi)).min(apex);
         // Below zero the return passes the cone's axis: only possible beyond the apex.
         // Safeguard 2: scale the deviatoric stress back onto the cone.
         let sqrt_j2 = (sqrt_j2_trial - dl * g)
             .max(zero)
-            .min(-(i1 * self.alpha_phi) + self.k_c);
+            .min(-(i1 * alpha_phi) + self.k_c);
         let ratio = sqrt_j2 * inv_sqrt_j2_trial;
         // As corrections of the trial stress, so that an elastic step (ratio 1, I1 unchanged)
         // leaves it exactly.
@@ -200,6 +236,7 @@ mod tests {
             friction_angle: phi,
             dilatancy_angle: psi,
             cohesion: c,
+            mu_i: None,
         }
         .model()
     }
@@ -247,6 +284,64 @@ mod tests {
             -s.trace() / 3.0
         );
         assert!(ep > 0.0 && diss > 0.0);
+    }
+
+    /// With μ(I) a steady simple shear at rate γ̇ under pressure p flows on the cone of
+    /// μ(I), I = γ̇ d/√(p/ρ): √J2 = 3 α_φ(I) p, above the rate-independent 3 α_φ p, and the
+    /// faster the shear the higher; the pressure is unchanged (ψ = 0).
+    #[test]
+    fn mu_i_shear_flows_on_the_cone_of_its_inertial_number() {
+        let p = 500.0;
+        let mut params = DruckerPragerParams {
+            youngs_modulus: 3.5e5,
+            poisson_ratio: 0.3,
+            density: 2200.0,
+            friction_angle: 32.0,
+            dilatancy_angle: 0.0,
+            cohesion: 0.0,
+            mu_i: None,
+        };
+        let plain = params.model();
+        params.mu_i = Some(MuIParams {
+            grain_diameter: 1e-3,
+        });
+        let m = params.model();
+        let law = m.mu_i.unwrap();
+        let mut last = 3.0 * plain.alpha_phi * p;
+        for gamma in [1.0, 10.0, 100.0] {
+            let (s, _, _) = drive(
+                &m,
+                confined(p),
+                [[0.0, gamma, 0.0], [0.0; 3], [0.0; 3]],
+                2e-5,
+                2000,
+                |_, _| {},
+            );
+            let i = law.inertial_number(gamma, p);
+            let mu = law.friction(i) as f64;
+            let tau = 3.0 * p as f64 * mu / (9.0 + 12.0 * mu * mu).sqrt();
+            let got = s.j2().sqrt() as f64;
+            assert!(
+                (got - tau).abs() < 1e-3 * tau,
+                "γ̇ = {gamma}: {got} vs {tau}"
+            );
+            assert!(got > last as f64, "γ̇ = {gamma}: {got} not above {last}");
+            last = got as Real;
+            assert!((s.trace() / 3.0 + p).abs() < 1e-3 * p);
+        }
+        // at rest the cone is the rate-independent one
+        let mut s = confined(p);
+        let u = m.update(&mut s, Sym3::ZERO, Default::default(), 1e-3);
+        assert_eq!((s, u.plastic_strain), (confined(p), 0.0));
+        let json = r#"{"youngs_modulus": 3.5e5, "poisson_ratio": 0.3, "density": 2200,
+            "friction_angle": 32, "mu_i": {"grain_diameter": -1}}"#;
+        let bad: DruckerPragerParams = serde_json::from_str(json).unwrap();
+        assert_eq!(
+            bad.validate("bodies[0].material.drucker_prager")
+                .unwrap_err()
+                .to_string(),
+            "bodies[0].material.drucker_prager.mu_i.grain_diameter = -1: must be in (0, 0.1] (m)"
+        );
     }
 
     #[test]
@@ -346,6 +441,7 @@ mod tests {
             friction_angle: 90.0,
             dilatancy_angle: 0.0,
             cohesion: 0.0,
+            mu_i: None,
         };
         assert_eq!(
             p.validate("bodies[1].material.drucker_prager")

@@ -7,6 +7,7 @@
 
 pub mod drucker_prager;
 pub mod elastic;
+pub mod mu_i;
 pub mod von_mises;
 
 pub use drucker_prager::{DruckerPrager, DruckerPragerParams};
@@ -112,6 +113,7 @@ impl Material {
             friction_angle,
             dilatancy_angle,
             cohesion,
+            mu_i: None,
         })
     }
 
@@ -444,6 +446,18 @@ mod tests {
                 unreachable!()
             };
             check_lanes(&m);
+            // with the rate-dependent friction μ(I)
+            let mut with = Material::drucker_prager(e, nu, rho, 30.0, 10.0, c);
+            if let Material::DruckerPrager(p) = &mut with {
+                p.mu_i = Some(mu_i::MuIParams {
+                    grain_diameter: 1e-3,
+                });
+            }
+            let Model::DruckerPrager(m) = with.model() else {
+                unreachable!()
+            };
+            check_lanes(&m);
+            check_energy(&m, 300);
         }
     }
 

@@ -33,6 +33,9 @@ pub struct Numerics {
     /// test; `None` keeps the scene's (by default APIC for sand, PIC for solids).
     pub apic: Option<bool>,
     pub cfl: f64,
+    /// Grain diameter (m) of a rate-dependent friction μ(I) for the body under test when it
+    /// is sand; `None` keeps the scene's (rate-independent unless the scene says).
+    pub mu_i: Option<f64>,
 }
 
 impl Numerics {
@@ -44,7 +47,13 @@ impl Numerics {
             flip: None,
             apic: None,
             cfl: 0.4,
+            mu_i: None,
         }
+    }
+    /// Sand with the μ(I) friction of grain diameter `d` (m).
+    pub fn mu_i(mut self, d: f64) -> Self {
+        self.mu_i = Some(d);
+        self
     }
     pub fn apic(mut self) -> Self {
         self.apic = Some(true);
@@ -83,12 +92,15 @@ impl Numerics {
         if self.apic.is_some() {
             scene.bodies[0].apic = self.apic;
         }
+        if let (Some(d), Material::DruckerPrager(m)) = (self.mu_i, &mut scene.bodies[0].material) {
+            m.mu_i = Some(mpm::material::mu_i::MuIParams { grain_diameter: d });
+        }
     }
     /// A short label, e.g. `gimp h=0.0125 ppc=2 α=1 cfl=0.4` (and ` apic`).
     pub fn label(&self) -> String {
         let alpha = self.flip.map_or("scene".to_string(), |a| format!("{a}"));
         format!(
-            "{} h={} ppc={} α={alpha} cfl={}{}",
+            "{} h={} ppc={} α={alpha} cfl={}{}{}",
             kernel_name(self.kernel),
             self.cell_size,
             self.ppc,
@@ -97,7 +109,9 @@ impl Numerics {
                 Some(true) => " apic",
                 Some(false) => " pic",
                 None => "",
-            }
+            },
+            self.mu_i
+                .map_or(String::new(), |d| format!(" μ(I) d={}mm", 1e3 * d))
         )
     }
 }
@@ -1100,6 +1114,10 @@ pub struct HeapSlope {
     pub final_speed: f64,
     /// Widening of the heap (m).
     pub widening: f64,
+    /// Mean over the first second (sampled every 0.01 s) of the fraction of the heap's
+    /// particles whose stress the tension cut-off has returned to the cone's apex (zero
+    /// pressure).
+    pub apex_fraction: f64,
     pub cost: Cost,
 }
 
@@ -1150,9 +1168,16 @@ pub fn heap_slope(
     let start = Instant::now();
     let (mut peak_speed, mut failed_at) = (0.0f64, None);
     let mut creep_start: Option<Vec<[f64; 3]>> = None;
+    let (mut apex_sum, mut apex_samples) = (0.0, 0usize);
     while sim.time() < duration - 1e-9 {
         sim.advance(0.01).expect("heap step");
         peak_speed = peak_speed.max(sim.diagnostics().max_speed);
+        if sim.time() <= 1.0 + 1e-9 {
+            let p = sim.particles();
+            let at_apex = p.stress.iter().filter(|s| s.trace() > -1e-3).count();
+            apex_sum += at_apex as f64 / p.len() as f64;
+            apex_samples += 1;
+        }
         if failed_at.is_none() && initial_angle > phi_ps && flank(&sim) <= halfway {
             failed_at = Some(sim.time());
         }
@@ -1182,6 +1207,7 @@ pub fn heap_slope(
         peak_speed,
         final_speed: sim.diagnostics().max_speed,
         widening: width(&sim) - w0,
+        apex_fraction: apex_sum / apex_samples.max(1) as f64,
         cost,
     }
 }
