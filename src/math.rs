@@ -515,8 +515,10 @@ macro_rules! impl_sym_arith {
             fn add_assign(&mut self, o: Self) { $(self.$f += o.$f;)* }
         }
         impl<T: Lane> $t<T> {
+            /// One test for all components: x·0 is ±0 exactly when x is finite (NaN
+            /// otherwise), so the sum of the x·0 is finite exactly when every x is.
             #[inline(always)]
-            fn all_finite(&self) -> bool { true $(&& self.$f.all_finite())* }
+            fn all_finite(&self) -> bool { (T::ZERO $(+ self.$f * 0.0)*).all_finite() }
             #[inline(always)]
             fn scale_by(self, k: T) -> Self { $t { $($f: self.$f * k),* } }
         }

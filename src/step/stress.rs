@@ -272,8 +272,10 @@ pub fn update_one<D: Dim, M: Constitutive>(
 
 /// Steps 2–3 for the particles of `ps` (at most [`CHUNK`], the first of them particle
 /// `first`), whose rates and spins are the first entries of `rates` — SIMD specialisation of
-/// [`update_one`]: four particles per model call. A short chunk is padded with zero stress
-/// and rate and a real particle's volume, whose update adds nothing.
+/// [`update_one`]: four particles per model call. A full chunk is updated where it is stored;
+/// a short one is copied and padded with zero stress and rate and a real particle's volume,
+/// whose update adds nothing. (Copying every chunk cost four `memcpy` calls per chunk, and
+/// the SIMD registers they clobber.)
 #[inline(always)]
 pub fn update_chunk<D: Dim, M: Constitutive>(
     model: &M,
@@ -284,14 +286,23 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
     report: &mut StressReport,
 ) {
     let len = ps.stress.len();
-    let mut stress = [D::Sym::ZERO; CHUNK];
-    let mut volume = [ps.volume[0]; CHUNK];
-    stress[..len].copy_from_slice(ps.stress);
-    volume[..len].copy_from_slice(ps.volume);
-    if len < CHUNK {
+    let (mut pad_stress, mut pad_volume) = ([D::Sym::ZERO; CHUNK], [0.0; CHUNK]);
+    let (stress, volume, short): (&mut [D::Sym; CHUNK], &mut [Real; CHUNK], _) = if len == CHUNK {
+        let stress = ps.stress.try_into().expect("a full chunk");
+        let volume = ps.volume.try_into().expect("a full chunk");
+        (stress, volume, None)
+    } else {
+        pad_stress[..len].copy_from_slice(ps.stress);
+        pad_volume = [ps.volume[0]; CHUNK];
+        pad_volume[..len].copy_from_slice(ps.volume);
         rates.rate[len..].fill(D::Sym::ZERO);
         rates.spin[len..].fill(Default::default());
-    }
+        (
+            &mut pad_stress,
+            &mut pad_volume,
+            Some((ps.stress, ps.volume)),
+        )
+    };
     let mut plastic = [0.0; CHUNK];
     // The eight particles in two groups of four lanes, updated in one call: the two groups'
     // dependency chains interleave.
@@ -299,7 +310,7 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
         let group = |a: &[D::Sym]| -> [D::Sym; LANES] { a[g..g + LANES].try_into().unwrap() };
         let spins: [_; LANES] = rates.spin[g..g + LANES].try_into().unwrap();
         (
-            D::Sym::pack(&group(&stress)),
+            D::Sym::pack(&group(&stress[..])),
             D::Sym::pack(&group(&rates.rate)),
             D::Sym::pack_spin(&spins),
             Lanes::from_slice(&volume[g..g + LANES]),
@@ -329,8 +340,6 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
         report.dissipated += u.dissipated;
         report.max_volume = max(report.max_volume, u.max_volume);
     }
-    ps.stress.copy_from_slice(&stress[..len]);
-    ps.volume.copy_from_slice(&volume[..len]);
     if M::PLASTIC {
         for (e, de) in ps.plastic_strain.iter_mut().zip(plastic) {
             *e += de;
@@ -342,6 +351,10 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
         if !ok {
             report.bad(first + i, stress[i].is_finite());
         }
+    }
+    if let Some((to_stress, to_volume)) = short {
+        to_stress.copy_from_slice(&pad_stress[..len]);
+        to_volume.copy_from_slice(&pad_volume[..len]);
     }
 }
 
