@@ -286,14 +286,13 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
     report: &mut StressReport,
 ) {
     let len = ps.stress.len();
-    let (mut pad_stress, mut pad_volume) = ([D::Sym::ZERO; CHUNK], [0.0; CHUNK]);
+    let (mut pad_stress, mut pad_volume) = ([D::Sym::ZERO; CHUNK], [ps.volume[0]; CHUNK]);
     let (stress, volume, short): (&mut [D::Sym; CHUNK], &mut [Real; CHUNK], _) = if len == CHUNK {
         let stress = ps.stress.try_into().expect("a full chunk");
         let volume = ps.volume.try_into().expect("a full chunk");
         (stress, volume, None)
     } else {
         pad_stress[..len].copy_from_slice(ps.stress);
-        pad_volume = [ps.volume[0]; CHUNK];
         pad_volume[..len].copy_from_slice(ps.volume);
         rates.rate[len..].fill(D::Sym::ZERO);
         rates.spin[len..].fill(Default::default());
