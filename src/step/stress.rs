@@ -286,12 +286,14 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
     report: &mut StressReport,
 ) {
     let len = ps.stress.len();
-    let (mut pad_stress, mut pad_volume) = ([D::Sym::ZERO; CHUNK], [ps.volume[0]; CHUNK]);
+    // Set only for a short chunk (zeroing them for every chunk cost 4 instructions a particle).
+    let (mut pad_stress, mut pad_volume);
     let (stress, volume, short): (&mut [D::Sym; CHUNK], &mut [Real; CHUNK], _) = if len == CHUNK {
         let stress = ps.stress.try_into().expect("a full chunk");
         let volume = ps.volume.try_into().expect("a full chunk");
         (stress, volume, None)
     } else {
+        (pad_stress, pad_volume) = ([D::Sym::ZERO; CHUNK], [ps.volume[0]; CHUNK]);
         pad_stress[..len].copy_from_slice(ps.stress);
         pad_volume[..len].copy_from_slice(ps.volume);
         rates.rate[len..].fill(D::Sym::ZERO);
@@ -352,8 +354,8 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
         }
     }
     if let Some((to_stress, to_volume)) = short {
-        to_stress.copy_from_slice(&pad_stress[..len]);
-        to_volume.copy_from_slice(&pad_volume[..len]);
+        to_stress.copy_from_slice(&stress[..len]);
+        to_volume.copy_from_slice(&volume[..len]);
     }
 }
 
