@@ -10,7 +10,7 @@
 //! are added to the blocks that own those nodes ([`Grid::reduce_halo`]); before the particles
 //! gather, the owners' values are copied into the halos ([`Grid::fill_halo`]).
 
-use crate::math::{Dim, Real, VectorOps};
+use crate::math::{Dim, Real, VectorOps, max, min};
 
 /// Ghost nodes before the domain's lower corner along each axis: node `n` sits at
 /// `x = (n − GHOST) h`, so that every stencil index is non-negative.
@@ -108,15 +108,15 @@ impl<D: Dim> GridIndex<D> {
     /// Allocates the blocks touched by the stencils of particles whose first stencil nodes are
     /// `bases`, all within `[lo, hi]`; `support` is the number of stencil nodes per axis.
     /// Slots are assigned in table order, so blocks are laid out in space-filling order. `out`
-    /// receives, for each particle `p`, `locate(slot, p)` with `slot` the block holding its
-    /// first stencil node.
+    /// receives, for each particle, `locate(slot, base)` with `base` its first stencil node and
+    /// `slot` the block holding that node.
     pub fn rebuild(
         &mut self,
         bases: &[[i32; 3]],
         (mut lo, mut hi): ([i32; 3], [i32; 3]),
         support: usize,
         out: &mut Vec<u32>,
-        locate: impl Fn(u32, usize) -> u32,
+        locate: impl Fn(u32, &[i32; 3]) -> u32,
     ) {
         let slots = out;
         self.blocks.clear();
@@ -187,8 +187,8 @@ impl<D: Dim> GridIndex<D> {
                 ]);
             }
         }
-        for (p, s) in slots.iter_mut().enumerate() {
-            *s = locate(self.table[*s as usize], p);
+        for (s, base) in slots.iter_mut().zip(bases) {
+            *s = locate(self.table[*s as usize], base);
         }
     }
 
@@ -453,27 +453,42 @@ impl<D: Dim> Grid<D> {
         if support - 1 != self.layout.halo {
             self.layout = BlockLayout::new(support);
         }
-        // The bases and their bounds in one sweep.
+        // The bases and their bounds in one sweep. In 3D the bounds are kept in floating point
+        // (exact: node indices are below 2^22), which LLVM keeps in SIMD registers where the
+        // integer form costs compares and selects per axis; in 2D it vectorises the integer
+        // form over four particles, which is cheaper still (docs/performance.md).
         let (mut lo, mut hi) = ([0; 3], [0; 3]);
+        let (mut lo_r, mut hi_r) = ([0.0; 3], [0.0; 3]);
         for a in 0..D::DIM {
             (lo[a], hi[a]) = (i32::MAX, i32::MIN);
+            (lo_r[a], hi_r[a]) = (Real::INFINITY, Real::NEG_INFINITY);
         }
         self.bases.clear();
         self.bases.extend((0..count).map(|p| {
             let b = base_of(p);
             for a in 0..D::DIM {
-                lo[a] = lo[a].min(b[a]);
-                hi[a] = hi[a].max(b[a]);
+                if D::DIM == 3 {
+                    lo_r[a] = min(lo_r[a], b[a] as Real);
+                    hi_r[a] = max(hi_r[a], b[a] as Real);
+                } else {
+                    lo[a] = lo[a].min(b[a]);
+                    hi[a] = hi[a].max(b[a]);
+                }
             }
             b
         }));
+        if D::DIM == 3 {
+            for a in 0..D::DIM {
+                (lo[a], hi[a]) = (lo_r[a] as i32, hi_r[a] as i32);
+            }
+        }
         let (layout, bases) = (&self.layout, &self.bases);
         self.index.rebuild(
             bases,
             (lo, hi),
             support,
             &mut self.particle_node,
-            |slot, p| layout.stencil_origin(slot, bases[p]) as u32,
+            |slot, base| layout.stencil_origin(slot, *base) as u32,
         );
         let node_count = self.index.block_count() * self.layout.padded_nodes();
         // Node indices are kept in 32 bits: 2³² nodes would take 128 GiB.
