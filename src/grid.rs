@@ -453,10 +453,12 @@ impl<D: Dim> Grid<D> {
         if support - 1 != self.layout.halo {
             self.layout = BlockLayout::new(support);
         }
-        // The bases and their bounds in one sweep. In 3D the bounds are kept in floating point
-        // (exact: node indices are below 2^22), which LLVM keeps in SIMD registers where the
-        // integer form costs compares and selects per axis; in 2D it vectorises the integer
-        // form over four particles, which is cheaper still (docs/performance.md).
+        // The bases and their bounds in one sweep. In native 3D builds the bounds are kept in
+        // floating point (exact: node indices are below 2^22), which LLVM keeps in SIMD
+        // registers where SSE2's integer form costs compares and selects per axis; in 2D it
+        // vectorises the integer form over four particles, which is cheaper still, and wasm
+        // has integer SIMD min and max (docs/performance.md).
+        let in_reals = D::DIM == 3 && !cfg!(target_arch = "wasm32");
         let (mut lo, mut hi) = ([0; 3], [0; 3]);
         let (mut lo_r, mut hi_r) = ([0.0; 3], [0.0; 3]);
         for a in 0..D::DIM {
@@ -467,7 +469,7 @@ impl<D: Dim> Grid<D> {
         self.bases.extend((0..count).map(|p| {
             let b = base_of(p);
             for a in 0..D::DIM {
-                if D::DIM == 3 {
+                if in_reals {
                     lo_r[a] = min(lo_r[a], b[a] as Real);
                     hi_r[a] = max(hi_r[a], b[a] as Real);
                 } else {
@@ -477,7 +479,7 @@ impl<D: Dim> Grid<D> {
             }
             b
         }));
-        if D::DIM == 3 {
+        if in_reals {
             for a in 0..D::DIM {
                 (lo[a], hi[a]) = (lo_r[a] as i32, hi_r[a] as i32);
             }
