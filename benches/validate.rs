@@ -7,7 +7,7 @@
 //! `repose`, `slopes`, `flip`, `resting`; `stopping` (where flowing sand comes to rest, with
 //! and without μ(I): about 25 minutes) runs only when named and writes
 //! `docs/validation-report-stopping.md`; so does `locking` (sand with its volumetric strain
-//! rate averaged over each cell against each particle's own: about 20 minutes), which writes
+//! rate averaged over each cell against each particle's own: about 12 minutes), which writes
 //! `docs/validation-report-locking.md`.
 
 #[path = "support/report.rs"]
@@ -760,9 +760,10 @@ fn locking_study(md: &mut String, path: &std::path::Path) {
         runs.push((a2, 2.0, gimp(0.01).ppc(ppc)));
         runs.push((a2, 2.0, avg(0.01).ppc(ppc)));
     }
+    // ppc 3 (at h = 0.01 m above) and μ(I) for a sand grain, alone and together
+    runs.push((a2, 2.0, avg(0.005).ppc(3)));
     for h in [0.01, 0.005] {
         runs.push((a2, 2.0, avg(h).mu_i(fine)));
-        runs.push((a2, 2.0, avg(h).ppc(3)));
         runs.push((a2, 2.0, avg(h).ppc(3).mu_i(fine)));
     }
     for (file, a) in [
