@@ -6,7 +6,9 @@
 //! on one core). Arguments filter the cases: `bar`, `wave`, `squeeze`, `collapse`, `axi`,
 //! `repose`, `slopes`, `flip`, `resting`; `stopping` (where flowing sand comes to rest, with
 //! and without μ(I): about 25 minutes) runs only when named and writes
-//! `docs/validation-report-stopping.md`.
+//! `docs/validation-report-stopping.md`; so does `locking` (sand with its volumetric strain
+//! rate averaged over each cell against each particle's own: about 12 minutes), which writes
+//! `docs/validation-report-locking.md`.
 
 #[path = "support/report.rs"]
 mod report;
@@ -412,6 +414,11 @@ fn main() {
     if filters.0.iter().any(|f| f == "stopping") {
         stopping_study(&mut md, &path);
     }
+    // Opt-in (`cargo bench --bench validate -- locking`): volumetric locking of sand, each
+    // particle's volumetric strain rate against its cell's average.
+    if filters.0.iter().any(|f| f == "locking") {
+        locking_study(&mut md, &path);
+    }
     std::fs::write(&path, &md).unwrap();
     if want("flip") {
         let mut rows = Vec::new();
@@ -628,6 +635,171 @@ fn stopping_study(md: &mut String, path: &std::path::Path) {
         lube_height(2.0),
         table(
             &[
+                "numerics",
+                "(L∞−L0)/L0 farthest / edge",
+                "error",
+                "H∞/H0",
+                "error",
+                "at rest (s)",
+                "s"
+            ],
+            &rows
+        )
+    );
+}
+
+/// Volumetric locking of sand: the cases of the stopping study that locking moves, each with
+/// the volumetric strain rate averaged over each cell (`"volumetric_rate": "cell_average"`)
+/// and, where the stopping report does not already hold them, with each particle's own. The
+/// over-steep slopes (φ = 32°, θ = 40° over four cell sizes and three particles per cell;
+/// φ = 45°, θ = 50°; φ = 20°, θ = 30°) and the gentle one (φ = 32°, θ = 25°), 3 s; heaps; the
+/// plane collapses (a = 2 over four cell sizes, particles per cell, with μ(I) for a sand grain;
+/// a = 0.5, 1, 3 at h = 0.01 and 0.005 m).
+fn locking_study(md: &mut String, path: &std::path::Path) {
+    let gimp = |h: f64| Numerics::new(h, KernelKind::Gimp);
+    let avg = |h: f64| gimp(h).cell_average();
+    let fine = 0.5e-3;
+    let _ = writeln!(
+        md,
+        "Volumetric locking: `cargo bench --bench validate -- locking`. `cell-avg`: the sand takes its cells' volume-weighted mean volumetric strain rate (`\"volumetric_rate\": \"cell_average\"`); without it, each particle's own (the default).\n"
+    );
+    let mut cases: Vec<(f64, f64, Numerics)> =
+        vec![(32.0, 40.0, gimp(0.02)), (32.0, 40.0, avg(0.02))];
+    for ppc in [2, 3, 4] {
+        cases.push((32.0, 40.0, gimp(0.01).ppc(ppc)));
+        cases.push((32.0, 40.0, avg(0.01).ppc(ppc)));
+    }
+    for ppc in [2, 3, 4] {
+        cases.push((32.0, 40.0, avg(0.005).ppc(ppc)));
+    }
+    cases.push((32.0, 40.0, avg(0.0025)));
+    for (phi, slope) in [(45.0, 50.0), (20.0, 30.0)] {
+        for h in [0.01, 0.005] {
+            cases.push((phi, slope, gimp(h)));
+            cases.push((phi, slope, avg(h)));
+        }
+    }
+    for h in [0.01, 0.005, 0.0025] {
+        cases.push((32.0, 25.0, avg(h)));
+    }
+    let mut rows = Vec::new();
+    for (phi, slope, n) in cases {
+        let r = heap_slope(phi, slope, 3.5e5, &n, 3.0);
+        println!("locking slope φ={phi} θ={slope} {}: {r:?}", n.label());
+        rows.push(vec![
+            n.label(),
+            format!("{phi}"),
+            format!("{:.1}", r.plane_strain_angle),
+            format!("{slope} ({:.1})", r.initial_angle),
+            r.failed_at.map_or("—".to_string(), |t| format!("{t:.2}")),
+            format!("{:.1}", r.angle),
+            format!("{:+.1}°", r.angle - r.plane_strain_angle),
+            format!("{:.3}", r.peak_speed),
+            format!("{:.1e}", r.final_speed),
+            format!("{:.3}", r.apex_fraction),
+            format!("{:.1}", r.cost.wall_seconds),
+        ]);
+    }
+    let _ = writeln!(
+        md,
+        "## Volumetric locking: slopes (3 s, E = 350 kPa)\n\nA trapezoidal heap 0.1 m high released on a floor with μ = tan φ. *Failed at*: when the flanks had come halfway down from their initial angle to φ_ps. Peak speed: the largest particle speed seen. At apex: the mean fraction of particles at zero pressure over the first second.\n\n{}",
+        table(
+            &[
+                "numerics",
+                "φ (°)",
+                "φ_ps (°)",
+                "flanks at start (°) (fitted)",
+                "failed at (s)",
+                "flanks after 3 s (°)",
+                "vs φ_ps",
+                "peak speed (m/s)",
+                "final speed (m/s)",
+                "at apex",
+                "s"
+            ],
+            &rows
+        )
+    );
+    std::fs::write(path, &*md).unwrap();
+    let mut rows = Vec::new();
+    for (phi, h) in [(32.0, 0.01), (32.0, 0.005), (45.0, 0.01)] {
+        let n = avg(h);
+        let p = repose_pile(&n, 1.2 * 0.24 / LIFT_SPEED + 6.0, Some(phi), LIFT_SPEED);
+        println!("locking repose φ={phi} {}: {p:?}", n.label());
+        rows.push(vec![
+            n.label(),
+            format!("{phi}"),
+            format!("{:.1}", p.plane_strain_angle),
+            format!("{:.1} ({:.1}, {:.1})", p.angle, p.flanks[0], p.flanks[1]),
+            format!("{:+.1}°", p.angle - p.plane_strain_angle),
+            format!("{:.1}", p.cost.wall_seconds),
+        ]);
+    }
+    let _ = writeln!(
+        md,
+        "## Volumetric locking: heaps (lifted walls at {LIFT_SPEED} m/s, floor μ = tan φ)\n\nEach particle's own volumetric rate: the stopping report.\n\n{}",
+        table(
+            &[
+                "numerics",
+                "φ (°)",
+                "φ_ps (°)",
+                "heap angle (°) (left, right)",
+                "vs φ_ps",
+                "s"
+            ],
+            &rows
+        )
+    );
+    std::fs::write(path, &*md).unwrap();
+    let a2 = "column_collapse_a2_2d.json";
+    let mut runs: Vec<(&str, f64, Numerics)> = Vec::new();
+    for h in [0.02, 0.01, 0.005, 0.0025] {
+        runs.push((a2, 2.0, avg(h)));
+    }
+    for ppc in [1, 3, 4] {
+        runs.push((a2, 2.0, gimp(0.01).ppc(ppc)));
+        runs.push((a2, 2.0, avg(0.01).ppc(ppc)));
+    }
+    // ppc 3 (at h = 0.01 m above) and μ(I) for a sand grain, alone and together
+    runs.push((a2, 2.0, avg(0.005).ppc(3)));
+    for h in [0.01, 0.005] {
+        runs.push((a2, 2.0, avg(h).mu_i(fine)));
+        runs.push((a2, 2.0, avg(h).ppc(3).mu_i(fine)));
+    }
+    for (file, a) in [
+        ("column_collapse_a0.5_2d.json", 0.5),
+        ("column_collapse_a1_2d.json", 1.0),
+        ("column_collapse_a3_2d.json", 3.0),
+    ] {
+        for h in [0.01, 0.005] {
+            runs.push((file, a, avg(h)));
+        }
+    }
+    let mut rows = Vec::new();
+    for (file, a, n) in runs {
+        let c = column_collapse(file, &n, 4.0);
+        println!("locking collapse a={a} {}: {c:?}", n.label());
+        rows.push(vec![
+            format!("{a}"),
+            n.label(),
+            format!("{:.3} / {:.3}", c.runout, c.runout_edge),
+            format!(
+                "{} / {}",
+                pct(c.runout / lube_runout(a) - 1.0),
+                pct(c.runout_edge / lube_runout(a) - 1.0)
+            ),
+            format!("{:.3}", c.height),
+            pct(c.height / lube_height(a) - 1.0),
+            format!("{:.2}", c.settled_at),
+            format!("{:.1}", c.cost.wall_seconds),
+        ]);
+    }
+    let _ = writeln!(
+        md,
+        "## Volumetric locking: plane column collapses (φ = 32°, floor μ = 0.625; Lube et al. 2005)\n\nRun-out as the farthest particle and as the edge of the continuous deposit; each particle's own volumetric rate at ppc 2: the stopping report and validation-report.md.\n\n{}",
+        table(
+            &[
+                "a",
                 "numerics",
                 "(L∞−L0)/L0 farthest / edge",
                 "error",

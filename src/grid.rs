@@ -425,6 +425,10 @@ pub struct Grid<D: Dim> {
     /// node, in the block that holds that node. The passes read a particle's stencil from
     /// there, and the block is this divided by [`BlockLayout::padded_nodes`].
     pub particle_node: Vec<u32>,
+    /// Σ_p V_p tr ε̇_p and Σ_p V_p over the particles of each cell, at the cell's lowest node
+    /// (laid out like `nodes`): filled by the stress pass only for sand whose volumetric rate
+    /// is averaged over cells, empty otherwise.
+    pub cell_dilatation: Vec<[Real; 2]>,
     /// Scratch: each particle's first stencil node.
     bases: Vec<[i32; 3]>,
 }
@@ -437,6 +441,7 @@ impl<D: Dim> Default for Grid<D> {
             nodes: Vec::new(),
             mass_grad: Vec::new(),
             particle_node: Vec::new(),
+            cell_dilatation: Vec::new(),
             bases: Vec::new(),
         }
     }
@@ -515,6 +520,7 @@ impl<D: Dim> Grid<D> {
             + self.nodes.capacity() * std::mem::size_of::<Node<D::Vector>>()
             + self.mass_grad.capacity() * std::mem::size_of::<D::Vector>()
             + self.particle_node.capacity() * 4
+            + self.cell_dilatation.capacity() * std::mem::size_of::<[Real; 2]>()
     }
 
     /// Adds halo node values into their owners with `add(owner, halo)`.

@@ -121,6 +121,27 @@ fn every_bad_scene_gives_the_expected_error() {
             "bodies[0].material.drucker_prager.friction_angle = -5: must be in [0, 90) (degrees)",
         ),
         (
+            "unknown volumetric rate of sand",
+            scene3(|v| {
+                v["bodies"][0]["material"]["drucker_prager"]["volumetric_rate"] = "cell".into()
+            }),
+            "bodies[0].material.drucker_prager.volumetric_rate: unknown variant `cell`, expected `particle` or `cell_average`",
+        ),
+        (
+            "volumetric rate as a switch",
+            scene3(|v| {
+                v["bodies"][0]["material"]["drucker_prager"]["volumetric_rate"] = true.into()
+            }),
+            "bodies[0].material.drucker_prager.volumetric_rate: invalid type: boolean `true`, expected `particle` or `cell_average`",
+        ),
+        (
+            "volumetric rate of a solid",
+            scene2(|v| {
+                v["bodies"][0]["material"]["elastic"]["volumetric_rate"] = "cell_average".into()
+            }),
+            "bodies[0].material.elastic.volumetric_rate: unknown field `volumetric_rate`",
+        ),
+        (
             "negative yield stress",
             scene2(|v| {
                 v["bodies"][0]["material"] = serde_json::json!({"von_mises": {

@@ -269,6 +269,35 @@ fn a_slope_steeper_than_the_friction_angle_fails() {
     );
 }
 
+/// Volumetric locking and its cure: at h = 0.01 m with 3 particles per cell a 40° slope of
+/// φ = 32° sand (φ_ps = 30.4°) is held up by the grid when each particle takes its own
+/// volumetric strain rate (it does not come halfway down to φ_ps in a second), and fails
+/// within half a second, down to below φ_ps, when the rate is averaged over each cell
+/// (docs/validation.md, "Drucker–Prager: where flowing sand stops").
+#[test]
+fn the_cell_averaged_volumetric_rate_unlocks_the_over_steep_slope() {
+    let n = Numerics::new(0.01, KernelKind::Gimp).ppc(3);
+    let locked = heap_slope(32.0, 40.0, 3.5e5, &n, 1.0);
+    eprintln!("each particle's volumetric rate: {locked:?}");
+    let free = heap_slope(32.0, 40.0, 3.5e5, &n.cell_average(), 1.0);
+    eprintln!("cell-averaged: {free:?}");
+    assert!(
+        locked.failed_at.is_none() && locked.angle > locked.plane_strain_angle + 4.0,
+        "the locked 40° slope came down to {:.1}°",
+        locked.angle
+    );
+    let t = free
+        .failed_at
+        .expect("the 40° slope did not fail with the cell average");
+    assert!(t < 0.5, "with the cell average it took {t:.2} s to fail");
+    assert!(
+        free.angle < free.plane_strain_angle,
+        "with the cell average it stopped at {:.1}°, above φ_ps = {:.1}°",
+        free.angle,
+        free.plane_strain_angle
+    );
+}
+
 /// Axisymmetric collapse of a column with a = 1 against Lube et al. (2004), at a coarse
 /// resolution (R0 = 5 cells): the farthest-particle run-out within 25 % (−24 % measured), the
 /// edge of the continuous deposit within 30 % (−26 %: at this resolution it misses the 25 %

@@ -41,6 +41,61 @@ pub struct DruckerPragerParams {
     /// Rate-dependent friction μ(I) (off when absent).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mu_i: Option<MuIParams>,
+    /// Which volumetric strain rate the stress update takes: each particle's own (the
+    /// default) or its grid cell's average (against volumetric locking; [`VolumetricRate`]).
+    #[serde(default, skip_serializing_if = "VolumetricRate::is_particle")]
+    pub volumetric_rate: VolumetricRate,
+}
+
+/// Which volumetric strain rate tr ε̇ the stress update of a sand particle takes. With ψ = 0
+/// the plastic flow of sand keeps its volume, and a coarse grid's velocity field sampled at
+/// several particles per cell cannot shear without a spurious volume change that the elastic
+/// bulk modulus resists (volumetric locking: the sand grows stronger with more particles per
+/// cell). Averaging the volumetric part over each cell removes it (Coombs et al. 2018,
+/// *Overcoming volumetric locking in material point methods*, CMAME 333); the stress pass
+/// (`src/step/stress.rs`) does the averaging.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum VolumetricRate {
+    /// Each particle's own tr ε̇_p (the paper's).
+    #[default]
+    Particle,
+    /// The volume-weighted mean of tr ε̇ over the body's particles in the particle's grid cell,
+    /// with each particle's own deviatoric rate.
+    CellAverage,
+}
+
+impl VolumetricRate {
+    /// The scene-file names.
+    pub const NAMES: [&'static str; 2] = ["particle", "cell_average"];
+
+    pub fn is_particle(&self) -> bool {
+        *self == VolumetricRate::Particle
+    }
+}
+
+/// Read by hand so that any wrong value (a switch's `true` too) names the allowed ones.
+impl<'de> Deserialize<'de> for VolumetricRate {
+    fn deserialize<De: serde::Deserializer<'de>>(d: De) -> std::result::Result<Self, De::Error> {
+        struct Names;
+        impl serde::de::Visitor<'_> for Names {
+            type Value = VolumetricRate;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("`particle` or `cell_average`")
+            }
+            fn visit_str<E: serde::de::Error>(
+                self,
+                v: &str,
+            ) -> std::result::Result<Self::Value, E> {
+                match v {
+                    "particle" => Ok(VolumetricRate::Particle),
+                    "cell_average" => Ok(VolumetricRate::CellAverage),
+                    _ => Err(E::unknown_variant(v, &VolumetricRate::NAMES)),
+                }
+            }
+        }
+        d.deserialize_str(Names)
+    }
 }
 
 /// tan θ / √(9 + 12 tan²θ) (Eq. 13).
@@ -237,6 +292,7 @@ mod tests {
             dilatancy_angle: psi,
             cohesion: c,
             mu_i: None,
+            volumetric_rate: VolumetricRate::Particle,
         }
         .model()
     }
@@ -300,6 +356,7 @@ mod tests {
             dilatancy_angle: 0.0,
             cohesion: 0.0,
             mu_i: None,
+            volumetric_rate: VolumetricRate::Particle,
         };
         let plain = params.model();
         params.mu_i = Some(MuIParams {
@@ -342,6 +399,30 @@ mod tests {
                 .to_string(),
             "bodies[0].material.drucker_prager.mu_i.grain_diameter = -1: must be in (0, 0.1] (m)"
         );
+    }
+
+    /// The option reads and writes as `"volumetric_rate": "cell_average"`; the default is
+    /// left out of a saved scene.
+    #[test]
+    fn the_volumetric_rate_option_round_trips() {
+        let json = r#"{"youngs_modulus": 3.5e5, "poisson_ratio": 0.3, "density": 2200,
+            "friction_angle": 32, "volumetric_rate": "cell_average"}"#;
+        let mut p: DruckerPragerParams = serde_json::from_str(json).unwrap();
+        assert_eq!(p.volumetric_rate, VolumetricRate::CellAverage);
+        let text = serde_json::to_string(&p).unwrap();
+        assert!(
+            text.contains(r#""volumetric_rate":"cell_average""#),
+            "{text}"
+        );
+        assert_eq!(
+            serde_json::from_str::<DruckerPragerParams>(&text).unwrap(),
+            p
+        );
+        p.volumetric_rate = VolumetricRate::Particle;
+        let text = serde_json::to_string(&p).unwrap();
+        assert!(!text.contains("volumetric_rate"), "{text}");
+        let p: DruckerPragerParams = serde_json::from_str(&text).unwrap();
+        assert_eq!(p.volumetric_rate, VolumetricRate::Particle);
     }
 
     #[test]
@@ -442,6 +523,7 @@ mod tests {
             dilatancy_angle: 0.0,
             cohesion: 0.0,
             mu_i: None,
+            volumetric_rate: VolumetricRate::Particle,
         };
         assert_eq!(
             p.validate("bodies[1].material.drucker_prager")

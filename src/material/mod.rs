@@ -10,7 +10,7 @@ pub mod elastic;
 pub mod mu_i;
 pub mod von_mises;
 
-pub use drucker_prager::{DruckerPrager, DruckerPragerParams};
+pub use drucker_prager::{DruckerPrager, DruckerPragerParams, VolumetricRate};
 pub use elastic::{Elastic, ElasticParams};
 pub use von_mises::{VonMises, VonMisesParams};
 
@@ -114,6 +114,7 @@ impl Material {
             dilatancy_angle,
             cohesion,
             mu_i: None,
+            volumetric_rate: VolumetricRate::Particle,
         })
     }
 
@@ -169,6 +170,15 @@ impl Material {
             Material::Elastic(m) => m.pq_surface(),
             Material::VonMises(m) => m.pq_surface(),
             Material::DruckerPrager(m) => m.pq_surface(),
+        }
+    }
+
+    /// Which volumetric strain rate the stress update takes ([`VolumetricRate`]; an option of
+    /// sand only).
+    pub fn volumetric_rate(&self) -> VolumetricRate {
+        match self {
+            Material::DruckerPrager(m) => m.volumetric_rate,
+            _ => VolumetricRate::Particle,
         }
     }
 

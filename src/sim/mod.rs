@@ -11,7 +11,7 @@ use crate::config::{BodyConfig, MAX_PARTICLES, SceneConfig};
 use crate::error::{Error, Result};
 use crate::grid::Grid;
 use crate::kernel::KernelKind;
-use crate::material::Model;
+use crate::material::{Model, VolumetricRate};
 use crate::math::{D2, D3, Dim, Real, VectorOps};
 use crate::step::contact::{ContactPair, ContactRule};
 use crate::step::gather::GatherReport;
@@ -57,6 +57,8 @@ impl<D: Dim> World<D> {
 #[derive(Clone, Debug)]
 pub struct Body<D: Dim> {
     pub(crate) model: Model,
+    /// Which volumetric strain rate its stress update takes (sand's option).
+    pub(crate) volumetric_rate: VolumetricRate,
     /// How velocities travel between particles and grid (PIC/FLIP α, APIC).
     pub(crate) transfer: Transfer,
     pub(crate) range: Range<usize>,
@@ -298,6 +300,7 @@ impl<D: Dim> Simulation<D> {
         }
         self.bodies.push(Body {
             model: config.material.model(),
+            volumetric_rate: config.material.volumetric_rate(),
             transfer: Transfer {
                 flip: config.flip_ratio() as Real,
                 apic,
@@ -440,6 +443,7 @@ impl<D: Dim> Simulation<D> {
         }
         for (body, cfg) in self.bodies.iter_mut().zip(&next.bodies) {
             body.model = cfg.material.model();
+            body.volumetric_rate = cfg.material.volumetric_rate();
             let apic = cfg.uses_apic(next.kernel);
             if apic && !body.transfer.apic {
                 // a body that turns to APIC starts from a zero affine velocity

@@ -16,18 +16,32 @@
 //!   v_i^{n+1} in its own walk and calls [`UpdateStressLast`] on each chunk of particles; the
 //!   next step's scatter turns the stress into forces.
 //!
+//! **Sand's cell-averaged volumetric rate** (an option, `"volumetric_rate": "cell_average"`,
+//! off by default): the stress update takes ∇v_p with its volumetric part replaced by the
+//! volume-weighted mean over the body's particles in the particle's grid cell c,
+//!
+//! ∇v̄_p = ∇v_p + (⟨tr ε̇⟩_c − tr ε̇_p)/d I,   ⟨tr ε̇⟩_c = Σ_{q∈c} V_q tr ε̇_q / Σ_{q∈c} V_q,
+//!
+//! keeping each particle's deviatoric rate and spin. With ψ = 0 sand flows at constant volume,
+//! and a coarse grid's velocity field, sampled at several particles per cell, cannot shear
+//! without spurious volume changes that the bulk modulus resists: the sand grows stronger with
+//! more particles per cell (volumetric locking). One volume rate per cell leaves it as many
+//! volume constraints as cells, as Coombs et al. (2018, *Overcoming volumetric locking in
+//! material point methods*, CMAME 333) do with a cell-averaged dilatation. It costs one more
+//! walk over the particles ([`sum_cell_dilatation`]) and an array laid out like the nodes.
+//!
 //! [`update_one`] updates one particle and is the reference; [`update_chunk`], the one the
 //! gather runs, is its SIMD specialisation: four particles per model call in SIMD lanes (the
 //! update is a long dependency chain, and in lanes four chains advance at once), with the
 //! energies and the finiteness test per group of four. A test checks that they agree.
 
 use super::{
-    Stencils, first_axis_nodes, first_node, layout, second_axis_nodes, third_axis,
+    Stencils, first_axis_nodes, first_node, grid_coords, layout, second_axis_nodes, third_axis,
     third_axis_nodes, with_kernel,
 };
 use crate::grid::{Grid, Node, stencil_span};
-use crate::kernel::{Kernel, Stencil};
-use crate::material::{Constitutive, Model};
+use crate::kernel::{Kernel, Stencil, floor_nonneg};
+use crate::material::{Constitutive, Model, VolumetricRate};
 use crate::math::{
     Batch, Dim, LANES, Lane, Lanes, Lanes2, Real, SymTensor, Vec4, VectorOps, exp_small, max,
     sum_from_first,
@@ -56,10 +70,15 @@ impl<D: Dim> Simulation<D> {
             };
             let lp = body.radius * inv_h;
             let grid = &mut body.grid;
+            let average = body.volumetric_rate == VolumetricRate::CellAverage;
             body.stress_report = with_kernel!(kernel, K, S => match &body.model {
-                Model::Elastic(m) => update_stress_first::<D, K, _, S>(grid, x, state, m, dt, inv_h, lp),
-                Model::VonMises(m) => update_stress_first::<D, K, _, S>(grid, x, state, m, dt, inv_h, lp),
-                Model::DruckerPrager(m) => update_stress_first::<D, K, _, S>(grid, x, state, m, dt, inv_h, lp),
+                Model::Elastic(m) => update_stress_first::<D, K, _, S, false>(grid, x, state, m, dt, inv_h, lp),
+                Model::VonMises(m) => update_stress_first::<D, K, _, S, false>(grid, x, state, m, dt, inv_h, lp),
+                Model::DruckerPrager(m) if average => {
+                    sum_cell_dilatation::<D, K, S>(grid, x, state.volume, inv_h, lp);
+                    update_stress_first::<D, K, _, S, true>(grid, x, state, m, dt, inv_h, lp)
+                }
+                Model::DruckerPrager(m) => update_stress_first::<D, K, _, S, false>(grid, x, state, m, dt, inv_h, lp),
             });
         }
     }
@@ -104,11 +123,21 @@ impl StressReport {
 /// ([`update_chunk`]), then their internal forces f_i += −V_p σ_p ∇w_ip (into the nodes'
 /// `new_vel`). In 2D the stencil loops are the packed ones.
 ///
+/// With `CELL_AVERAGE` each gradient's volumetric part is replaced by its cell's mean
+/// ([`with_volumetric_rate`]) from the sums [`sum_cell_dilatation`] left in the grid.
+///
 /// Never inlined: each (dimension, kernel, model) instance stays a function of its own (when
 /// such instances were inlined into their dispatch, V8 compiled the resulting WebAssembly
 /// function much worse; docs/performance.md).
 #[inline(never)]
-pub fn update_stress_first<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize>(
+#[allow(clippy::too_many_arguments)]
+pub fn update_stress_first<
+    D: Dim,
+    K: Kernel<S>,
+    M: Constitutive,
+    const S: usize,
+    const CELL_AVERAGE: bool,
+>(
     grid: &mut Grid<D>,
     x: &[D::Vector],
     mut ps: StressState<'_, D>,
@@ -122,6 +151,7 @@ pub fn update_stress_first<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize
         layout,
         nodes,
         particle_node,
+        cell_dilatation,
         ..
     } = &mut *grid;
     let mut report = StressReport::default();
@@ -135,14 +165,17 @@ pub fn update_stress_first<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize
             st[i] = stencils.at(x, q);
             origin[i] = first_node(layout, particle_node[q], &st[i]);
             let cell = &nodes[origin[i]..origin[i] + span];
-            rates.set(
-                i,
-                if D::DIM == 2 {
-                    velocity_gradient_2d_packed::<D, K, S>(cell, p, &st[i])
-                } else {
-                    velocity_gradient::<D, K, S>(cell, p, &st[i])
-                },
-            );
+            let mut grad = if D::DIM == 2 {
+                velocity_gradient_2d_packed::<D, K, S>(cell, p, &st[i])
+            } else {
+                velocity_gradient::<D, K, S>(cell, p, &st[i])
+            };
+            if CELL_AVERAGE {
+                let [sum, volume] =
+                    cell_dilatation[cell_node::<D, S>(x[q], inv_h, &st[i], origin[i], p)];
+                grad = with_volumetric_rate::<D>(grad, sum / volume);
+            }
+            rates.set(i, grad);
         }
         let bad = report.bad;
         update_chunk(
@@ -170,6 +203,94 @@ pub fn update_stress_first<D: Dim, K: Kernel<S>, M: Constitutive, const S: usize
     }
     grid.reduce_nodes(|o, h| o.new_vel += h.new_vel);
     report
+}
+
+/// The first walk of sand's cell-averaged volumetric rate: for each cell holding particles of
+/// the body, Σ_p V_p tr ε̇_p and Σ_p V_p over them (tr ε̇_p = tr ∇v_p from the grid velocities
+/// v_i^n, V_p at the start of the step), into `grid.cell_dilatation` at the cell's lowest node,
+/// whose halo copies are then added into their owners and copied back, so that every particle
+/// of a cell reads the same sums whichever block it is handled by.
+#[inline(never)]
+pub fn sum_cell_dilatation<D: Dim, K: Kernel<S>, const S: usize>(
+    grid: &mut Grid<D>,
+    x: &[D::Vector],
+    volume: &[Real],
+    inv_h: Real,
+    lp: Real,
+) {
+    let (p, span) = layout::<D, S>(grid);
+    let Grid {
+        index,
+        layout,
+        nodes,
+        particle_node,
+        cell_dilatation: sums,
+        ..
+    } = &mut *grid;
+    sums.clear();
+    sums.resize(nodes.len(), [0.0; 2]);
+    let mut stencils = Stencils::<D, K, S>::new(inv_h, lp);
+    for q in 0..x.len() {
+        let st = stencils.at(x, q);
+        let origin = first_node(layout, particle_node[q], &st);
+        let cell = &nodes[origin..origin + span];
+        let grad = if D::DIM == 2 {
+            velocity_gradient_2d_packed::<D, K, S>(cell, p, &st)
+        } else {
+            velocity_gradient::<D, K, S>(cell, p, &st)
+        };
+        let v = volume[q];
+        let s = &mut sums[cell_node::<D, S>(x[q], inv_h, &st, origin, p)];
+        s[0] += v * divergence::<D>(&grad);
+        s[1] += v;
+    }
+    layout.reduce_halo(index, sums, |o, h| {
+        o[0] += h[0];
+        o[1] += h[1];
+    });
+    layout.fill_halo(index, sums, |h, o| *h = *o);
+}
+
+/// The storage index of the lowest node of the cell holding a particle at `x`, in the block
+/// that handles the particle (its stencil starts at `origin`; rows are `p` nodes long). The
+/// cell's nodes all carry weight, so that node is stencil node 0 or 1 along each axis.
+#[inline(always)]
+pub fn cell_node<D: Dim, const S: usize>(
+    x: D::Vector,
+    inv_h: Real,
+    st: &Stencil<S>,
+    origin: usize,
+    p: usize,
+) -> usize {
+    let xg = grid_coords::<D>(x, inv_h);
+    let (mut n, mut stride) = (origin, 1);
+    for (a, c) in xg.iter().enumerate().take(D::DIM) {
+        let k = floor_nonneg(*c) - st.base[a];
+        debug_assert!((0..S as i32 - 1).contains(&k), "cell outside the stencil");
+        n += k as usize * stride;
+        stride *= p;
+    }
+    n
+}
+
+/// tr ∇v = ∇·v.
+#[inline(always)]
+pub fn divergence<D: Dim>(grad: &D::Grad) -> Real {
+    (0..D::DIM).map(|a| D::grad_entry(grad, a, a)).sum()
+}
+
+/// ∇v with its volumetric part tr ∇v / d replaced by `rate` / d: ∇v + (rate − tr ∇v)/d I
+/// (I in the plane in 2D, where plane strain has no zz rate).
+#[inline(always)]
+pub fn with_volumetric_rate<D: Dim>(grad: D::Grad, rate: Real) -> D::Grad {
+    let d = D::DIM as Real;
+    let mut g = grad;
+    g += D::from_columns([0, 1, 2].map(|a| {
+        let mut e = [0.0; 3];
+        e[a] = 1.0;
+        D::vector(e)
+    })) * ((rate - divergence::<D>(&grad)) / d);
+    g
 }
 
 /// What the gather does with the velocity gradients of each chunk of particles.
@@ -581,6 +702,250 @@ mod tests {
         if M::PLASTIC {
             assert!(plain.dissipated > 0.0, "some particles yield");
         }
+    }
+
+    /// A body's particles, `ppc` per cell along each axis over a few cells of h = 0.1 m (their
+    /// volumes differing from particle to particle), and its grid, allocated where their
+    /// stencils reach, whose nodes move at `v(x)`.
+    struct Cells<D: Dim> {
+        grid: Grid<D>,
+        x: Vec<D::Vector>,
+        volume: Vec<Real>,
+        inv_h: Real,
+        lp: Real,
+    }
+
+    fn cells<D: Dim, K: Kernel<S>, const S: usize>(
+        ppc: usize,
+        v: impl Fn([Real; 3]) -> [Real; 3],
+    ) -> Cells<D> {
+        let (h, n) = (0.1, 3);
+        let inv_h = 1.0 / h;
+        let lp = 0.5 / ppc as Real;
+        let per_axis = n * ppc;
+        let count = per_axis.pow(D::DIM as u32);
+        let x: Vec<D::Vector> = (0..count)
+            .map(|q| {
+                let mut c = [0.0; 3];
+                let mut r = q;
+                for a in c.iter_mut().take(D::DIM) {
+                    *a = h * (1.0 + ((r % per_axis) as Real + 0.5) / ppc as Real);
+                    r /= per_axis;
+                }
+                D::vector(c)
+            })
+            .collect();
+        let volume = (0..count)
+            .map(|q| (h / ppc as Real).powi(D::DIM as i32) * (1.0 + 0.1 * (q % 7) as Real))
+            .collect();
+        let mut grid = Grid::<D>::default();
+        grid.rebuild(count, S, |q| {
+            K::base(super::super::grid_coords::<D>(x[q], inv_h), D::DIM, lp)
+        });
+        for slot in 0..grid.index.block_count() {
+            let (layout, index, nodes) = (&grid.layout, &grid.index, &mut grid.nodes);
+            layout.for_each_owned(index, slot, |node, i| {
+                let at = [0, 1, 2].map(|a| (node[a] - crate::grid::GHOST) as Real * h);
+                nodes[i].vm = D::vector(v(at)).with_mass(1.0);
+            });
+        }
+        grid.fill_nodes(|h, o| *h = *o);
+        Cells {
+            grid,
+            x,
+            volume,
+            inv_h,
+            lp,
+        }
+    }
+
+    /// Sand under 10 kPa confinement (inside its cone: the steps below stay elastic).
+    fn sand() -> crate::material::DruckerPrager {
+        match Material::drucker_prager(3.5e5, 0.3, 2200.0, 32.0, 0.0, 0.0).model() {
+            Model::DruckerPrager(m) => m,
+            _ => unreachable!(),
+        }
+    }
+
+    /// One stress update (Sec. 4.2's order) of the particles of `c`, each particle's
+    /// volumetric rate or (`AVERAGE`) its cell's: their stresses, volumes and the nodes'
+    /// internal forces.
+    fn one_update<D: Dim, K: Kernel<S>, const S: usize, const AVERAGE: bool>(
+        c: &Cells<D>,
+    ) -> (Vec<D::Sym>, Vec<Real>, Vec<D::Vector>) {
+        let mut grid = c.grid.clone();
+        let n = c.x.len();
+        let mut stress = vec![D::Sym::IDENTITY * -1e4; n];
+        let mut volume = c.volume.clone();
+        let mut plastic = vec![0.0; n];
+        let state = StressState::<D> {
+            stress: &mut stress,
+            volume: &mut volume,
+            plastic_strain: &mut plastic,
+        };
+        if AVERAGE {
+            sum_cell_dilatation::<D, K, S>(&mut grid, &c.x, &c.volume, c.inv_h, c.lp);
+        }
+        let dt = 1e-3;
+        let r = update_stress_first::<D, K, _, S, AVERAGE>(
+            &mut grid,
+            &c.x,
+            state,
+            &sand(),
+            dt,
+            c.inv_h,
+            c.lp,
+        );
+        assert_eq!((r.bad, r.dissipated), (0, 0.0), "elastic and finite");
+        let forces = grid.nodes.iter().map(|n| n.new_vel).collect();
+        (stress, volume, forces)
+    }
+
+    fn close(a: Real, b: Real, scale: Real) -> bool {
+        (a - b).abs() <= 1e-5 * scale
+    }
+
+    /// In an affine velocity field every particle of a cell has the same volumetric rate, so
+    /// averaging it changes nothing: the same stresses, volumes and forces (to rounding).
+    fn affine_field_is_unchanged<D: Dim, K: Kernel<S>, const S: usize>() {
+        let c = cells::<D, K, S>(3, |x| {
+            [
+                0.3 + 1.2 * x[0] - 0.7 * x[1] + 0.2 * x[2],
+                -0.1 + 0.9 * x[0] + 0.5 * x[1] - 0.3 * x[2],
+                0.4 * x[0] - 0.2 * x[1] - 0.8 * x[2],
+            ]
+        });
+        let (s0, v0, f0) = one_update::<D, K, S, false>(&c);
+        let (s1, v1, f1) = one_update::<D, K, S, true>(&c);
+        for q in 0..c.x.len() {
+            for (a, b) in s0[q].components().iter().zip(s1[q].components()) {
+                assert!(
+                    close(*a, *b, 1e4),
+                    "particle {q}: {:?} vs {:?}",
+                    s0[q],
+                    s1[q]
+                );
+            }
+            assert!(close(v0[q], v1[q], v0[q]), "particle {q}");
+        }
+        let fmax = f0.iter().map(|f| f.length()).fold(0.0, max);
+        assert!(fmax > 0.0);
+        for (a, b) in f0.iter().zip(&f1) {
+            assert!((*a - *b).length() <= 1e-5 * fmax, "{a:?} vs {b:?}");
+        }
+    }
+
+    #[test]
+    fn an_affine_velocity_field_gives_the_same_update_with_the_cell_average() {
+        use crate::kernel::{Gimp, Linear, QuadraticBspline};
+        affine_field_is_unchanged::<D2, Gimp, 3>();
+        affine_field_is_unchanged::<D2, QuadraticBspline, 3>();
+        affine_field_is_unchanged::<D2, Linear, 2>();
+        affine_field_is_unchanged::<D3, Gimp, 3>();
+    }
+
+    /// A shearing field whose divergence varies within a cell (v = ((x − ¼)² + y, x y)): with the
+    /// cell average every particle of a cell takes the same volume ratio and the same
+    /// increment of tr σ (3K Δt ⟨tr ε̇⟩), which without it vary across the cell; the cell's
+    /// total volume change Σ V_p tr ε̇_p is the same either way (the average is weighted by
+    /// volume); each particle keeps its own deviatoric rate.
+    fn varying_divergence_is_averaged<D: Dim, K: Kernel<S>, const S: usize>(ppc: usize) {
+        let c = cells::<D, K, S>(ppc, |x| {
+            let u = x[0] - 0.25;
+            [u * u + x[1], x[0] * x[1], 0.3 * x[2]]
+        });
+        let (s0, v0, _) = one_update::<D, K, S, false>(&c);
+        let (s1, v1, _) = one_update::<D, K, S, true>(&c);
+        let mut by_cell: std::collections::BTreeMap<[i32; 3], Vec<usize>> = Default::default();
+        for (q, x) in c.x.iter().enumerate() {
+            let key = [0, 1, 2].map(|a| {
+                if a < D::DIM {
+                    (x[a] * c.inv_h).floor() as i32
+                } else {
+                    0
+                }
+            });
+            by_cell.entry(key).or_default().push(q);
+        }
+        let ratio = |v: &[Real], q: usize| v[q] / c.volume[q];
+        let trace_increment = |s: &[D::Sym], q: usize| s[q].trace() + 3e4;
+        let change = (0..c.x.len())
+            .map(|q| (ratio(&v0, q) - 1.0).abs())
+            .fold(0.0, max);
+        let dtr = (0..c.x.len())
+            .map(|q| trace_increment(&s0, q).abs())
+            .fold(0.0, max);
+        // f32 resolves a volume ratio near 1 to 6e-8, and tr σ ≈ −3e4 Pa to 2e-3 Pa.
+        let (tol_ratio, tol_trace) = (1e-2 * change + 3e-7, 1e-2 * dtr + 1e-2);
+        let mut spread_plain: Real = 0.0;
+        for qs in by_cell.values() {
+            assert_eq!(qs.len(), ppc.pow(D::DIM as u32));
+            let first = qs[0];
+            for &q in qs {
+                let (a, b) = (ratio(&v1, q), ratio(&v1, first));
+                assert!(
+                    (a - b).abs() <= tol_ratio,
+                    "volume ratio, particle {q}: {a} vs {b}"
+                );
+                let (a, b) = (trace_increment(&s1, q), trace_increment(&s1, first));
+                assert!(
+                    (a - b).abs() <= tol_trace,
+                    "tr σ increment, particle {q}: {a} vs {b}"
+                );
+                spread_plain = max(spread_plain, (ratio(&v0, q) - ratio(&v0, first)).abs());
+            }
+            let total = |v: &[Real]| qs.iter().map(|&q| v[q] - c.volume[q]).sum::<Real>();
+            let (t0, t1) = (total(&v0), total(&v1));
+            let scale = qs.iter().map(|&q| c.volume[q]).sum::<Real>() * change;
+            assert!(
+                (t0 - t1).abs() <= 1e-3 * scale,
+                "cell volume change {t0} vs {t1}"
+            );
+        }
+        assert!(
+            spread_plain > 0.05 * change,
+            "the field should vary the volumetric rate across a cell: {spread_plain} of {change}"
+        );
+    }
+
+    #[test]
+    fn a_divergence_varying_within_a_cell_is_averaged_over_it() {
+        use crate::kernel::{Gimp, QuadraticBspline};
+        for ppc in [2, 3] {
+            varying_divergence_is_averaged::<D2, Gimp, 3>(ppc);
+            varying_divergence_is_averaged::<D2, QuadraticBspline, 3>(ppc);
+            varying_divergence_is_averaged::<D3, Gimp, 3>(ppc);
+        }
+    }
+
+    /// The replaced gradient has the given trace and keeps the deviatoric part (in the plane
+    /// in 2D) and the spin.
+    fn volumetric_part_is_replaced<D: Dim>() {
+        for (grad, _) in states::<D>(5) {
+            let g = with_volumetric_rate::<D>(grad, 0.7);
+            assert!((divergence::<D>(&g) - 0.7).abs() < 1e-5);
+            let d = D::DIM as Real;
+            let (r0, w0) = D::rate_and_spin(grad);
+            let (r1, w1) = D::rate_and_spin(g);
+            assert_eq!(format!("{w0:?}"), format!("{w1:?}"));
+            for a in 0..D::DIM {
+                for b in 0..D::DIM {
+                    let iso = |r: Real| if a == b { r / d } else { 0.0 };
+                    let dev = |g: &D::Grad| D::grad_entry(g, a, b) - iso(divergence::<D>(g));
+                    assert!((dev(&grad) - dev(&g)).abs() < 1e-5, "({a}, {b})");
+                }
+            }
+            if D::DIM == 2 {
+                // plane strain: still no zz rate
+                assert_eq!((r0.components()[2], r1.components()[2]), (0.0, 0.0));
+            }
+        }
+    }
+
+    #[test]
+    fn the_volumetric_part_alone_is_replaced() {
+        volumetric_part_is_replaced::<D2>();
+        volumetric_part_is_replaced::<D3>();
     }
 
     #[test]

@@ -36,6 +36,9 @@ pub struct Numerics {
     /// Grain diameter (m) of a rate-dependent friction μ(I) for the body under test when it
     /// is sand; `None` keeps the scene's (rate-independent unless the scene says).
     pub mu_i: Option<f64>,
+    /// Sand under test takes its cells' averaged volumetric strain rate
+    /// (`"volumetric_rate": "cell_average"`) instead of each particle's.
+    pub cell_average: bool,
 }
 
 impl Numerics {
@@ -48,7 +51,13 @@ impl Numerics {
             apic: None,
             cfl: 0.4,
             mu_i: None,
+            cell_average: false,
         }
+    }
+    /// Sand with the volumetric strain rate averaged over each grid cell.
+    pub fn cell_average(mut self) -> Self {
+        self.cell_average = true;
+        self
     }
     /// Sand with the μ(I) friction of grain diameter `d` (m).
     pub fn mu_i(mut self, d: f64) -> Self {
@@ -95,12 +104,18 @@ impl Numerics {
         if let (Some(d), Material::DruckerPrager(m)) = (self.mu_i, &mut scene.bodies[0].material) {
             m.mu_i = Some(mpm::material::mu_i::MuIParams { grain_diameter: d });
         }
+        if let (true, Material::DruckerPrager(m)) =
+            (self.cell_average, &mut scene.bodies[0].material)
+        {
+            m.volumetric_rate = mpm::material::VolumetricRate::CellAverage;
+        }
     }
-    /// A short label, e.g. `gimp h=0.0125 ppc=2 α=1 cfl=0.4` (and ` apic`).
+    /// A short label, e.g. `gimp h=0.0125 ppc=2 α=1 cfl=0.4` (and ` apic`, ` μ(I) d=0.5mm`,
+    /// ` cell-avg`).
     pub fn label(&self) -> String {
         let alpha = self.flip.map_or("scene".to_string(), |a| format!("{a}"));
         format!(
-            "{} h={} ppc={} α={alpha} cfl={}{}{}",
+            "{} h={} ppc={} α={alpha} cfl={}{}{}{}",
             kernel_name(self.kernel),
             self.cell_size,
             self.ppc,
@@ -111,7 +126,8 @@ impl Numerics {
                 None => "",
             },
             self.mu_i
-                .map_or(String::new(), |d| format!(" μ(I) d={}mm", 1e3 * d))
+                .map_or(String::new(), |d| format!(" μ(I) d={}mm", 1e3 * d)),
+            if self.cell_average { " cell-avg" } else { "" }
         )
     }
 }
