@@ -24,6 +24,58 @@ fn pct(x: f64) -> String {
     format!("{:+.2} %", 100.0 * x)
 }
 
+/// A heap's φ_ps, its angle with each flank's, and the gap between them.
+fn heap_cells(p: &Pile) -> [String; 3] {
+    [
+        format!("{:.1}", p.plane_strain_angle),
+        format!("{:.1} ({:.1}, {:.1})", p.angle, p.flanks[0], p.flanks[1]),
+        format!("{:+.1}°", p.angle - p.plane_strain_angle),
+    ]
+}
+
+/// Heaps built by lifting the walls at `LIFT_SPEED`, one per (φ, numerics), as a report table
+/// (`study` prefixes the progress lines).
+fn heaps_table(study: &str, runs: &[(f64, Numerics)]) -> String {
+    let mut rows = Vec::new();
+    for &(phi, n) in runs {
+        let p = repose_pile(&n, 1.2 * 0.24 / LIFT_SPEED + 6.0, Some(phi), LIFT_SPEED);
+        println!("{study} repose φ={phi} {}: {p:?}", n.label());
+        let mut row = vec![n.label(), format!("{phi}")];
+        row.extend(heap_cells(&p));
+        row.push(format!("{:.1}", p.cost.wall_seconds));
+        rows.push(row);
+    }
+    table(
+        &[
+            "numerics",
+            "φ (°)",
+            "φ_ps (°)",
+            "heap angle (°) (left, right)",
+            "vs φ_ps",
+            "s",
+        ],
+        &rows,
+    )
+}
+
+/// A plane collapse of aspect ratio `a` against Lube et al. (2005), in the short form of the
+/// stopping and locking studies: run-outs (farthest / edge) and their errors, H∞ and its
+/// error, when it came to rest and the run's wall-clock seconds.
+fn collapse_cells(c: &Collapse, a: f64) -> [String; 6] {
+    [
+        format!("{:.3} / {:.3}", c.runout, c.runout_edge),
+        format!(
+            "{} / {}",
+            pct(c.runout / lube_runout(a) - 1.0),
+            pct(c.runout_edge / lube_runout(a) - 1.0)
+        ),
+        format!("{:.3}", c.height),
+        pct(c.height / lube_height(a) - 1.0),
+        format!("{:.2}", c.settled_at),
+        format!("{:.1}", c.cost.wall_seconds),
+    ]
+}
+
 fn main() {
     let filters = Filters::from_args();
     let want = |s: &str| filters.want(s);
@@ -307,16 +359,13 @@ fn main() {
                 let n = gimp(h);
                 let p = repose_pile(&n, 1.2 * 0.24 / lift + 6.0, Some(phi), lift);
                 println!("repose φ={phi} lift {lift} {}: {p:?}", n.label());
-                rows.push(vec![
-                    n.label(),
-                    format!("{lift}"),
-                    format!("{phi}"),
-                    format!("{:.1}", p.plane_strain_angle),
-                    format!("{:.1} ({:.1}, {:.1})", p.angle, p.flanks[0], p.flanks[1]),
-                    format!("{:+.1}°", p.angle - p.plane_strain_angle),
+                let mut row = vec![n.label(), format!("{lift}"), format!("{phi}")];
+                row.extend(heap_cells(&p));
+                row.extend([
                     format!("{:.2}", p.settled_at),
                     format!("{:.1}", p.cost.wall_seconds),
                 ]);
+                rows.push(row);
             }
         }
         let _ = writeln!(
@@ -575,37 +624,18 @@ fn stopping_study(md: &mut String, path: &std::path::Path) {
         )
     );
     std::fs::write(path, &*md).unwrap();
-    let mut rows = Vec::new();
+    let mut runs = Vec::new();
     for phi in [32.0, 45.0] {
         for h in [0.01, 0.005] {
             for n in [gimp(h), gimp(h).mu_i(fine), gimp(h).mu_i(coarse)] {
-                let p = repose_pile(&n, 1.2 * 0.24 / LIFT_SPEED + 6.0, Some(phi), LIFT_SPEED);
-                println!("stopping repose φ={phi} {}: {p:?}", n.label());
-                rows.push(vec![
-                    n.label(),
-                    format!("{phi}"),
-                    format!("{:.1}", p.plane_strain_angle),
-                    format!("{:.1} ({:.1}, {:.1})", p.angle, p.flanks[0], p.flanks[1]),
-                    format!("{:+.1}°", p.angle - p.plane_strain_angle),
-                    format!("{:.1}", p.cost.wall_seconds),
-                ]);
+                runs.push((phi, n));
             }
         }
     }
     let _ = writeln!(
         md,
         "## Where flowing sand stops: heaps (lifted walls at {LIFT_SPEED} m/s, floor μ = tan φ)\n\n{}",
-        table(
-            &[
-                "numerics",
-                "φ (°)",
-                "φ_ps (°)",
-                "heap angle (°) (left, right)",
-                "vs φ_ps",
-                "s"
-            ],
-            &rows
-        )
+        heaps_table("stopping", &runs)
     );
     std::fs::write(path, &*md).unwrap();
     let mut rows = Vec::new();
@@ -613,19 +643,9 @@ fn stopping_study(md: &mut String, path: &std::path::Path) {
         for n in [gimp(h), gimp(h).mu_i(fine), gimp(h).mu_i(coarse)] {
             let c = column_collapse("column_collapse_a2_2d.json", &n, 4.0);
             println!("stopping collapse a=2 {}: {c:?}", n.label());
-            rows.push(vec![
-                n.label(),
-                format!("{:.3} / {:.3}", c.runout, c.runout_edge),
-                format!(
-                    "{} / {}",
-                    pct(c.runout / lube_runout(2.0) - 1.0),
-                    pct(c.runout_edge / lube_runout(2.0) - 1.0)
-                ),
-                format!("{:.3}", c.height),
-                pct(c.height / lube_height(2.0) - 1.0),
-                format!("{:.2}", c.settled_at),
-                format!("{:.1}", c.cost.wall_seconds),
-            ]);
+            let mut row = vec![n.label()];
+            row.extend(collapse_cells(&c, 2.0));
+            rows.push(row);
         }
     }
     let _ = writeln!(
@@ -721,34 +741,11 @@ fn locking_study(md: &mut String, path: &std::path::Path) {
         )
     );
     std::fs::write(path, &*md).unwrap();
-    let mut rows = Vec::new();
-    for (phi, h) in [(32.0, 0.01), (32.0, 0.005), (45.0, 0.01)] {
-        let n = avg(h);
-        let p = repose_pile(&n, 1.2 * 0.24 / LIFT_SPEED + 6.0, Some(phi), LIFT_SPEED);
-        println!("locking repose φ={phi} {}: {p:?}", n.label());
-        rows.push(vec![
-            n.label(),
-            format!("{phi}"),
-            format!("{:.1}", p.plane_strain_angle),
-            format!("{:.1} ({:.1}, {:.1})", p.angle, p.flanks[0], p.flanks[1]),
-            format!("{:+.1}°", p.angle - p.plane_strain_angle),
-            format!("{:.1}", p.cost.wall_seconds),
-        ]);
-    }
+    let runs = [(32.0, 0.01), (32.0, 0.005), (45.0, 0.01)].map(|(phi, h)| (phi, avg(h)));
     let _ = writeln!(
         md,
         "## Volumetric locking: heaps (lifted walls at {LIFT_SPEED} m/s, floor μ = tan φ)\n\nEach particle's own volumetric rate: the stopping report.\n\n{}",
-        table(
-            &[
-                "numerics",
-                "φ (°)",
-                "φ_ps (°)",
-                "heap angle (°) (left, right)",
-                "vs φ_ps",
-                "s"
-            ],
-            &rows
-        )
+        heaps_table("locking", &runs)
     );
     std::fs::write(path, &*md).unwrap();
     let a2 = "column_collapse_a2_2d.json";
@@ -779,20 +776,9 @@ fn locking_study(md: &mut String, path: &std::path::Path) {
     for (file, a, n) in runs {
         let c = column_collapse(file, &n, 4.0);
         println!("locking collapse a={a} {}: {c:?}", n.label());
-        rows.push(vec![
-            format!("{a}"),
-            n.label(),
-            format!("{:.3} / {:.3}", c.runout, c.runout_edge),
-            format!(
-                "{} / {}",
-                pct(c.runout / lube_runout(a) - 1.0),
-                pct(c.runout_edge / lube_runout(a) - 1.0)
-            ),
-            format!("{:.3}", c.height),
-            pct(c.height / lube_height(a) - 1.0),
-            format!("{:.2}", c.settled_at),
-            format!("{:.1}", c.cost.wall_seconds),
-        ]);
+        let mut row = vec![format!("{a}"), n.label()];
+        row.extend(collapse_cells(&c, a));
+        rows.push(row);
     }
     let _ = writeln!(
         md,
