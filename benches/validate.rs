@@ -33,6 +33,21 @@ fn heap_cells(p: &Pile) -> [String; 3] {
     ]
 }
 
+/// An over-steep slope in the short form of the stopping and locking studies: when it failed,
+/// its flanks at the end and their gap to φ_ps, peak and final speeds, the fraction at the
+/// apex and the run's wall-clock seconds.
+fn slope_cells(r: &HeapSlope) -> [String; 7] {
+    [
+        r.failed_at.map_or("—".to_string(), |t| format!("{t:.2}")),
+        format!("{:.1}", r.angle),
+        format!("{:+.1}°", r.angle - r.plane_strain_angle),
+        format!("{:.3}", r.peak_speed),
+        format!("{:.1e}", r.final_speed),
+        format!("{:.3}", r.apex_fraction),
+        format!("{:.1}", r.cost.wall_seconds),
+    ]
+}
+
 /// Heaps built by lifting the walls at `LIFT_SPEED`, one per (φ, numerics), as a report table
 /// (`study` prefixes the progress lines).
 fn heaps_table(study: &str, runs: &[(f64, Numerics)]) -> String {
@@ -591,18 +606,9 @@ fn stopping_study(md: &mut String, path: &std::path::Path) {
     for (what, e, n) in cases {
         let r = heap_slope(32.0, 40.0, e, &n, 3.0);
         println!("stopping slope {what} E={e} {}: {r:?}", n.label());
-        rows.push(vec![
-            n.label(),
-            what.to_string(),
-            format!("{e:.2e}"),
-            r.failed_at.map_or("—".to_string(), |t| format!("{t:.2}")),
-            format!("{:.1}", r.angle),
-            format!("{:+.1}°", r.angle - r.plane_strain_angle),
-            format!("{:.3}", r.peak_speed),
-            format!("{:.1e}", r.final_speed),
-            format!("{:.3}", r.apex_fraction),
-            format!("{:.1}", r.cost.wall_seconds),
-        ]);
+        let mut row = vec![n.label(), what.to_string(), format!("{e:.2e}")];
+        row.extend(slope_cells(&r));
+        rows.push(row);
     }
     let _ = writeln!(
         md,
@@ -706,19 +712,14 @@ fn locking_study(md: &mut String, path: &std::path::Path) {
     for (phi, slope, n) in cases {
         let r = heap_slope(phi, slope, 3.5e5, &n, 3.0);
         println!("locking slope φ={phi} θ={slope} {}: {r:?}", n.label());
-        rows.push(vec![
+        let mut row = vec![
             n.label(),
             format!("{phi}"),
             format!("{:.1}", r.plane_strain_angle),
             format!("{slope} ({:.1})", r.initial_angle),
-            r.failed_at.map_or("—".to_string(), |t| format!("{t:.2}")),
-            format!("{:.1}", r.angle),
-            format!("{:+.1}°", r.angle - r.plane_strain_angle),
-            format!("{:.3}", r.peak_speed),
-            format!("{:.1e}", r.final_speed),
-            format!("{:.3}", r.apex_fraction),
-            format!("{:.1}", r.cost.wall_seconds),
-        ]);
+        ];
+        row.extend(slope_cells(&r));
+        rows.push(row);
     }
     let _ = writeln!(
         md,
