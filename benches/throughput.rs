@@ -6,6 +6,11 @@
 //! `taskset -c 0 cargo bench --bench throughput`). Optional arguments filter the cases by
 //! substring, e.g. `cargo bench --bench throughput -- 3d`.
 //!
+//! `-- --digest N` times nothing: it runs each selected block for N substeps and prints a hash
+//! of every particle's state (all digits), to check that two builds or two versions of a pass
+//! compute the same thing bit for bit, and (under callgrind, with N and a smaller N) to count
+//! instructions per particle-substep.
+//!
 //! Each figure is printed once for people and once as a machine-readable line:
 //! `bench scene=<name> dim=<2|3> particles=<n> substeps=<k> seconds=<s> particle_substeps_per_s=<x>
 //! cpu_seconds=<c> cpu_particle_substeps_per_s=<y>`. The second rate counts the time the
@@ -133,11 +138,52 @@ fn time(sim: &mut AnySimulation, steps: usize, rounds: usize) -> (f64, Option<f6
     (wall[rounds / 2], cpu)
 }
 
+/// FNV-1a over the particles' state as Rust prints it (floats in their shortest exact form).
+fn digest(sim: &AnySimulation) -> u64 {
+    let text = match sim {
+        AnySimulation::D2(s) => format!("{:?}", s.particles()),
+        AnySimulation::D3(s) => format!("{:?}", s.particles()),
+    };
+    text.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
 fn main() {
-    let filters: Vec<String> = std::env::args()
-        .skip(1)
-        .filter(|a| !a.starts_with("--"))
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let digest_steps = args.iter().position(|a| a == "--digest").map(|i| {
+        match args.get(i + 1).map(|n| n.parse::<usize>()) {
+            Some(Ok(n)) => n,
+            _ => {
+                eprintln!("--digest takes a number of substeps, e.g. --digest 25");
+                std::process::exit(2)
+            }
+        }
+    });
+    let filters: Vec<String> = args
+        .iter()
+        .enumerate()
+        .filter(|(i, a)| !a.starts_with("--") && (*i == 0 || args[i - 1] != "--digest"))
+        .map(|(_, a)| a.clone())
         .collect();
+    if let Some(steps) = digest_steps {
+        for case in cases() {
+            if !filters.is_empty() && !filters.iter().any(|f| case.name.contains(f.as_str())) {
+                continue;
+            }
+            let mut sim = AnySimulation::new(case.scene).expect("valid benchmark scene");
+            for _ in 0..steps {
+                sim.step().expect("step");
+            }
+            println!(
+                "digest scene={} particles={} substeps={steps} state={:016x}",
+                case.name,
+                sim.particle_count(),
+                digest(&sim)
+            );
+        }
+        return;
+    }
     println!("MPM throughput (median of 5 rounds; particle-substeps per second, higher is better)");
     let mut base: Option<(String, f64)> = None;
     for case in cases() {
