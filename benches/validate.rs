@@ -844,8 +844,9 @@ fn locking_study(md: &mut String, path: &std::path::Path) {
 /// The friction match: the sand cases at the validation resolution (h = 0.01 m) with the
 /// paper's cone (Eq. 13, the default), with the steady-flow match (3 α_φ = tan φ), and with
 /// the steady-flow match and the cell-averaged volumetric rate. Heaps (φ = 20°, 32°, 45°, and
-/// at h = 0.005 m), slopes (gentler and steeper than φ_ps, 2 s), plane collapses (a = 0.5, 1,
-/// 2, 3, and a = 2 at h = 0.005 m) and axisymmetric collapses (a = 0.5, 1, 2).
+/// at h = 0.005 m), slopes (gentler and steeper than φ_ps, 2 s, and at h = 0.005 m), plane
+/// collapses (a = 0.5, 1, 2, 3, and at h = 0.005 m) and axisymmetric collapses (a = 0.5, 1,
+/// 2).
 fn flowmatch_study(md: &mut String, path: &std::path::Path) {
     let gimp = |h: f64| Numerics::new(h, KernelKind::Gimp);
     let variants = |h: f64| {
@@ -878,10 +879,11 @@ fn flowmatch_study(md: &mut String, path: &std::path::Path) {
         ("column_collapse_a3_2d.json", 3.0),
     ];
     let mut runs: Vec<(&str, f64, Numerics)> = Vec::new();
-    for (file, a) in plane {
-        runs.extend(variants(0.01).map(|n| (file, a, n)));
+    for h in [0.01, 0.005] {
+        for (file, a) in plane {
+            runs.extend(variants(h).map(|n| (file, a, n)));
+        }
     }
-    runs.extend(variants(0.005).map(|n| (plane[2].0, 2.0, n)));
     let mut rows = Vec::new();
     for (file, a, n) in runs {
         let c = column_collapse(file, &n, 4.0);
@@ -918,6 +920,11 @@ fn flowmatch_study(md: &mut String, path: &std::path::Path) {
         }
     }
     cases.extend(variants(0.01).map(|n| (32.0, 35.0, n)));
+    // the gentle φ = 32° slope and the steep ones on the finer grid, where locking holds less
+    cases.extend(variants(0.005).map(|n| (32.0, 25.0, n)));
+    for (phi, steep) in [(20.0, 30.0), (32.0, 40.0), (45.0, 50.0)] {
+        cases.extend(variants(0.005).map(|n| (phi, steep, n)));
+    }
     let mut rows = Vec::new();
     for (phi, slope, n) in cases {
         let r = heap_slope(phi, slope, 3.5e5, &n, 2.0);
