@@ -539,6 +539,35 @@ fn main() {
     if filters.0.iter().any(|f| f == "flowmatch") {
         flowmatch_study(&mut md, &path);
     }
+    // Opt-in (`-- flowmatch-axi`): the a = 1 axisymmetric collapse refined to h = 0.005 m, with
+    // Eq. 13 and with the steady-flow match (about 20 minutes).
+    if filters.0.iter().any(|f| f == "flowmatch-axi") {
+        let mut rows = Vec::new();
+        let gimp = Numerics::new(0.005, KernelKind::Gimp);
+        for n in [gimp, gimp.steady_flow()] {
+            let c = axisymmetric_collapse("column_collapse_axi_a1_3d.json", &n, 4.0);
+            println!("flowmatch axisymmetric collapse a=1 {}: {c:?}", n.label());
+            let mut row = vec![n.label()];
+            row.extend(axi_cells(&c, 1.0));
+            rows.push(row);
+        }
+        let _ = writeln!(
+            md,
+            "## Friction match: the axisymmetric collapse a = 1 at h = 0.005 m\n\n{}",
+            table(
+                &[
+                    "numerics",
+                    "(R∞−R0)/R0 farthest / edge",
+                    "error (Lube 2004)",
+                    "H∞/H0",
+                    "error (Lube 2004 / Lajeunesse 2004)",
+                    "at rest (s)",
+                    "s"
+                ],
+                &rows
+            )
+        );
+    }
     std::fs::write(&path, &md).unwrap();
     if want("flip") {
         let mut rows = Vec::new();
