@@ -10,7 +10,7 @@
 //! rate averaged over each cell against each particle's own: about 12 minutes), which writes
 //! `docs/validation-report-locking.md`; and `flowmatch` (the sand cases with the cone matched
 //! to steady flow, 3 α_φ = tan φ, against Eq. 13's, with and without the cell-averaged
-//! volumetric rate: about 15 minutes), which writes `docs/validation-report-flowmatch.md`.
+//! volumetric rate: about 20 minutes), which writes `docs/validation-report-flowmatch.md`.
 
 #[path = "support/report.rs"]
 mod report;
