@@ -135,6 +135,22 @@ fn every_bad_scene_gives_the_expected_error() {
             "bodies[0].material.drucker_prager.volumetric_rate: invalid type: boolean `true`, expected `particle` or `cell_average`",
         ),
         (
+            "unknown friction match",
+            scene3(|v| {
+                v["bodies"][0]["material"]["drucker_prager"]["friction_match"] = "mohr".into()
+            }),
+            "bodies[0].material.drucker_prager.friction_match: unknown variant `mohr`, expected `plane_strain` or `steady_flow`",
+        ),
+        (
+            "steady-flow match at 60°",
+            scene3(|v| {
+                let m = &mut v["bodies"][0]["material"]["drucker_prager"];
+                m["friction_match"] = "steady_flow".into();
+                m["friction_angle"] = 60.into();
+            }),
+            "bodies[0].material.drucker_prager.friction_angle = 60: must be in [0, 60) (degrees, with the steady-flow friction match)",
+        ),
+        (
             "volumetric rate of a solid",
             scene2(|v| {
                 v["bodies"][0]["material"]["elastic"]["volumetric_rate"] = "cell_average".into()

@@ -2,7 +2,8 @@
 //! and An et al. (2016).
 //!
 //! Yield function f = √J2 + α_φ I1 − k_c, plastic potential g = √J2 + α_ψ I1 (Eq. 11–12), with
-//! the plane-strain matching of Eq. 13. Stress is tension-positive (σ = −P I + s), so the cone
+//! the plane-strain matching of Eq. 13 (or, as an option, the steady-flow match of
+//! [`FrictionMatch::SteadyFlow`]). Stress is tension-positive (σ = −P I + s), so the cone
 //! opens towards compression and its apex sits at I1 = k_c/α_φ.
 //!
 //! The plastic correction of Eq. 14, Δσ = −Δλ (3 α_ψ K I + (G/√J2) s), is applied to the elastic
@@ -45,6 +46,91 @@ pub struct DruckerPragerParams {
     /// default) or its grid cell's average (against volumetric locking; [`VolumetricRate`]).
     #[serde(default, skip_serializing_if = "VolumetricRate::is_particle")]
     pub volumetric_rate: VolumetricRate,
+    /// How the cone's constants follow from φ, ψ and c: Eq. 13 (the default) or the
+    /// steady-flow match ([`FrictionMatch`]).
+    #[serde(default, skip_serializing_if = "FrictionMatch::is_plane_strain")]
+    pub friction_match: FrictionMatch,
+}
+
+/// How the cone's α_φ, α_ψ and k_c follow from the friction angle φ, the dilatancy angle ψ
+/// and the cohesion c.
+///
+/// With ψ = 0 the plastic flow is along the deviatoric stress s, so in steady simple shear (a
+/// layer flowing parallel to a slope) every deviatoric component but the shear stress relaxes
+/// away, and the layer carries τ = √J2 = k_c + 3 α_φ σ_n: it keeps flowing on any slope steeper
+/// than atan(3 α_φ) (Davis 1968's reduced strength of non-associated flow). Eq. 13 matches the
+/// cone to Mohr–Coulomb in plane strain for associated flow, so a φ = 32° sand of the paper
+/// flows down to 26.9°, not 32°. The steady-flow match, α = tan θ / 3 and k_c = c, makes the
+/// flowing layer mobilise τ = c + σ_n tan φ, the friction coefficient μ = tan φ that granular
+/// rheologies measure from the angle of repose (Jop et al. 2006; Dunatunga & Kamrin 2015).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FrictionMatch {
+    /// α = tan θ / √(9 + 12 tan²θ), k_c = 3c / √(9 + 12 tan²φ) (Eq. 13, the paper's).
+    #[default]
+    PlaneStrain,
+    /// α = tan θ / 3, k_c = c: a steadily shearing layer mobilises τ = c + σ_n tan φ.
+    SteadyFlow,
+}
+
+impl FrictionMatch {
+    /// The scene-file names.
+    pub const NAMES: [&'static str; 2] = ["plane_strain", "steady_flow"];
+
+    pub fn is_plane_strain(&self) -> bool {
+        *self == FrictionMatch::PlaneStrain
+    }
+
+    /// The cone's α for a friction coefficient μ = tan θ.
+    pub fn alpha(self, mu: f64) -> f64 {
+        match self {
+            FrictionMatch::PlaneStrain => mu / (9.0 + 12.0 * mu * mu).sqrt(),
+            FrictionMatch::SteadyFlow => mu / 3.0,
+        }
+    }
+
+    /// The cone's k_c for cohesion c and a friction coefficient μ = tan φ.
+    pub fn k_c(self, cohesion: f64, mu: f64) -> f64 {
+        match self {
+            FrictionMatch::PlaneStrain => 3.0 * cohesion / (9.0 + 12.0 * mu * mu).sqrt(),
+            FrictionMatch::SteadyFlow => cohesion,
+        }
+    }
+
+    /// The largest friction angle the match accepts (degrees, excluded): Eq. 13 takes any
+    /// φ < 90°; the steady-flow cone 3 α_φ = tan φ reaches √3 at 60°, where its triaxial
+    /// compression meridian passes through zero lateral stress (q = 3p) and beyond which it
+    /// would ask for principal tension in compression.
+    pub fn max_friction_angle(self) -> f64 {
+        match self {
+            FrictionMatch::PlaneStrain => 90.0,
+            FrictionMatch::SteadyFlow => 60.0,
+        }
+    }
+}
+
+/// Read by hand so that any wrong value names the allowed ones.
+impl<'de> Deserialize<'de> for FrictionMatch {
+    fn deserialize<De: serde::Deserializer<'de>>(d: De) -> std::result::Result<Self, De::Error> {
+        struct Names;
+        impl serde::de::Visitor<'_> for Names {
+            type Value = FrictionMatch;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("`plane_strain` or `steady_flow`")
+            }
+            fn visit_str<E: serde::de::Error>(
+                self,
+                v: &str,
+            ) -> std::result::Result<Self::Value, E> {
+                match v {
+                    "plane_strain" => Ok(FrictionMatch::PlaneStrain),
+                    "steady_flow" => Ok(FrictionMatch::SteadyFlow),
+                    _ => Err(E::unknown_variant(v, &FrictionMatch::NAMES)),
+                }
+            }
+        }
+        d.deserialize_str(Names)
+    }
 }
 
 /// Which volumetric strain rate tr ε̇ the stress update of a sand particle takes. With ψ = 0
@@ -98,12 +184,6 @@ impl<'de> Deserialize<'de> for VolumetricRate {
     }
 }
 
-/// tan θ / √(9 + 12 tan²θ) (Eq. 13).
-fn alpha(angle_deg: f64) -> f64 {
-    let t = angle_deg.to_radians().tan();
-    t / (9.0 + 12.0 * t * t).sqrt()
-}
-
 impl DruckerPragerParams {
     pub fn elastic(&self) -> ElasticParams {
         ElasticParams {
@@ -114,13 +194,17 @@ impl DruckerPragerParams {
     }
     pub fn validate(&self, path: &str) -> Result<()> {
         self.elastic().validate(path)?;
+        let max = self.friction_match.max_friction_angle();
         check_range(
             format!("{path}.friction_angle"),
             self.friction_angle,
             0.0,
-            90.0,
+            max,
             true,
-            "degrees",
+            match self.friction_match {
+                FrictionMatch::PlaneStrain => "degrees",
+                FrictionMatch::SteadyFlow => "degrees, with the steady-flow friction match",
+            },
         )?;
         let psi = self.dilatancy_angle;
         if !(psi.is_finite() && psi >= 0.0 && psi <= self.friction_angle) {
@@ -156,10 +240,16 @@ impl DruckerPragerParams {
             },
         }
     }
+    /// The friction coefficient a steadily shearing layer of the cohesionless material
+    /// mobilises, τ/σ_n = 3 α_φ (ψ = 0): slopes steeper than its arctangent keep flowing.
+    pub fn steady_shear_friction(&self) -> f64 {
+        3.0 * self.model().alpha_phi as f64
+    }
     pub fn model(&self) -> DruckerPrager {
+        let fm = self.friction_match;
         let t = self.friction_angle.to_radians().tan();
-        let alpha_phi = alpha(self.friction_angle);
-        let k_c = 3.0 * self.cohesion / (9.0 + 12.0 * t * t).sqrt();
+        let alpha_phi = fm.alpha(t);
+        let k_c = fm.k_c(self.cohesion, t);
         let apex = if alpha_phi > 0.0 {
             k_c / alpha_phi
         } else if k_c == 0.0 {
@@ -168,13 +258,13 @@ impl DruckerPragerParams {
             f64::INFINITY
         };
         let elastic = self.elastic().model();
-        let alpha_psi = alpha(self.dilatancy_angle);
+        let alpha_psi = fm.alpha(self.dilatancy_angle.to_radians().tan());
         let inv_hardening =
             1.0 / (elastic.g as f64 + 9.0 * alpha_phi * alpha_psi * elastic.k as f64);
         DruckerPrager {
             mu_i: self
                 .mu_i
-                .map(|m| m.model(self.friction_angle, self.density)),
+                .map(|m| m.model(self.friction_angle, self.density, fm)),
             elastic,
             alpha_phi: alpha_phi as Real,
             alpha_psi: alpha_psi as Real,
@@ -284,6 +374,10 @@ mod tests {
     use crate::math::Sym3;
 
     fn sand(phi: f64, psi: f64, c: f64) -> DruckerPrager {
+        matched(phi, psi, c, FrictionMatch::PlaneStrain)
+    }
+
+    fn matched(phi: f64, psi: f64, c: f64, friction_match: FrictionMatch) -> DruckerPrager {
         DruckerPragerParams {
             youngs_modulus: 3.5e5,
             poisson_ratio: 0.3,
@@ -293,6 +387,7 @@ mod tests {
             cohesion: c,
             mu_i: None,
             volumetric_rate: VolumetricRate::Particle,
+            friction_match,
         }
         .model()
     }
@@ -309,6 +404,82 @@ mod tests {
         assert!((m.alpha_phi as f64 - t / d).abs() < 1e-6);
         assert!((m.k_c as f64 - 3000.0 / d).abs() < 1e-2);
         assert_eq!(m.alpha_psi, 0.0);
+    }
+
+    /// The steady-flow match: α = tan θ / 3 and k_c = c, so that √J2 = c + p tan φ on the cone.
+    #[test]
+    fn steady_flow_constants() {
+        let m = matched(30.0, 10.0, 1000.0, FrictionMatch::SteadyFlow);
+        let t = |a: f64| a.to_radians().tan();
+        assert!((m.alpha_phi as f64 - t(30.0) / 3.0).abs() < 1e-6);
+        assert!((m.alpha_psi as f64 - t(10.0) / 3.0).abs() < 1e-6);
+        assert!((m.k_c as f64 - 1000.0).abs() < 1e-3);
+        // the apex, where √J2 = 0: I1 = k_c / α_φ = 3c / tan φ
+        assert!((m.apex as f64 - 3000.0 / t(30.0)).abs() < 1e-2 * m.apex as f64);
+    }
+
+    /// Simple shear at constant volume (v_x = γ̇ y) of cohesionless sand with ψ = 0, from an
+    /// at-rest stress σ_yy = −p0, σ_xx = σ_zz = K0 σ_yy (K0 = 0.5) to a shear strain of 1. The
+    /// plastic flow is along the deviator s, so every deviatoric component but s_xy relaxes
+    /// away (to O(τ/G), which the Jaumann spin keeps) at a constant pressure, and the shear
+    /// plane carries τ_xy/(−σ_yy) = √J2/p = 3 α_φ: a layer flowing down a slope stops below
+    /// θ* = atan(3 α_φ). By Eq. 13, 3 α_φ = sin φ_ps, well below tan φ (θ* = 18.6°, 26.9°, 33.2°
+    /// for φ = 20°, 32°, 45°); by the steady-flow match it is tan φ.
+    #[test]
+    fn steady_simple_shear_mobilises_three_alpha_phi() {
+        let (p0, k0) = (100.0, 0.5);
+        let at_rest = Sym3 {
+            xx: -k0 * p0,
+            yy: -p0,
+            zz: -k0 * p0,
+            ..Sym3::ZERO
+        };
+        let p = -at_rest.trace() / 3.0;
+        let normal_deviators = |s: &Sym3| {
+            let d = *s - Sym3::iso(s.trace() / 3.0);
+            d.xx.abs().max(d.yy.abs()).max(d.zz.abs())
+        };
+        assert!(normal_deviators(&at_rest) > 0.4 * p);
+        for phi in [20.0f64, 32.0, 45.0] {
+            let tan_phi = phi.to_radians().tan();
+            for fm in [FrictionMatch::PlaneStrain, FrictionMatch::SteadyFlow] {
+                let m = matched(phi, 0.0, 0.0, fm);
+                let (s, _, _) = drive(
+                    &m,
+                    at_rest,
+                    [[0.0, 1.0, 0.0], [0.0; 3], [0.0; 3]],
+                    1e-4,
+                    10_000,
+                    |_, _| {},
+                );
+                let ratio = (s.xy / -s.yy) as f64;
+                let three_alpha = 3.0 * m.alpha_phi as f64;
+                assert!(
+                    (ratio / three_alpha - 1.0).abs() < 1e-3,
+                    "φ = {phi}, {fm:?}: τ/σ_n = {ratio}, 3 α_φ = {three_alpha}"
+                );
+                assert!(normal_deviators(&s) < 1e-3 * p, "φ = {phi}, {fm:?}: {s:?}");
+                assert!((-s.trace() / 3.0 - p).abs() < 1e-4 * p, "{s:?}");
+                match fm {
+                    // the flowing layer holds the friction coefficient tan φ
+                    FrictionMatch::SteadyFlow => assert!(
+                        (ratio / tan_phi - 1.0).abs() < 1e-3,
+                        "φ = {phi}: τ/σ_n = {ratio} vs tan φ = {tan_phi}"
+                    ),
+                    // Eq. 13's stops 1.4° to 12° short of φ: the tolerance above tells them apart
+                    FrictionMatch::PlaneStrain => {
+                        let stop = ratio.atan().to_degrees();
+                        let expected = [(20.0, 18.55), (32.0, 26.87), (45.0, 33.21)]
+                            .iter()
+                            .find(|e| e.0 == phi)
+                            .unwrap()
+                            .1;
+                        assert!((stop - expected).abs() < 0.02, "φ = {phi}: θ* = {stop}");
+                        assert!(ratio < 0.95 * tan_phi, "φ = {phi}: {ratio}");
+                    }
+                }
+            }
+        }
     }
 
     #[test]
@@ -357,6 +528,7 @@ mod tests {
             cohesion: 0.0,
             mu_i: None,
             volumetric_rate: VolumetricRate::Particle,
+            friction_match: FrictionMatch::PlaneStrain,
         };
         let plain = params.model();
         params.mu_i = Some(MuIParams {
@@ -401,17 +573,61 @@ mod tests {
         );
     }
 
-    /// The option reads and writes as `"volumetric_rate": "cell_average"`; the default is
-    /// left out of a saved scene.
+    /// μ(I) takes the body's friction match: with the steady-flow match a steady simple shear
+    /// under pressure p carries τ = μ(I) p.
+    #[test]
+    fn mu_i_takes_the_friction_match() {
+        let p = 500.0;
+        let params = DruckerPragerParams {
+            youngs_modulus: 3.5e5,
+            poisson_ratio: 0.3,
+            density: 2200.0,
+            friction_angle: 32.0,
+            dilatancy_angle: 0.0,
+            cohesion: 0.0,
+            mu_i: Some(MuIParams {
+                grain_diameter: 1e-3,
+            }),
+            volumetric_rate: VolumetricRate::Particle,
+            friction_match: FrictionMatch::SteadyFlow,
+        };
+        let m = params.model();
+        let law = m.mu_i.unwrap();
+        let gamma = 10.0;
+        let (s, _, _) = drive(
+            &m,
+            confined(p),
+            [[0.0, gamma, 0.0], [0.0; 3], [0.0; 3]],
+            2e-5,
+            2000,
+            |_, _| {},
+        );
+        let mu = law.friction(law.inertial_number(gamma, p));
+        let tau = mu * p;
+        assert!(mu > (32f64.to_radians().tan() + 0.01) as Real);
+        assert!(
+            (s.xy - tau).abs() < 1e-3 * tau,
+            "τ = {} vs μ(I) p = {tau}",
+            s.xy
+        );
+        // at rest: the steady-flow cone of tan φ
+        assert!((law.alpha_phi(Sym3::ZERO, -3.0 * p) - m.alpha_phi).abs() < 1e-6);
+    }
+
+    /// The options read and write as `"volumetric_rate": "cell_average"` and
+    /// `"friction_match": "steady_flow"`; the defaults are left out of a saved scene.
     #[test]
     fn the_volumetric_rate_option_round_trips() {
         let json = r#"{"youngs_modulus": 3.5e5, "poisson_ratio": 0.3, "density": 2200,
-            "friction_angle": 32, "volumetric_rate": "cell_average"}"#;
+            "friction_angle": 32, "volumetric_rate": "cell_average",
+            "friction_match": "steady_flow"}"#;
         let mut p: DruckerPragerParams = serde_json::from_str(json).unwrap();
         assert_eq!(p.volumetric_rate, VolumetricRate::CellAverage);
+        assert_eq!(p.friction_match, FrictionMatch::SteadyFlow);
         let text = serde_json::to_string(&p).unwrap();
         assert!(
-            text.contains(r#""volumetric_rate":"cell_average""#),
+            text.contains(r#""volumetric_rate":"cell_average""#)
+                && text.contains(r#""friction_match":"steady_flow""#),
             "{text}"
         );
         assert_eq!(
@@ -419,10 +635,22 @@ mod tests {
             p
         );
         p.volumetric_rate = VolumetricRate::Particle;
+        p.friction_match = FrictionMatch::PlaneStrain;
         let text = serde_json::to_string(&p).unwrap();
-        assert!(!text.contains("volumetric_rate"), "{text}");
+        assert!(
+            !text.contains("volumetric_rate") && !text.contains("friction_match"),
+            "{text}"
+        );
         let p: DruckerPragerParams = serde_json::from_str(&text).unwrap();
         assert_eq!(p.volumetric_rate, VolumetricRate::Particle);
+        assert_eq!(p.friction_match, FrictionMatch::PlaneStrain);
+        let bad = json.replace("steady_flow", "steady");
+        assert_eq!(
+            serde_json::from_str::<DruckerPragerParams>(&bad)
+                .unwrap_err()
+                .to_string(),
+            "unknown variant `steady`, expected `plane_strain` or `steady_flow` at line 3 column 38"
+        );
     }
 
     #[test]
@@ -524,6 +752,7 @@ mod tests {
             cohesion: 0.0,
             mu_i: None,
             volumetric_rate: VolumetricRate::Particle,
+            friction_match: FrictionMatch::PlaneStrain,
         };
         assert_eq!(
             p.validate("bodies[1].material.drucker_prager")
@@ -539,7 +768,22 @@ mod tests {
                 .to_string()
                 .contains("m.dilatancy_angle = 31")
         );
+        // the steady-flow cone, 3 α_φ = tan φ, stays below √3
         p.dilatancy_angle = 0.0;
+        p.friction_match = FrictionMatch::SteadyFlow;
+        p.friction_angle = 60.0;
+        assert_eq!(
+            p.validate("bodies[0].material.drucker_prager")
+                .unwrap_err()
+                .to_string(),
+            "bodies[0].material.drucker_prager.friction_angle = 60: must be in [0, 60) (degrees, with the steady-flow friction match)"
+        );
+        p.friction_angle = 59.5;
+        assert!(p.validate("m").is_ok());
+        p.friction_match = FrictionMatch::PlaneStrain;
+        p.friction_angle = 60.0;
+        assert!(p.validate("m").is_ok());
+        p.friction_angle = 30.0;
         p.cohesion = -1.0;
         assert!(
             p.validate("m")

@@ -10,7 +10,7 @@ pub mod elastic;
 pub mod mu_i;
 pub mod von_mises;
 
-pub use drucker_prager::{DruckerPrager, DruckerPragerParams, VolumetricRate};
+pub use drucker_prager::{DruckerPrager, DruckerPragerParams, FrictionMatch, VolumetricRate};
 pub use elastic::{Elastic, ElasticParams};
 pub use von_mises::{VonMises, VonMisesParams};
 
@@ -115,6 +115,7 @@ impl Material {
             cohesion,
             mu_i: None,
             volumetric_rate: VolumetricRate::Particle,
+            friction_match: FrictionMatch::PlaneStrain,
         })
     }
 
@@ -504,8 +505,14 @@ mod tests {
         check(vm.clone(), &|s, l| {
             test_util::drive(&v, *s, l, 1e-3, 1, |_, x| *s = *x);
         });
-        for c in [0.0, 500.0] {
-            let dp = Material::drucker_prager(e, nu, rho, 30.0, 0.0, c);
+        for (c, fm) in [0.0, 500.0]
+            .into_iter()
+            .flat_map(|c| [FrictionMatch::PlaneStrain, FrictionMatch::SteadyFlow].map(|f| (c, f)))
+        {
+            let mut dp = Material::drucker_prager(e, nu, rho, 30.0, 0.0, c);
+            if let Material::DruckerPrager(p) = &mut dp {
+                p.friction_match = fm;
+            }
             let Model::DruckerPrager(d) = dp.model() else {
                 unreachable!()
             };

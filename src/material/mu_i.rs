@@ -7,11 +7,13 @@
 //! simple shear), p the pressure, d the grain diameter and ρ_s the grain density (the
 //! material's density). μ_s = tan φ comes from the user's friction angle; the rise
 //! μ_2 − μ_s = tan 32.76° − tan 20.9° = 0.262 and I_0 = 0.279 are Jop et al.'s published
-//! constants for glass beads (d = 0.53 mm). The cone takes the friction through Eq. 13,
-//! α_φ(I) = μ(I)/√(9 + 12 μ(I)²), so a material at rest (I = 0) has exactly the paper's
+//! constants for glass beads (d = 0.53 mm). The cone takes the friction through the body's
+//! friction match ([`FrictionMatch`]): Eq. 13, α_φ(I) = μ(I)/√(9 + 12 μ(I)²), by default, or
+//! α_φ(I) = μ(I)/3 with the steady-flow match, so a material at rest (I = 0) has exactly its
 //! rate-independent cone and a flowing one a wider cone: the friction of the flow rises with
 //! its inertial number. In a scene: `"drucker_prager": {..., "mu_i": {"grain_diameter": 5e-4}}`.
 
+use super::FrictionMatch;
 use crate::error::{Error, Result};
 use crate::math::{Lane, Real, SymTensor};
 use serde::{Deserialize, Serialize};
@@ -46,9 +48,11 @@ impl MuIParams {
             ))
         }
     }
-    /// The law for a material of friction angle φ (degrees) and density ρ_s (kg/m³).
-    pub fn model(&self, friction_angle: f64, density: f64) -> MuI {
+    /// The law for a material of friction angle φ (degrees) and density ρ_s (kg/m³) whose cone
+    /// follows the friction by `friction_match`.
+    pub fn model(&self, friction_angle: f64, density: f64, friction_match: FrictionMatch) -> MuI {
         MuI {
+            friction_match,
             mu_s: friction_angle.to_radians().tan() as Real,
             rise: jop_friction_rise() as Real,
             i0: JOP_I0 as Real,
@@ -60,6 +64,8 @@ impl MuIParams {
 /// The μ(I) law with its constants.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MuI {
+    /// How the cone's α_φ follows from μ(I).
+    pub friction_match: FrictionMatch,
     /// μ_s = tan φ.
     pub mu_s: Real,
     /// μ_2 − μ_s.
@@ -81,9 +87,9 @@ impl MuI {
         }
         self.mu_s + self.rise * i / (i + self.i0)
     }
-    /// The cone's α_φ = μ/√(9 + 12 μ²) (Eq. 13) for the strain rate `rate` and the first
-    /// invariant `i1` of the stress (tension positive), lane by lane. I/(I + I_0) is formed
-    /// as x/(x + y) with x = γ̇ d √ρ_s and y = I_0 √p, finite for every pressure: μ_2 where
+    /// The cone's α_φ of μ(I) (μ/√(9 + 12 μ²) by Eq. 13, μ/3 by the steady-flow match) for
+    /// the strain rate `rate` and the first invariant `i1` of the stress (tension positive),
+    /// lane by lane. I/(I + I_0) is formed as x/(x + y) with x = γ̇ d √ρ_s and y = I_0 √p, finite for every pressure: μ_2 where
     /// the pressure is zero and the material shears, μ_s where it does not shear.
     #[inline(always)]
     pub fn alpha_phi<S: SymTensor>(&self, rate: S, i1: S::Scalar) -> S::Scalar {
@@ -92,7 +98,11 @@ impl MuI {
         let y = (i1 * (-1.0 / 3.0)).max(S::Scalar::ZERO).sqrt() * self.i0;
         let share = x / (x + y).max(S::Scalar::splat(Real::MIN_POSITIVE));
         let mu = share * self.rise + self.mu_s;
-        mu / (mu * mu * 12.0 + 9.0).sqrt()
+        // the branch is on the model, the same in every lane
+        match self.friction_match {
+            FrictionMatch::PlaneStrain => mu / (mu * mu * 12.0 + 9.0).sqrt(),
+            FrictionMatch::SteadyFlow => mu * (1.0 / 3.0),
+        }
     }
 }
 
@@ -102,7 +112,7 @@ mod tests {
     use crate::math::Sym3;
 
     fn law(phi: f64, d: f64) -> MuI {
-        MuIParams { grain_diameter: d }.model(phi, 2500.0)
+        MuIParams { grain_diameter: d }.model(phi, 2500.0, FrictionMatch::PlaneStrain)
     }
 
     fn eq13(mu: f64) -> f64 {

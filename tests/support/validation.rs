@@ -39,6 +39,9 @@ pub struct Numerics {
     /// Sand under test takes its cells' averaged volumetric strain rate
     /// (`"volumetric_rate": "cell_average"`) instead of each particle's.
     pub cell_average: bool,
+    /// Sand under test takes the steady-flow friction match (`"friction_match":
+    /// "steady_flow"`: 3 α_φ = tan φ) instead of Eq. 13.
+    pub steady_flow: bool,
 }
 
 impl Numerics {
@@ -52,11 +55,17 @@ impl Numerics {
             cfl: 0.4,
             mu_i: None,
             cell_average: false,
+            steady_flow: false,
         }
     }
     /// Sand with the volumetric strain rate averaged over each grid cell.
     pub fn cell_average(mut self) -> Self {
         self.cell_average = true;
+        self
+    }
+    /// Sand with the steady-flow friction match.
+    pub fn steady_flow(mut self) -> Self {
+        self.steady_flow = true;
         self
     }
     /// Sand with the μ(I) friction of grain diameter `d` (m).
@@ -109,13 +118,18 @@ impl Numerics {
         {
             m.volumetric_rate = mpm::material::VolumetricRate::CellAverage;
         }
+        if let (true, Material::DruckerPrager(m)) =
+            (self.steady_flow, &mut scene.bodies[0].material)
+        {
+            m.friction_match = mpm::material::FrictionMatch::SteadyFlow;
+        }
     }
     /// A short label, e.g. `gimp h=0.0125 ppc=2 α=1 cfl=0.4` (and ` apic`, ` μ(I) d=0.5mm`,
-    /// ` cell-avg`).
+    /// ` cell-avg`, ` steady-flow`).
     pub fn label(&self) -> String {
         let alpha = self.flip.map_or("scene".to_string(), |a| format!("{a}"));
         format!(
-            "{} h={} ppc={} α={alpha} cfl={}{}{}{}",
+            "{} h={} ppc={} α={alpha} cfl={}{}{}{}{}",
             kernel_name(self.kernel),
             self.cell_size,
             self.ppc,
@@ -127,7 +141,8 @@ impl Numerics {
             },
             self.mu_i
                 .map_or(String::new(), |d| format!(" μ(I) d={}mm", 1e3 * d)),
-            if self.cell_average { " cell-avg" } else { "" }
+            if self.cell_average { " cell-avg" } else { "" },
+            if self.steady_flow { " steady-flow" } else { "" }
         )
     }
 }
@@ -880,6 +895,9 @@ pub struct Pile {
     /// The friction angle of the Mohr–Coulomb criterion the model's cone matches in plane
     /// strain with ψ = 0: sin φ_ps = 3 α_φ (Eq. 13's α_φ = tan φ/√(9 + 12 tan² φ)).
     pub plane_strain_angle: f64,
+    /// The slope below which a steadily flowing layer of the sand stops, θ* = atan(3 α_φ)
+    /// of the body's friction match (degrees; φ itself with the steady-flow match).
+    pub stopping_angle: f64,
     /// Mean of the two flanks (degrees).
     pub angle: f64,
     pub flanks: [f64; 2],
@@ -965,6 +983,7 @@ pub fn repose_pile(n: &Numerics, t_max: f64, phi: Option<f64>, lift_speed: f64) 
     Pile {
         friction_angle: m.friction_angle,
         plane_strain_angle: plane_strain_angle(m.friction_angle),
+        stopping_angle: m.steady_shear_friction().atan().to_degrees(),
         angle: 0.5 * (flanks[0] + flanks[1]),
         flanks,
         height,
@@ -1119,6 +1138,8 @@ pub struct HeapSlope {
     pub initial_angle: f64,
     pub angle: f64,
     pub plane_strain_angle: f64,
+    /// θ* = atan(3 α_φ) of the body's friction match (degrees; [`Pile::stopping_angle`]).
+    pub stopping_angle: f64,
     /// When the flanks had come down halfway from their initial angle to φ_ps (s; `None` if
     /// they never did).
     pub failed_at: Option<f64>,
@@ -1163,6 +1184,10 @@ pub fn heap_slope(
         Material::drucker_prager(youngs_modulus, 0.3, 2200.0, phi, 0.0, 0.0),
     ));
     n.apply(&mut scene);
+    let Material::DruckerPrager(m) = scene.bodies[0].material else {
+        unreachable!("the heap is sand");
+    };
+    let stopping_angle = m.steady_shear_friction().atan().to_degrees();
     let s = spacing(&scene);
     let phi_ps = plane_strain_angle(phi);
     let mut sim = Simulation::<mpm::D2>::new(scene).expect("heap scene");
@@ -1218,6 +1243,7 @@ pub fn heap_slope(
         initial_angle,
         angle: flank(&sim),
         plane_strain_angle: phi_ps,
+        stopping_angle,
         failed_at,
         creep,
         peak_speed,
