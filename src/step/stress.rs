@@ -420,12 +420,20 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
     // The volume bound's lanes, m_p times the model's largest specific volume (a short chunk
     // padded with a real particle's mass).
     let cap = model.max_specific_volume().map(|s| {
-        let mut mass = [ps.mass[0]; CHUNK];
-        mass[..len].copy_from_slice(ps.mass);
-        Lanes2(
-            Lanes::from_slice(&mass[..LANES]) * s,
-            Lanes::from_slice(&mass[LANES..]) * s,
-        )
+        let lanes = |m: &[Real]| {
+            Lanes2(
+                Lanes::from_slice(&m[..LANES]),
+                Lanes::from_slice(&m[LANES..]),
+            )
+        };
+        let mass = if len == CHUNK {
+            lanes(ps.mass)
+        } else {
+            let mut mass = [ps.mass[0]; CHUNK];
+            mass[..len].copy_from_slice(ps.mass);
+            lanes(&mass)
+        };
+        mass * s
     });
     // Set only for a short chunk (zeroing them for every chunk cost 4 instructions a particle).
     let (mut pad_stress, mut pad_volume);
