@@ -4,7 +4,8 @@
 //! within one cell). See docs/validation.md, "Drucker–Prager: the angle at which sand stops
 //! flowing", and the test `a_lone_stretching_sand_grain_stops_growing_and_keeps_its_time_step`.
 //!
-//! `taskset -c 1 cargo run --release --example collapse_volume` (a minute; five before sand's volume was bounded)
+//! `taskset -c 1 cargo run --release --example collapse_volume` (a minute; five before sand's
+//! volume was bounded)
 
 #[path = "../tests/support/validation.rs"]
 mod validation;
