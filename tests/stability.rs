@@ -815,3 +815,43 @@ fn mutated_scenes_never_panic() {
         "no mutated scene was built: the fuzzer tests nothing"
     );
 }
+
+/// A lone grain of cohesionless sand on the floor with a stretching APIC affine velocity, as a
+/// plane collapse once left one beyond its front (docs/validation.md, *the angle at which sand
+/// stops flowing*). Nothing acts on its C_p (APIC gives a lone particle back the affine field
+/// it scattered) and past the cone's apex it carries no stress, so with V̇ = V tr ε̇ alone its
+/// volume grew as exp(t tr C_p), 286-fold in a second, and the time step, set by the wave
+/// speed at the body's lowest density, fell 17-fold. Sand's volume stops at twice its volume
+/// at the material's density: the grain must stop there and its time step fall by no more
+/// than √2, under either friction match and either volumetric rate.
+#[test]
+fn a_lone_stretching_sand_grain_stops_growing_and_keeps_its_time_step() {
+    for friction_match in ["plane_strain", "steady_flow"] {
+        for rate in ["particle", "cell_average"] {
+            let text = format!(
+                r#"{{ "dim": 2, "domain": {{ "size": [0.2, 0.1] }}, "cell_size": 0.005,
+                  "gravity": [0.0, -9.81], "cfl": 0.4, "max_dt": 0.001, "kernel": "gimp",
+                  "boundary": {{ "friction": 0.625 }},
+                  "bodies": [ {{ "name": "grain",
+                    "shape": {{ "box": {{ "min": [0.1, 0.0], "max": [0.1025, 0.0025] }} }},
+                    "material": {{ "drucker_prager": {{ "youngs_modulus": 3.5e5,
+                      "poisson_ratio": 0.3, "density": 2200, "friction_angle": 32,
+                      "friction_match": "{friction_match}", "volumetric_rate": "{rate}" }} }},
+                    "particles_per_cell": 2, "flip": 0.05 }} ] }}"#
+            );
+            let mut sim = Simulation::<D2>::new(SceneConfig::from_json(&text).unwrap()).unwrap();
+            assert_eq!(sim.particles().len(), 1);
+            sim.step().unwrap();
+            // the collapse's grain (columns ∂v/∂x, ∂v/∂y; tr C = 5.66 /s)
+            let affine = [8.708626, 0.09625, 20.810915, -3.0524125];
+            sim.particles_mut().affine[0] = mpm::math::Mat2::from_cols_array(&affine);
+            let (v0, dt0) = (sim.particles().volume[0] as f64, sim.stable_dt());
+            sim.advance(1.0).unwrap();
+            let ratio = sim.particles().volume[0] as f64 / v0;
+            let case = format!("{friction_match}, {rate}");
+            assert!(ratio > 1.9 && ratio < 2.0 + 1e-3, "{case}: V/V0 = {ratio}");
+            let dt = sim.stable_dt();
+            assert!(dt > 0.7 * dt0, "{case}: dt {dt0} -> {dt}");
+        }
+    }
+}

@@ -14,6 +14,14 @@
 //! shifted back to the apex, and a remaining f > 0 is removed by scaling the deviatoric stress
 //! back onto the cone. Cohesionless sand (c = 0) therefore carries no tension.
 //!
+//! Past the apex nothing resists an expansion, so a particle's volume may grow at most to
+//! [`LOOSEST`] times its volume at the material's density (`max_specific_volume`): a lone grain
+//! whose APIC affine velocity stretches (nothing acts on it there) would otherwise inflate
+//! exponentially, and with it the wave speed at the body's lowest density that sets everyone's
+//! time step (docs/validation.md, *the angle at which sand stops flowing*). A granular packing
+//! loosens by a few percent before its grains part; twice the volume is far beyond that, so
+//! the bound touches only grains that have left the flow.
+//!
 //! Optionally the friction rises with the inertial number of the flow, μ(I) of Jop et al.
 //! (2006) ([`super::mu_i`]): the cone's α_φ is then formed per particle from its strain rate
 //! and pressure, and equals the rate-independent one at rest.
@@ -24,6 +32,10 @@ use crate::error::{Error, Result, check_non_negative, check_range};
 use crate::math::{Lane, Real, SymTensor};
 
 const SQRT_3: Real = 1.732_050_8;
+
+/// The largest volume of a sand particle, as a multiple of its volume at the material's
+/// density (the module's documentation says why).
+pub const LOOSEST: f64 = 2.0;
 use serde::{Deserialize, Serialize};
 
 /// Parameters: E (Pa), ν, density (kg/m³), friction angle φ ∈ [0°, 90°), dilatancy angle
@@ -271,6 +283,7 @@ impl DruckerPragerParams {
             k_c: k_c as Real,
             apex: apex as Real,
             inv_hardening: inv_hardening as Real,
+            max_specific_volume: (LOOSEST / self.density) as Real,
         }
     }
 }
@@ -288,6 +301,8 @@ pub struct DruckerPrager {
     pub inv_hardening: Real,
     /// Rate-dependent friction: α_φ, the denominator and the apex per particle.
     pub mu_i: Option<MuI>,
+    /// [`LOOSEST`] / density (m³/kg): the largest volume per unit mass.
+    pub max_specific_volume: Real,
 }
 
 impl DruckerPrager {
@@ -364,6 +379,9 @@ impl Constitutive for DruckerPrager {
     }
     fn elastic(&self) -> &Elastic {
         &self.elastic
+    }
+    fn max_specific_volume(&self) -> Option<Real> {
+        Some(self.max_specific_volume)
     }
 }
 

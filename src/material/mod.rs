@@ -61,6 +61,12 @@ pub trait Constitutive: Copy + Send + Sync + 'static {
     ) -> StressUpdate<S::Scalar>;
     /// The elastic part of the model (moduli and stored energy).
     fn elastic(&self) -> &Elastic;
+    /// The largest volume per unit mass (m³/kg) a particle's volume may grow to, for a model
+    /// whose stress does not resist every expansion (sand past its apex); `None`: the volume
+    /// follows V̇ = V tr ε̇ without bound.
+    fn max_specific_volume(&self) -> Option<Real> {
+        None
+    }
 }
 
 /// The material of a body, as written in scene files:

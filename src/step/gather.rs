@@ -51,6 +51,7 @@ impl<D: Dim> Simulation<D> {
             let stress = StressState {
                 stress: &mut p.stress[r.clone()],
                 volume: &mut p.volume[r.clone()],
+                mass: &p.mass[r.clone()],
                 plastic_strain: &mut p.plastic_strain[r],
             };
             if body.kinematic {

@@ -5,7 +5,9 @@
 //!   Eq. 2–6 with the model's plastic return), and
 //! - the volume V_p ← V_p exp(Δt tr ε̇), the exact solution of V̇ = V tr ε̇ for the step's
 //!   rate: first order the same as V_p (1 + Δt tr ε̇), but never zero or negative however
-//!   violent the compression.
+//!   violent the compression; at most m_p times the model's
+//!   [`Constitutive::max_specific_volume`] if it has one (sand, which past its apex resists
+//!   no expansion).
 //!
 //! When they run depends on the kernel and the material ([`super::StressOrder`]):
 //!
@@ -66,6 +68,7 @@ impl<D: Dim> Simulation<D> {
             let state = StressState {
                 stress: &mut p.stress[r.clone()],
                 volume: &mut p.volume[r.clone()],
+                mass: &p.mass[r.clone()],
                 plastic_strain: &mut p.plastic_strain[r],
             };
             let lp = body.radius * inv_h;
@@ -91,6 +94,7 @@ pub const CHUNK: usize = 2 * LANES;
 pub struct StressState<'a, D: Dim> {
     pub stress: &'a mut [D::Sym],
     pub volume: &'a mut [Real],
+    pub mass: &'a [Real],
     pub plastic_strain: &'a mut [Real],
 }
 
@@ -336,6 +340,7 @@ impl<D: Dim> StressState<'_, D> {
         StressState {
             stress: &mut self.stress[r.clone()],
             volume: &mut self.volume[r.clone()],
+            mass: &self.mass[r.clone()],
             plastic_strain: &mut self.plastic_strain[r],
         }
     }
@@ -370,6 +375,7 @@ pub fn update_one<D: Dim, M: Constitutive>(
     spin: <D::Sym as SymTensor>::Spin,
     stress: &mut D::Sym,
     volume: &mut Real,
+    mass: Real,
     plastic_strain: &mut Real,
     dt: Real,
     q: usize,
@@ -377,7 +383,11 @@ pub fn update_one<D: Dim, M: Constitutive>(
 ) {
     let u = model.update(stress, rate, spin, dt);
     let before = *volume;
-    let v = before * exp_small(rate.trace() * dt);
+    let mut v = before * exp_small(rate.trace() * dt);
+    if let Some(s) = model.max_specific_volume() {
+        // no growth past the bound (a particle already beyond it is not shrunk by it)
+        v = v.min(before.max(mass * s));
+    }
     *volume = v;
     if M::PLASTIC {
         *plastic_strain += u.plastic_strain;
@@ -407,6 +417,24 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
     report: &mut StressReport,
 ) {
     let len = ps.stress.len();
+    // The volume bound's lanes, m_p times the model's largest specific volume (a short chunk
+    // padded with a real particle's mass).
+    let cap = model.max_specific_volume().map(|s| {
+        let lanes = |m: &[Real]| {
+            Lanes2(
+                Lanes::from_slice(&m[..LANES]),
+                Lanes::from_slice(&m[LANES..]),
+            )
+        };
+        let mass = if len == CHUNK {
+            lanes(ps.mass)
+        } else {
+            let mut mass = [ps.mass[0]; CHUNK];
+            mass[..len].copy_from_slice(ps.mass);
+            lanes(&mass)
+        };
+        mass * s
+    });
     // Set only for a short chunk (zeroing them for every chunk cost 4 instructions a particle).
     let (mut pad_stress, mut pad_volume);
     let (stress, volume, short): (&mut [D::Sym; CHUNK], &mut [Real; CHUNK], _) = if len == CHUNK {
@@ -447,6 +475,7 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
         D::Sym::zip(r0, r1),
         D::Sym::zip_spin(w0, w1),
         &mut v,
+        cap,
         dt,
     );
     let (s0, s1) = D::Sym::unzip(lanes);
@@ -508,11 +537,15 @@ fn update_group<S: SymTensor, M: Constitutive>(
     rate: S,
     spin: S::Spin,
     volume: &mut S::Scalar,
+    cap: Option<S::Scalar>,
     dt: Real,
 ) -> (S::Scalar, Group) {
     let u = model.update(stress, rate, spin, dt);
     let before = *volume;
-    let v = before * exp_small(rate.trace() * dt);
+    let mut v = before * exp_small(rate.trace() * dt);
+    if let Some(cap) = cap {
+        v = v.min(before.max(cap));
+    }
     *volume = v;
     let group = Group {
         elastic: (u.energy * v).sum() as f64,
@@ -673,6 +706,11 @@ mod tests {
             (0..n).map(|q| 1e-4 * (1.0 + q as Real)).collect::<Vec<_>>(),
             vec![0.1; n],
         );
+        // masses at 1000 to 3000 kg/m³: the sand's volume bound (twice the volume at 2200
+        // kg/m³) binds for the expanding particles of the lightest
+        let mass: Vec<Real> = (0..n)
+            .map(|q| volume[q] * (1000.0 + 2000.0 * (q % 3) as Real / 2.0))
+            .collect();
         let (mut stress2, mut volume2, mut plastic2) =
             (stress.clone(), volume.clone(), plastic.clone());
         let (mut lanes, mut plain) = (StressReport::default(), StressReport::default());
@@ -686,13 +724,14 @@ mod tests {
             let ps = StressState::<D> {
                 stress: &mut stress[r.clone()],
                 volume: &mut volume[r.clone()],
+                mass: &mass[r.clone()],
                 plastic_strain: &mut plastic[r.clone()],
             };
             update_chunk(model, &mut rates, ps, first, dt, &mut lanes);
             for q in r {
                 let (rate, spin) = D::rate_and_spin(s[q].0);
                 let (s2, v2, p2) = (&mut stress2[q], &mut volume2[q], &mut plastic2[q]);
-                update_one::<D, M>(model, rate, spin, s2, v2, p2, dt, q, &mut plain);
+                update_one::<D, M>(model, rate, spin, s2, v2, mass[q], p2, dt, q, &mut plain);
             }
         }
         assert_eq!((stress, volume, plastic), (stress2, volume2, plastic2));
@@ -778,9 +817,11 @@ mod tests {
         let mut stress = vec![D::Sym::IDENTITY * -1e4; n];
         let mut volume = c.volume.clone();
         let mut plastic = vec![0.0; n];
+        let mass: Vec<Real> = c.volume.iter().map(|v| v * 2200.0).collect();
         let state = StressState::<D> {
             stress: &mut stress,
             volume: &mut volume,
+            mass: &mass,
             plastic_strain: &mut plastic,
         };
         if AVERAGE {
