@@ -104,6 +104,32 @@ fn headers<'a>(lead: &[&'a str], rest: &'a [String]) -> Vec<&'a str> {
     h
 }
 
+/// The table of plane collapses `runs` (scene file, aspect ratio, numerics) of a study
+/// (`study`: the name its progress lines carry): run-out farthest / edge, H∞, their errors.
+fn collapses_table(study: &str, runs: Vec<(&str, f64, Numerics)>) -> String {
+    let mut rows = Vec::new();
+    for (file, a, n) in runs {
+        let c = column_collapse(file, &n, 4.0);
+        println!("{study} collapse a={a} {}: {c:?}", n.label());
+        let mut row = vec![format!("{a}"), n.label()];
+        row.extend(collapse_cells(&c, a));
+        rows.push(row);
+    }
+    table(
+        &[
+            "a",
+            "numerics",
+            "(L∞−L0)/L0 farthest / edge",
+            "error",
+            "H∞/H0",
+            "error",
+            "at rest (s)",
+            "s",
+        ],
+        &rows,
+    )
+}
+
 /// A plane collapse of aspect ratio `a` against Lube et al. (2005), in the short form of the
 /// stopping and locking studies: run-outs (farthest / edge) and their errors, H∞ and its
 /// error, when it came to rest and the run's wall-clock seconds.
@@ -843,30 +869,10 @@ fn locking_study(md: &mut String, path: &std::path::Path) {
             runs.push((file, a, avg(h)));
         }
     }
-    let mut rows = Vec::new();
-    for (file, a, n) in runs {
-        let c = column_collapse(file, &n, 4.0);
-        println!("locking collapse a={a} {}: {c:?}", n.label());
-        let mut row = vec![format!("{a}"), n.label()];
-        row.extend(collapse_cells(&c, a));
-        rows.push(row);
-    }
     let _ = writeln!(
         md,
         "## Volumetric locking: plane column collapses (φ = 32°, floor μ = 0.625; Lube et al. 2005)\n\nRun-out as the farthest particle and as the edge of the continuous deposit; each particle's own volumetric rate at ppc 2: the stopping report and validation-report.md.\n\n{}",
-        table(
-            &[
-                "a",
-                "numerics",
-                "(L∞−L0)/L0 farthest / edge",
-                "error",
-                "H∞/H0",
-                "error",
-                "at rest (s)",
-                "s"
-            ],
-            &rows
-        )
+        collapses_table("locking", runs)
     );
 }
 
@@ -913,30 +919,10 @@ fn flowmatch_study(md: &mut String, path: &std::path::Path) {
             runs.extend(variants(h).map(|n| (file, a, n)));
         }
     }
-    let mut rows = Vec::new();
-    for (file, a, n) in runs {
-        let c = column_collapse(file, &n, 4.0);
-        println!("flowmatch collapse a={a} {}: {c:?}", n.label());
-        let mut row = vec![format!("{a}"), n.label()];
-        row.extend(collapse_cells(&c, a));
-        rows.push(row);
-    }
     let _ = writeln!(
         md,
         "## Friction match: plane column collapses (φ = 32°, floor μ = 0.625; Lube et al. 2005)\n\nRun-out as the farthest particle and as the edge of the continuous deposit. Issue 16: run-out within 20 %, H∞ within 10 %.\n\n{}",
-        table(
-            &[
-                "a",
-                "numerics",
-                "(L∞−L0)/L0 farthest / edge",
-                "error",
-                "H∞/H0",
-                "error",
-                "at rest (s)",
-                "s"
-            ],
-            &rows
-        )
+        collapses_table("flowmatch", runs)
     );
     std::fs::write(path, &*md).unwrap();
     // per friction angle a slope 5° gentler than φ_ps (stands) and one about 10° steeper

@@ -124,25 +124,36 @@ impl FrictionMatch {
 /// Read by hand so that any wrong value names the allowed ones.
 impl<'de> Deserialize<'de> for FrictionMatch {
     fn deserialize<De: serde::Deserializer<'de>>(d: De) -> std::result::Result<Self, De::Error> {
-        struct Names;
-        impl serde::de::Visitor<'_> for Names {
-            type Value = FrictionMatch;
-            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                f.write_str("`plane_strain` or `steady_flow`")
-            }
-            fn visit_str<E: serde::de::Error>(
-                self,
-                v: &str,
-            ) -> std::result::Result<Self::Value, E> {
-                match v {
-                    "plane_strain" => Ok(FrictionMatch::PlaneStrain),
-                    "steady_flow" => Ok(FrictionMatch::SteadyFlow),
-                    _ => Err(E::unknown_variant(v, &FrictionMatch::NAMES)),
-                }
+        named(
+            d,
+            &Self::NAMES,
+            &[FrictionMatch::PlaneStrain, FrictionMatch::SteadyFlow],
+        )
+    }
+}
+
+/// Reads a string naming one of `values` (`names[i]` names `values[i]`), so that any wrong
+/// value (a switch's `true` too) is an error naming the allowed ones.
+fn named<'de, De: serde::Deserializer<'de>, T: Copy + 'static>(
+    d: De,
+    names: &'static [&'static str],
+    values: &'static [T],
+) -> std::result::Result<T, De::Error> {
+    struct Names<T: 'static>(&'static [&'static str], &'static [T]);
+    impl<T: Copy> serde::de::Visitor<'_> for Names<T> {
+        type Value = T;
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            let quoted: Vec<String> = self.0.iter().map(|n| format!("`{n}`")).collect();
+            f.write_str(&quoted.join(" or "))
+        }
+        fn visit_str<E: serde::de::Error>(self, v: &str) -> std::result::Result<T, E> {
+            match self.0.iter().position(|n| *n == v) {
+                Some(i) => Ok(self.1[i]),
+                None => Err(E::unknown_variant(v, self.0)),
             }
         }
-        d.deserialize_str(Names)
     }
+    d.deserialize_str(Names(names, values))
 }
 
 /// Which volumetric strain rate tr ε̇ the stress update of a sand particle takes. With ψ = 0
@@ -175,24 +186,11 @@ impl VolumetricRate {
 /// Read by hand so that any wrong value (a switch's `true` too) names the allowed ones.
 impl<'de> Deserialize<'de> for VolumetricRate {
     fn deserialize<De: serde::Deserializer<'de>>(d: De) -> std::result::Result<Self, De::Error> {
-        struct Names;
-        impl serde::de::Visitor<'_> for Names {
-            type Value = VolumetricRate;
-            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                f.write_str("`particle` or `cell_average`")
-            }
-            fn visit_str<E: serde::de::Error>(
-                self,
-                v: &str,
-            ) -> std::result::Result<Self::Value, E> {
-                match v {
-                    "particle" => Ok(VolumetricRate::Particle),
-                    "cell_average" => Ok(VolumetricRate::CellAverage),
-                    _ => Err(E::unknown_variant(v, &VolumetricRate::NAMES)),
-                }
-            }
-        }
-        d.deserialize_str(Names)
+        named(
+            d,
+            &Self::NAMES,
+            &[VolumetricRate::Particle, VolumetricRate::CellAverage],
+        )
     }
 }
 
