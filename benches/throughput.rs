@@ -138,6 +138,11 @@ fn time(sim: &mut AnySimulation, steps: usize, rounds: usize) -> (f64, Option<f6
     (wall[rounds / 2], cpu)
 }
 
+/// Whether the case `name` is among those the command line's filters (substrings) select.
+fn selected(filters: &[String], name: &str) -> bool {
+    filters.is_empty() || filters.iter().any(|f| name.contains(f.as_str()))
+}
+
 /// FNV-1a over the particles' state as Rust prints it (floats in their shortest exact form).
 fn digest(sim: &AnySimulation) -> u64 {
     let text = match sim {
@@ -168,7 +173,7 @@ fn main() {
         .collect();
     if let Some(steps) = digest_steps {
         for case in cases() {
-            if !filters.is_empty() && !filters.iter().any(|f| case.name.contains(f.as_str())) {
+            if !selected(&filters, &case.name) {
                 continue;
             }
             let mut sim = AnySimulation::new(case.scene).expect("valid benchmark scene");
@@ -187,7 +192,7 @@ fn main() {
     println!("MPM throughput (median of 5 rounds; particle-substeps per second, higher is better)");
     let mut base: Option<(String, f64)> = None;
     for case in cases() {
-        if !filters.is_empty() && !filters.iter().any(|f| case.name.contains(f.as_str())) {
+        if !selected(&filters, &case.name) {
             continue;
         }
         let dim = case.scene.dim;

@@ -101,6 +101,15 @@ impl FrictionMatch {
         }
     }
 
+    /// [`FrictionMatch::alpha`] lane by lane, for a friction that varies per particle (μ(I)).
+    #[inline(always)]
+    pub fn alpha_lanes<T: Lane>(self, mu: T) -> T {
+        match self {
+            FrictionMatch::PlaneStrain => mu / (mu * mu * 12.0 + 9.0).sqrt(),
+            FrictionMatch::SteadyFlow => mu * (1.0 / 3.0),
+        }
+    }
+
     /// The cone's k_c for cohesion c and a friction coefficient μ = tan φ.
     pub fn k_c(self, cohesion: f64, mu: f64) -> f64 {
         match self {
@@ -394,6 +403,11 @@ mod tests {
     }
 
     fn matched(phi: f64, psi: f64, c: f64, friction_match: FrictionMatch) -> DruckerPrager {
+        params(phi, psi, c, friction_match).model()
+    }
+
+    /// Sand of E = 350 kPa, ν = 0.3, 2200 kg/m³ without μ(I), each particle's own rate.
+    fn params(phi: f64, psi: f64, c: f64, friction_match: FrictionMatch) -> DruckerPragerParams {
         DruckerPragerParams {
             youngs_modulus: 3.5e5,
             poisson_ratio: 0.3,
@@ -405,7 +419,6 @@ mod tests {
             volumetric_rate: VolumetricRate::Particle,
             friction_match,
         }
-        .model()
     }
 
     fn confined(p: Real) -> Sym3 {
@@ -535,17 +548,7 @@ mod tests {
     #[test]
     fn mu_i_shear_flows_on_the_cone_of_its_inertial_number() {
         let p = 500.0;
-        let mut params = DruckerPragerParams {
-            youngs_modulus: 3.5e5,
-            poisson_ratio: 0.3,
-            density: 2200.0,
-            friction_angle: 32.0,
-            dilatancy_angle: 0.0,
-            cohesion: 0.0,
-            mu_i: None,
-            volumetric_rate: VolumetricRate::Particle,
-            friction_match: FrictionMatch::PlaneStrain,
-        };
+        let mut params = params(32.0, 0.0, 0.0, FrictionMatch::PlaneStrain);
         let plain = params.model();
         params.mu_i = Some(MuIParams {
             grain_diameter: 1e-3,
@@ -595,17 +598,10 @@ mod tests {
     fn mu_i_takes_the_friction_match() {
         let p = 500.0;
         let params = DruckerPragerParams {
-            youngs_modulus: 3.5e5,
-            poisson_ratio: 0.3,
-            density: 2200.0,
-            friction_angle: 32.0,
-            dilatancy_angle: 0.0,
-            cohesion: 0.0,
             mu_i: Some(MuIParams {
                 grain_diameter: 1e-3,
             }),
-            volumetric_rate: VolumetricRate::Particle,
-            friction_match: FrictionMatch::SteadyFlow,
+            ..params(32.0, 0.0, 0.0, FrictionMatch::SteadyFlow)
         };
         let m = params.model();
         let law = m.mu_i.unwrap();

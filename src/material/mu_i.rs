@@ -99,10 +99,7 @@ impl MuI {
         let share = x / (x + y).max(S::Scalar::splat(Real::MIN_POSITIVE));
         let mu = share * self.rise + self.mu_s;
         // the branch is on the model, the same in every lane
-        match self.friction_match {
-            FrictionMatch::PlaneStrain => mu / (mu * mu * 12.0 + 9.0).sqrt(),
-            FrictionMatch::SteadyFlow => mu * (1.0 / 3.0),
-        }
+        self.friction_match.alpha_lanes(mu)
     }
 }
 
