@@ -599,6 +599,31 @@ fn main() {
     if filters.0.iter().any(|f| f == "startstop") {
         startstop_study(&mut md, &path);
     }
+    // Opt-in (`-- startstop-axi`): the a = 1 axisymmetric collapse refined to h = 0.005 m
+    // with the start–stop cone (about 20 minutes; Eq. 13's is in `-- flowmatch-axi`).
+    if filters.0.iter().any(|f| f == "startstop-axi") {
+        let n = Numerics::new(0.005, KernelKind::Gimp).start_stop();
+        let c = axisymmetric_collapse("column_collapse_axi_a1_3d.json", &n, 4.0);
+        println!("startstop axisymmetric collapse a=1 {}: {c:?}", n.label());
+        let mut row = vec![n.label()];
+        row.extend(axi_cells(&c, 1.0));
+        let _ = writeln!(
+            md,
+            "## Start–stop: the axisymmetric collapse a = 1 at h = 0.005 m\n\n{}",
+            table(
+                &[
+                    "numerics",
+                    "(R∞−R0)/R0 farthest / edge",
+                    "error (Lube 2004)",
+                    "H∞/H0",
+                    "error (Lube 2004 / Lajeunesse 2004)",
+                    "at rest (s)",
+                    "s"
+                ],
+                &[row]
+            )
+        );
+    }
     std::fs::write(&path, &md).unwrap();
     if want("flip") {
         let mut rows = Vec::new();
