@@ -172,6 +172,77 @@ fn axi_cells(c: &Collapse, a: f64) -> [String; 6] {
     ]
 }
 
+/// The over-steep and gentle slopes `cases` (φ, θ, numerics), 2 s each, as a report table
+/// (`study` prefixes the progress lines).
+fn slopes_table(study: &str, cases: Vec<(f64, f64, Numerics)>) -> String {
+    let mut rows = Vec::new();
+    for (phi, slope, n) in cases {
+        let r = heap_slope(phi, slope, 3.5e5, &n, 2.0);
+        println!("{study} slope φ={phi} θ={slope} {}: {r:?}", n.label());
+        let mut row = vec![
+            n.label(),
+            format!("{phi}"),
+            format!("{:.1} / {:.1}", r.plane_strain_angle, r.stopping_angle),
+            format!("{slope} ({:.1})", r.initial_angle),
+        ];
+        row.extend(slope_cells(&r));
+        rows.push(row);
+    }
+    table(
+        &headers(
+            &[
+                "numerics",
+                "φ (°)",
+                "φ_ps / θ* (°)",
+                "flanks at start (°) (fitted)",
+            ],
+            &slope_headers(2.0),
+        ),
+        &rows,
+    )
+}
+
+/// The plane column collapses of aspect ratio a = 0.5, 1, 2 and 3.
+const PLANE_COLLAPSES: [(&str, f64); 4] = [
+    ("column_collapse_a0.5_2d.json", 0.5),
+    ("column_collapse_a1_2d.json", 1.0),
+    ("column_collapse_a2_2d.json", 2.0),
+    ("column_collapse_a3_2d.json", 3.0),
+];
+
+/// The axisymmetric column collapses of aspect ratio a = 0.5, 1 and 2.
+const AXI_COLLAPSES: [(&str, f64); 3] = [
+    ("column_collapse_axi_a0.5_3d.json", 0.5),
+    ("column_collapse_axi_a1_3d.json", 1.0),
+    ("column_collapse_axi_a2_3d.json", 2.0),
+];
+
+/// The axisymmetric collapses `runs` (scene file, aspect ratio, numerics), 4 s at most, as a
+/// report table in the short form of [`axi_cells`].
+fn axi_table(study: &str, runs: Vec<(&str, f64, Numerics)>) -> String {
+    let mut rows = Vec::new();
+    for (file, a, n) in runs {
+        let c = axisymmetric_collapse(file, &n, 4.0);
+        println!("{study} axisymmetric collapse a={a} {}: {c:?}", n.label());
+        let mut row = vec![format!("{a}"), n.label()];
+        row.extend(axi_cells(&c, a));
+        rows.push(row);
+    }
+    table(
+        &[
+            "a",
+            "numerics",
+            "(R∞−R0)/R0 farthest / edge",
+            "error (Lube 2004)",
+            "H∞/H0",
+            "error (Lube 2004 / Lajeunesse 2004)",
+            "at rest (s)",
+            "s",
+        ],
+        &rows,
+    )
+}
+
 fn main() {
     let filters = Filters::from_args();
     let want = |s: &str| filters.want(s);
@@ -568,30 +639,12 @@ fn main() {
     // Opt-in (`-- flowmatch-axi`): the a = 1 axisymmetric collapse refined to h = 0.005 m, with
     // Eq. 13 and with the steady-flow match (about 20 minutes).
     if filters.0.iter().any(|f| f == "flowmatch-axi") {
-        let mut rows = Vec::new();
         let gimp = Numerics::new(0.005, KernelKind::Gimp).plane_strain();
-        for n in [gimp, gimp.steady_flow()] {
-            let c = axisymmetric_collapse("column_collapse_axi_a1_3d.json", &n, 4.0);
-            println!("flowmatch axisymmetric collapse a=1 {}: {c:?}", n.label());
-            let mut row = vec![n.label()];
-            row.extend(axi_cells(&c, 1.0));
-            rows.push(row);
-        }
+        let runs = [gimp, gimp.steady_flow()].map(|n| ("column_collapse_axi_a1_3d.json", 1.0, n));
         let _ = writeln!(
             md,
             "## Friction match: the axisymmetric collapse a = 1 at h = 0.005 m\n\n{}",
-            table(
-                &[
-                    "numerics",
-                    "(R∞−R0)/R0 farthest / edge",
-                    "error (Lube 2004)",
-                    "H∞/H0",
-                    "error (Lube 2004 / Lajeunesse 2004)",
-                    "at rest (s)",
-                    "s"
-                ],
-                &rows
-            )
+            axi_table("flowmatch", runs.to_vec())
         );
     }
     // Opt-in (`-- startstop`): the sand cases with the default start–stop cone against
@@ -603,24 +656,12 @@ fn main() {
     // with the start–stop cone (about 20 minutes; Eq. 13's is in `-- flowmatch-axi`).
     if filters.0.iter().any(|f| f == "startstop-axi") {
         let n = Numerics::new(0.005, KernelKind::Gimp).start_stop();
-        let c = axisymmetric_collapse("column_collapse_axi_a1_3d.json", &n, 4.0);
-        println!("startstop axisymmetric collapse a=1 {}: {c:?}", n.label());
-        let mut row = vec![n.label()];
-        row.extend(axi_cells(&c, 1.0));
         let _ = writeln!(
             md,
             "## Start–stop: the axisymmetric collapse a = 1 at h = 0.005 m\n\n{}",
-            table(
-                &[
-                    "numerics",
-                    "(R∞−R0)/R0 farthest / edge",
-                    "error (Lube 2004)",
-                    "H∞/H0",
-                    "error (Lube 2004 / Lajeunesse 2004)",
-                    "at rest (s)",
-                    "s"
-                ],
-                &[row]
+            axi_table(
+                "startstop",
+                vec![("column_collapse_axi_a1_3d.json", 1.0, n)]
             )
         );
     }
@@ -940,15 +981,9 @@ fn flowmatch_study(md: &mut String, path: &std::path::Path) {
         heaps_table("flowmatch", &heaps(0.01))
     );
     std::fs::write(path, &*md).unwrap();
-    let plane = [
-        ("column_collapse_a0.5_2d.json", 0.5),
-        ("column_collapse_a1_2d.json", 1.0),
-        ("column_collapse_a2_2d.json", 2.0),
-        ("column_collapse_a3_2d.json", 3.0),
-    ];
     let mut runs: Vec<(&str, f64, Numerics)> = Vec::new();
     for h in [0.01, 0.005] {
-        for (file, a) in plane {
+        for (file, a) in PLANE_COLLAPSES {
             runs.extend(variants(h).map(|n| (file, a, n)));
         }
     }
@@ -973,66 +1008,20 @@ fn flowmatch_study(md: &mut String, path: &std::path::Path) {
     for (phi, steep) in [(20.0, 30.0), (32.0, 40.0), (45.0, 50.0)] {
         cases.extend(variants(0.005).map(|n| (phi, steep, n)));
     }
-    let mut rows = Vec::new();
-    for (phi, slope, n) in cases {
-        let r = heap_slope(phi, slope, 3.5e5, &n, 2.0);
-        println!("flowmatch slope φ={phi} θ={slope} {}: {r:?}", n.label());
-        let mut row = vec![
-            n.label(),
-            format!("{phi}"),
-            format!("{:.1} / {:.1}", r.plane_strain_angle, r.stopping_angle),
-            format!("{slope} ({:.1})", r.initial_angle),
-        ];
-        row.extend(slope_cells(&r));
-        rows.push(row);
-    }
     let _ = writeln!(
         md,
         "## Friction match: slopes (2 s, E = 350 kPa)\n\nA trapezoidal heap 0.1 m high released on a floor with μ = tan φ. *Failed at*: when the flanks had come halfway down from their initial angle to φ_ps. Issue 16: a slope gentler than φ_ps stands (no creep over 2 s), a steeper one fails within a fraction of a second and stops near φ_ps.\n\n{}",
-        table(
-            &headers(
-                &[
-                    "numerics",
-                    "φ (°)",
-                    "φ_ps / θ* (°)",
-                    "flanks at start (°) (fitted)"
-                ],
-                &slope_headers(2.0)
-            ),
-            &rows
-        )
+        slopes_table("flowmatch", cases)
     );
     std::fs::write(path, &*md).unwrap();
-    let mut rows = Vec::new();
-    for (file, a) in [
-        ("column_collapse_axi_a0.5_3d.json", 0.5),
-        ("column_collapse_axi_a1_3d.json", 1.0),
-        ("column_collapse_axi_a2_3d.json", 2.0),
-    ] {
-        for n in variants(0.01) {
-            let c = axisymmetric_collapse(file, &n, 4.0);
-            println!("flowmatch axisymmetric collapse a={a} {}: {c:?}", n.label());
-            let mut row = vec![format!("{a}"), n.label()];
-            row.extend(axi_cells(&c, a));
-            rows.push(row);
-        }
-    }
+    let runs = AXI_COLLAPSES
+        .iter()
+        .flat_map(|&(file, a)| variants(0.01).map(|n| (file, a, n)))
+        .collect();
     let _ = writeln!(
         md,
         "## Friction match: axisymmetric collapses (3D, φ = 32°, floor μ = 0.625; Lube et al. 2004, Lajeunesse et al. 2004)\n\nRun-out as the mean over 16 azimuthal sectors of the farthest particle, and as the edge of the continuous deposit. Issue 16: run-out within 25 %, H∞ within 15 %.\n\n{}",
-        table(
-            &[
-                "a",
-                "numerics",
-                "(R∞−R0)/R0 farthest / edge",
-                "error (Lube 2004)",
-                "H∞/H0",
-                "error (Lube 2004 / Lajeunesse 2004)",
-                "at rest (s)",
-                "s"
-            ],
-            &rows
-        )
+        axi_table("flowmatch", runs)
     );
     std::fs::write(path, &*md).unwrap();
     let _ = writeln!(
@@ -1064,50 +1053,23 @@ fn startstop_study(md: &mut String, path: &std::path::Path) {
         );
         std::fs::write(path, &*md).unwrap();
     }
-    let mut rows = Vec::new();
+    let mut cases = Vec::new();
     for h in [0.01, 0.005] {
         for (phi, gentle, steep) in [(20.0, 15.0, 30.0), (32.0, 25.0, 40.0), (45.0, 35.0, 50.0)] {
             for slope in [gentle, steep] {
-                for n in variants(h) {
-                    let r = heap_slope(phi, slope, 3.5e5, &n, 2.0);
-                    println!("startstop slope φ={phi} θ={slope} {}: {r:?}", n.label());
-                    let mut row = vec![
-                        n.label(),
-                        format!("{phi}"),
-                        format!("{:.1} / {:.1}", r.plane_strain_angle, r.stopping_angle),
-                        format!("{slope} ({:.1})", r.initial_angle),
-                    ];
-                    row.extend(slope_cells(&r));
-                    rows.push(row);
-                }
+                cases.extend(variants(h).map(|n| (phi, slope, n)));
             }
         }
     }
     let _ = writeln!(
         md,
         "## Start–stop: slopes (2 s, E = 350 kPa)\n\nA trapezoidal heap 0.1 m high released on a floor with μ = tan φ. *Failed at*: when the flanks had come halfway down from their initial angle to φ_ps. Issue 16: a slope gentler than φ_ps stands (no creep over 2 s), a steeper one fails within a fraction of a second and stops near φ_ps.\n\n{}",
-        table(
-            &headers(
-                &[
-                    "numerics",
-                    "φ (°)",
-                    "φ_ps / θ* (°)",
-                    "flanks at start (°) (fitted)"
-                ],
-                &slope_headers(2.0)
-            ),
-            &rows
-        )
+        slopes_table("startstop", cases)
     );
     std::fs::write(path, &*md).unwrap();
     let mut runs: Vec<(&str, f64, Numerics)> = Vec::new();
     for h in [0.01, 0.005] {
-        for (file, a) in [
-            ("column_collapse_a0.5_2d.json", 0.5),
-            ("column_collapse_a1_2d.json", 1.0),
-            ("column_collapse_a2_2d.json", 2.0),
-            ("column_collapse_a3_2d.json", 3.0),
-        ] {
+        for (file, a) in PLANE_COLLAPSES {
             runs.extend(variants(h).map(|n| (file, a, n)));
         }
     }
@@ -1117,35 +1079,13 @@ fn startstop_study(md: &mut String, path: &std::path::Path) {
         collapses_table("startstop", runs)
     );
     std::fs::write(path, &*md).unwrap();
-    let mut rows = Vec::new();
-    for (file, a) in [
-        ("column_collapse_axi_a0.5_3d.json", 0.5),
-        ("column_collapse_axi_a1_3d.json", 1.0),
-        ("column_collapse_axi_a2_3d.json", 2.0),
-    ] {
-        for n in variants(0.01) {
-            let c = axisymmetric_collapse(file, &n, 4.0);
-            println!("startstop axisymmetric collapse a={a} {}: {c:?}", n.label());
-            let mut row = vec![format!("{a}"), n.label()];
-            row.extend(axi_cells(&c, a));
-            rows.push(row);
-        }
-    }
+    let runs = AXI_COLLAPSES
+        .iter()
+        .flat_map(|&(file, a)| variants(0.01).map(|n| (file, a, n)))
+        .collect();
     let _ = writeln!(
         md,
         "## Start–stop: axisymmetric collapses (3D, φ = 32°, floor μ = 0.625, h = 0.01 m; Lube et al. 2004, Lajeunesse et al. 2004)\n\nRun-out as the mean over 16 azimuthal sectors of the farthest particle, and as the edge of the continuous deposit. Issue 16: run-out within 25 %, H∞ within 15 %.\n\n{}",
-        table(
-            &[
-                "a",
-                "numerics",
-                "(R∞−R0)/R0 farthest / edge",
-                "error (Lube 2004)",
-                "H∞/H0",
-                "error (Lube 2004 / Lajeunesse 2004)",
-                "at rest (s)",
-                "s"
-            ],
-            &rows
-        )
+        axi_table("startstop", runs)
     );
 }
