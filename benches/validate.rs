@@ -172,6 +172,77 @@ fn axi_cells(c: &Collapse, a: f64) -> [String; 6] {
     ]
 }
 
+/// The over-steep and gentle slopes `cases` (φ, θ, numerics), 2 s each, as a report table
+/// (`study` prefixes the progress lines).
+fn slopes_table(study: &str, cases: Vec<(f64, f64, Numerics)>) -> String {
+    let mut rows = Vec::new();
+    for (phi, slope, n) in cases {
+        let r = heap_slope(phi, slope, 3.5e5, &n, 2.0);
+        println!("{study} slope φ={phi} θ={slope} {}: {r:?}", n.label());
+        let mut row = vec![
+            n.label(),
+            format!("{phi}"),
+            format!("{:.1} / {:.1}", r.plane_strain_angle, r.stopping_angle),
+            format!("{slope} ({:.1})", r.initial_angle),
+        ];
+        row.extend(slope_cells(&r));
+        rows.push(row);
+    }
+    table(
+        &headers(
+            &[
+                "numerics",
+                "φ (°)",
+                "φ_ps / θ* (°)",
+                "flanks at start (°) (fitted)",
+            ],
+            &slope_headers(2.0),
+        ),
+        &rows,
+    )
+}
+
+/// The plane column collapses of aspect ratio a = 0.5, 1, 2 and 3.
+const PLANE_COLLAPSES: [(&str, f64); 4] = [
+    ("column_collapse_a0.5_2d.json", 0.5),
+    ("column_collapse_a1_2d.json", 1.0),
+    ("column_collapse_a2_2d.json", 2.0),
+    ("column_collapse_a3_2d.json", 3.0),
+];
+
+/// The axisymmetric column collapses of aspect ratio a = 0.5, 1 and 2.
+const AXI_COLLAPSES: [(&str, f64); 3] = [
+    ("column_collapse_axi_a0.5_3d.json", 0.5),
+    ("column_collapse_axi_a1_3d.json", 1.0),
+    ("column_collapse_axi_a2_3d.json", 2.0),
+];
+
+/// The axisymmetric collapses `runs` (scene file, aspect ratio, numerics), 4 s at most, as a
+/// report table in the short form of [`axi_cells`].
+fn axi_table(study: &str, runs: Vec<(&str, f64, Numerics)>) -> String {
+    let mut rows = Vec::new();
+    for (file, a, n) in runs {
+        let c = axisymmetric_collapse(file, &n, 4.0);
+        println!("{study} axisymmetric collapse a={a} {}: {c:?}", n.label());
+        let mut row = vec![format!("{a}"), n.label()];
+        row.extend(axi_cells(&c, a));
+        rows.push(row);
+    }
+    table(
+        &[
+            "a",
+            "numerics",
+            "(R∞−R0)/R0 farthest / edge",
+            "error (Lube 2004)",
+            "H∞/H0",
+            "error (Lube 2004 / Lajeunesse 2004)",
+            "at rest (s)",
+            "s",
+        ],
+        &rows,
+    )
+}
+
 fn main() {
     let filters = Filters::from_args();
     let want = |s: &str| filters.want(s);
@@ -568,29 +639,29 @@ fn main() {
     // Opt-in (`-- flowmatch-axi`): the a = 1 axisymmetric collapse refined to h = 0.005 m, with
     // Eq. 13 and with the steady-flow match (about 20 minutes).
     if filters.0.iter().any(|f| f == "flowmatch-axi") {
-        let mut rows = Vec::new();
-        let gimp = Numerics::new(0.005, KernelKind::Gimp);
-        for n in [gimp, gimp.steady_flow()] {
-            let c = axisymmetric_collapse("column_collapse_axi_a1_3d.json", &n, 4.0);
-            println!("flowmatch axisymmetric collapse a=1 {}: {c:?}", n.label());
-            let mut row = vec![n.label()];
-            row.extend(axi_cells(&c, 1.0));
-            rows.push(row);
-        }
+        let gimp = Numerics::new(0.005, KernelKind::Gimp).plane_strain();
+        let runs = [gimp, gimp.steady_flow()].map(|n| ("column_collapse_axi_a1_3d.json", 1.0, n));
         let _ = writeln!(
             md,
             "## Friction match: the axisymmetric collapse a = 1 at h = 0.005 m\n\n{}",
-            table(
-                &[
-                    "numerics",
-                    "(R∞−R0)/R0 farthest / edge",
-                    "error (Lube 2004)",
-                    "H∞/H0",
-                    "error (Lube 2004 / Lajeunesse 2004)",
-                    "at rest (s)",
-                    "s"
-                ],
-                &rows
+            axi_table("flowmatch", runs.to_vec())
+        );
+    }
+    // Opt-in (`-- startstop`): the sand cases with the default start–stop cone against
+    // Eq. 13's alone, at two resolutions (about 40 minutes).
+    if filters.0.iter().any(|f| f == "startstop") {
+        startstop_study(&mut md, &path);
+    }
+    // Opt-in (`-- startstop-axi`): the a = 1 axisymmetric collapse refined to h = 0.005 m
+    // with the start–stop cone (about 20 minutes; Eq. 13's is in `-- flowmatch-axi`).
+    if filters.0.iter().any(|f| f == "startstop-axi") {
+        let n = Numerics::new(0.005, KernelKind::Gimp).start_stop();
+        let _ = writeln!(
+            md,
+            "## Start–stop: the axisymmetric collapse a = 1 at h = 0.005 m\n\n{}",
+            axi_table(
+                "startstop",
+                vec![("column_collapse_axi_a1_3d.json", 1.0, n)]
             )
         );
     }
@@ -697,7 +768,8 @@ fn main() {
 /// and 0.005 m; each rate-independent and with μ(I) for a sand grain (d = 0.5 mm) and a coarse
 /// one (d = 2 mm).
 fn stopping_study(md: &mut String, path: &std::path::Path) {
-    let gimp = |h: f64| Numerics::new(h, KernelKind::Gimp);
+    // Eq. 13's cone alone, as the study was made (the default cone widens as sand flows)
+    let gimp = |h: f64| Numerics::new(h, KernelKind::Gimp).plane_strain();
     let (fine, coarse) = (0.5e-3, 2e-3);
     let mut cases: Vec<(&str, f64, Numerics)> = Vec::new();
     for h in [0.01, 0.005] {
@@ -782,7 +854,8 @@ fn stopping_study(md: &mut String, path: &std::path::Path) {
 /// plane collapses (a = 2 over four cell sizes, particles per cell, with μ(I) for a sand grain;
 /// a = 0.5, 1, 3 at h = 0.01 and 0.005 m).
 fn locking_study(md: &mut String, path: &std::path::Path) {
-    let gimp = |h: f64| Numerics::new(h, KernelKind::Gimp);
+    // Eq. 13's cone alone, as the study was made (the default cone widens as sand flows)
+    let gimp = |h: f64| Numerics::new(h, KernelKind::Gimp).plane_strain();
     let avg = |h: f64| gimp(h).cell_average();
     let fine = 0.5e-3;
     let _ = writeln!(
@@ -877,13 +950,14 @@ fn locking_study(md: &mut String, path: &std::path::Path) {
 }
 
 /// The friction match: the sand cases at the validation resolution (h = 0.01 m) with the
-/// paper's cone (Eq. 13, the default), with the steady-flow match (3 α_φ = tan φ), and with
+/// paper's cone (Eq. 13 alone), with the steady-flow match (3 α_φ = tan φ), and with
 /// the steady-flow match and the cell-averaged volumetric rate. Heaps (φ = 20°, 32°, 45°, and
 /// at h = 0.005 m), slopes (gentler and steeper than φ_ps, 2 s, and at h = 0.005 m), plane
 /// collapses (a = 0.5, 1, 2, 3, and at h = 0.005 m) and axisymmetric collapses (a = 0.5, 1,
 /// 2).
 fn flowmatch_study(md: &mut String, path: &std::path::Path) {
-    let gimp = |h: f64| Numerics::new(h, KernelKind::Gimp);
+    // Eq. 13's cone alone, as the study was made (the default cone widens as sand flows)
+    let gimp = |h: f64| Numerics::new(h, KernelKind::Gimp).plane_strain();
     let variants = |h: f64| {
         [
             gimp(h),
@@ -893,7 +967,7 @@ fn flowmatch_study(md: &mut String, path: &std::path::Path) {
     };
     let _ = writeln!(
         md,
-        "Friction match: `cargo bench --bench validate -- flowmatch`. `steady-flow`: the cone's α_φ = tan φ / 3 (`\"friction_match\": \"steady_flow\"`), so that a steadily shearing layer mobilises τ/σ_n = tan φ; without it, Eq. 13 (the default), with which it mobilises 3 α_φ = sin φ_ps. θ* = atan(3 α_φ): the slope on which a flowing layer stops (φ itself with the steady-flow match). `cell-avg`: the sand takes its cells' mean volumetric strain rate (`\"volumetric_rate\": \"cell_average\"`).\n"
+        "Friction match: `cargo bench --bench validate -- flowmatch`. `steady-flow`: the cone's α_φ = tan φ / 3 (`\"friction_match\": \"steady_flow\"`), so that a steadily shearing layer mobilises τ/σ_n = tan φ; without it, Eq. 13 alone (the paper's), with which it mobilises 3 α_φ = sin φ_ps. θ* = atan(3 α_φ): the slope on which a flowing layer stops (φ itself with the steady-flow match). `cell-avg`: the sand takes its cells' mean volumetric strain rate (`\"volumetric_rate\": \"cell_average\"`).\n"
     );
     let phis = [20.0, 32.0, 45.0];
     let heaps = |h: f64| -> Vec<(f64, Numerics)> {
@@ -907,15 +981,9 @@ fn flowmatch_study(md: &mut String, path: &std::path::Path) {
         heaps_table("flowmatch", &heaps(0.01))
     );
     std::fs::write(path, &*md).unwrap();
-    let plane = [
-        ("column_collapse_a0.5_2d.json", 0.5),
-        ("column_collapse_a1_2d.json", 1.0),
-        ("column_collapse_a2_2d.json", 2.0),
-        ("column_collapse_a3_2d.json", 3.0),
-    ];
     let mut runs: Vec<(&str, f64, Numerics)> = Vec::new();
     for h in [0.01, 0.005] {
-        for (file, a) in plane {
+        for (file, a) in PLANE_COLLAPSES {
             runs.extend(variants(h).map(|n| (file, a, n)));
         }
     }
@@ -940,71 +1008,84 @@ fn flowmatch_study(md: &mut String, path: &std::path::Path) {
     for (phi, steep) in [(20.0, 30.0), (32.0, 40.0), (45.0, 50.0)] {
         cases.extend(variants(0.005).map(|n| (phi, steep, n)));
     }
-    let mut rows = Vec::new();
-    for (phi, slope, n) in cases {
-        let r = heap_slope(phi, slope, 3.5e5, &n, 2.0);
-        println!("flowmatch slope φ={phi} θ={slope} {}: {r:?}", n.label());
-        let mut row = vec![
-            n.label(),
-            format!("{phi}"),
-            format!("{:.1} / {:.1}", r.plane_strain_angle, r.stopping_angle),
-            format!("{slope} ({:.1})", r.initial_angle),
-        ];
-        row.extend(slope_cells(&r));
-        rows.push(row);
-    }
     let _ = writeln!(
         md,
         "## Friction match: slopes (2 s, E = 350 kPa)\n\nA trapezoidal heap 0.1 m high released on a floor with μ = tan φ. *Failed at*: when the flanks had come halfway down from their initial angle to φ_ps. Issue 16: a slope gentler than φ_ps stands (no creep over 2 s), a steeper one fails within a fraction of a second and stops near φ_ps.\n\n{}",
-        table(
-            &headers(
-                &[
-                    "numerics",
-                    "φ (°)",
-                    "φ_ps / θ* (°)",
-                    "flanks at start (°) (fitted)"
-                ],
-                &slope_headers(2.0)
-            ),
-            &rows
-        )
+        slopes_table("flowmatch", cases)
     );
     std::fs::write(path, &*md).unwrap();
-    let mut rows = Vec::new();
-    for (file, a) in [
-        ("column_collapse_axi_a0.5_3d.json", 0.5),
-        ("column_collapse_axi_a1_3d.json", 1.0),
-        ("column_collapse_axi_a2_3d.json", 2.0),
-    ] {
-        for n in variants(0.01) {
-            let c = axisymmetric_collapse(file, &n, 4.0);
-            println!("flowmatch axisymmetric collapse a={a} {}: {c:?}", n.label());
-            let mut row = vec![format!("{a}"), n.label()];
-            row.extend(axi_cells(&c, a));
-            rows.push(row);
-        }
-    }
+    let runs = AXI_COLLAPSES
+        .iter()
+        .flat_map(|&(file, a)| variants(0.01).map(|n| (file, a, n)))
+        .collect();
     let _ = writeln!(
         md,
         "## Friction match: axisymmetric collapses (3D, φ = 32°, floor μ = 0.625; Lube et al. 2004, Lajeunesse et al. 2004)\n\nRun-out as the mean over 16 azimuthal sectors of the farthest particle, and as the edge of the continuous deposit. Issue 16: run-out within 25 %, H∞ within 15 %.\n\n{}",
-        table(
-            &[
-                "a",
-                "numerics",
-                "(R∞−R0)/R0 farthest / edge",
-                "error (Lube 2004)",
-                "H∞/H0",
-                "error (Lube 2004 / Lajeunesse 2004)",
-                "at rest (s)",
-                "s"
-            ],
-            &rows
-        )
+        axi_table("flowmatch", runs)
     );
     std::fs::write(path, &*md).unwrap();
     let _ = writeln!(
         md,
         "## Friction match: heaps at h = 0.005 m (lifted walls at {LIFT_SPEED} m/s)\n\n{}",
         heaps_table("flowmatch", &heaps(0.005))
+    );
+}
+
+/// Start–stop against Eq. 13 alone: heaps, slopes and plane collapses at h = 0.01 and 0.005 m,
+/// axisymmetric collapses at h = 0.01 m.
+fn startstop_study(md: &mut String, path: &std::path::Path) {
+    let gimp = |h: f64| Numerics::new(h, KernelKind::Gimp);
+    let variants = |h: f64| [gimp(h).plane_strain(), gimp(h).start_stop()];
+    let _ = writeln!(
+        md,
+        "Start–stop cone: `cargo bench --bench validate -- startstop`. `plane-strain`: Eq. 13's cone alone (`\"friction_match\": \"plane_strain\"`, the paper's); `start-stop`: Eq. 13's cone widening with the plastic strain to 3 α = tan φ_ps (the default). θ* = atan of the friction a steadily flowing layer carries: the slope on which it stops.\n"
+    );
+    let phis = [20.0, 32.0, 45.0];
+    for h in [0.01, 0.005] {
+        let runs: Vec<(f64, Numerics)> = phis
+            .iter()
+            .flat_map(|&phi| variants(h).map(|n| (phi, n)))
+            .collect();
+        let _ = writeln!(
+            md,
+            "## Start–stop: heaps (lifted walls at {LIFT_SPEED} m/s, floor μ = tan φ, h = {h} m)\n\nIssue 16: within 3° of φ_ps.\n\n{}",
+            heaps_table("startstop", &runs)
+        );
+        std::fs::write(path, &*md).unwrap();
+    }
+    let mut cases = Vec::new();
+    for h in [0.01, 0.005] {
+        for (phi, gentle, steep) in [(20.0, 15.0, 30.0), (32.0, 25.0, 40.0), (45.0, 35.0, 50.0)] {
+            for slope in [gentle, steep] {
+                cases.extend(variants(h).map(|n| (phi, slope, n)));
+            }
+        }
+    }
+    let _ = writeln!(
+        md,
+        "## Start–stop: slopes (2 s, E = 350 kPa)\n\nA trapezoidal heap 0.1 m high released on a floor with μ = tan φ. *Failed at*: when the flanks had come halfway down from their initial angle to φ_ps. Issue 16: a slope gentler than φ_ps stands (no creep over 2 s), a steeper one fails within a fraction of a second and stops near φ_ps.\n\n{}",
+        slopes_table("startstop", cases)
+    );
+    std::fs::write(path, &*md).unwrap();
+    let mut runs: Vec<(&str, f64, Numerics)> = Vec::new();
+    for h in [0.01, 0.005] {
+        for (file, a) in PLANE_COLLAPSES {
+            runs.extend(variants(h).map(|n| (file, a, n)));
+        }
+    }
+    let _ = writeln!(
+        md,
+        "## Start–stop: plane column collapses (φ = 32°, floor μ = 0.625; Lube et al. 2005)\n\nRun-out as the farthest particle and as the edge of the continuous deposit. Issue 16: run-out within 20 %, H∞ within 10 %.\n\n{}",
+        collapses_table("startstop", runs)
+    );
+    std::fs::write(path, &*md).unwrap();
+    let runs = AXI_COLLAPSES
+        .iter()
+        .flat_map(|&(file, a)| variants(0.01).map(|n| (file, a, n)))
+        .collect();
+    let _ = writeln!(
+        md,
+        "## Start–stop: axisymmetric collapses (3D, φ = 32°, floor μ = 0.625, h = 0.01 m; Lube et al. 2004, Lajeunesse et al. 2004)\n\nRun-out as the mean over 16 azimuthal sectors of the farthest particle, and as the edge of the continuous deposit. Issue 16: run-out within 25 %, H∞ within 15 %.\n\n{}",
+        axi_table("startstop", runs)
     );
 }

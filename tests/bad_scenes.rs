@@ -139,7 +139,7 @@ fn every_bad_scene_gives_the_expected_error() {
             scene3(|v| {
                 v["bodies"][0]["material"]["drucker_prager"]["friction_match"] = "mohr".into()
             }),
-            "bodies[0].material.drucker_prager.friction_match: unknown variant `mohr`, expected `plane_strain` or `steady_flow`",
+            "bodies[0].material.drucker_prager.friction_match: unknown variant `mohr`, expected one of `plane_strain`, `steady_flow`, `start_stop`",
         ),
         (
             "steady-flow match at 60°",

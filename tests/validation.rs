@@ -126,17 +126,17 @@ fn von_mises_squeeze_follows_the_elastic_perfectly_plastic_curve() {
 }
 
 /// Plane granular column collapse on a rough floor against Lube et al. (2005), with the
-/// sand's default transfer (APIC base, α = 0.05), at the validation resolution h = 0.01:
-/// the run-out within 20 % of the measured law, both as the farthest particle and as the edge
-/// of the continuous deposit. The final height is within 10 % at a = 0.5 but 11 % low at
-/// a = 2 (the deposit of a tall column stands below φ_ps; docs/validation.md), so there the
-/// bound is 15 %. (Before APIC became the sand's default, the run-out was 47 % short.)
+/// sand's defaults (APIC base, α = 0.05, the start–stop cone), at the validation resolution
+/// h = 0.01: the run-out within 20 % of the measured law, both as the farthest particle and
+/// as the edge of the continuous deposit, and the final height within 10 %. (With the plain
+/// PIC blend the run-out was 47 % short; with Eq. 13's cone alone the deposit of the a = 2
+/// column stood 11 % low, docs/validation.md.)
 #[test]
 fn column_collapse_runout_and_height() {
     let mut runouts = Vec::new();
-    for (file, a, height_tolerance) in [
-        ("column_collapse_a0.5_2d.json", 0.5, 0.1),
-        ("column_collapse_a2_2d.json", 2.0, 0.15),
+    for (file, a) in [
+        ("column_collapse_a0.5_2d.json", 0.5),
+        ("column_collapse_a2_2d.json", 2.0),
     ] {
         let c = column_collapse(file, &Numerics::new(0.01, KernelKind::Gimp), 3.0);
         eprintln!(
@@ -148,7 +148,7 @@ fn column_collapse_runout_and_height() {
         assert!(c.failure.is_none(), "a = {a}: {:?}", c.failure);
         assert!(c.settled_at < 3.0, "a = {a}: still moving at 3 s");
         assert!(
-            (c.height / lube_height(a) - 1.0).abs() < height_tolerance,
+            (c.height / lube_height(a) - 1.0).abs() < 0.1,
             "a = {a}: H∞/H0 = {:.3}, Lube et al. {:.3}",
             c.height,
             lube_height(a)
@@ -183,36 +183,32 @@ fn pic_blend_damps_the_column_collapse() {
     );
 }
 
-/// A heap left by slowly lifted walls stands at about the friction angle.
+/// A heap left by slowly lifted walls stands within 3° of the plane-strain angle φ_ps of the
+/// sand's cone at rest (19.6°, 30.4° and 40.9° for φ = 20°, 32°, 45°): where a slope at rest
+/// starts to fail, flowing sand with the start–stop cone stops. With Eq. 13's cone alone the
+/// flow carried on down to atan(sin φ_ps) and the heaps stood at 19.4°, 24.6° and 31.6°
+/// (docs/validation.md). The surface fit on a grid of 1 cm is good to about 2°.
 #[test]
 fn angle_of_repose() {
-    let p = repose_pile(
-        &Numerics::new(0.01, KernelKind::Gimp),
-        8.0,
-        None,
-        LIFT_SPEED,
-    );
-    eprintln!("pile: {p:?}");
-    // A cohesionless Mohr–Coulomb slope cannot stand steeper than its friction angle (here
-    // the plane-strain angle of the model's cone, 30.4° for φ = 32°); the surface fit on a
-    // grid of 1 cm is good to about 2°. Sand that flows out under the walls comes to rest
-    // below φ_ps: measured 24.6° (docs/validation.md; the 3° is not met).
-    assert!(
-        p.angle < p.plane_strain_angle + 2.0,
-        "the heap stands at {:.1}°, steeper than φ_ps = {:.1}°",
-        p.angle,
-        p.plane_strain_angle
-    );
-    assert!(
-        p.angle > p.plane_strain_angle - 7.0,
-        "the heap stands at {:.1}°, far below φ_ps = {:.1}°",
-        p.angle,
-        p.plane_strain_angle
-    );
-    assert!(
-        (p.flanks[0] - p.flanks[1]).abs() < 4.0,
-        "asymmetric heap {p:?}"
-    );
+    for phi in [20.0, 32.0, 45.0] {
+        let p = repose_pile(
+            &Numerics::new(0.01, KernelKind::Gimp),
+            8.0,
+            Some(phi),
+            LIFT_SPEED,
+        );
+        eprintln!("pile φ = {phi}: {p:?}");
+        assert!(
+            (p.angle - p.plane_strain_angle).abs() < 3.0,
+            "φ = {phi}: the heap stands at {:.1}°, φ_ps = {:.1}°",
+            p.angle,
+            p.plane_strain_angle
+        );
+        assert!(
+            (p.flanks[0] - p.flanks[1]).abs() < 4.0,
+            "asymmetric heap {p:?}"
+        );
+    }
 }
 
 /// A cohesionless slope gentler than its plane-strain friction angle stands: a heap with 25°
@@ -248,14 +244,16 @@ fn a_slope_gentler_than_the_friction_angle_stands() {
 
 /// A cohesionless slope steeper than its plane-strain friction angle cannot stand: a heap
 /// with 40° flanks of φ = 32° sand (φ_ps = 30.4°) avalanches (its flanks come halfway down to
-/// φ_ps within half a second) and comes to rest near φ_ps.
+/// φ_ps within half a second) and comes to rest near φ_ps. On the finer grid h = 0.005 m: at
+/// h = 0.01 m the start–stop cone widens before the avalanche has run its course and the
+/// flanks stop at 34° (docs/validation.md).
 #[test]
 fn a_slope_steeper_than_the_friction_angle_fails() {
     let r = heap_slope(
         32.0,
         40.0,
         3.5e5,
-        &Numerics::new(0.01, KernelKind::Gimp),
+        &Numerics::new(0.005, KernelKind::Gimp),
         2.0,
     );
     eprintln!("steep slope: {r:?}");
@@ -298,18 +296,18 @@ fn the_cell_averaged_volumetric_rate_unlocks_the_over_steep_slope() {
     );
 }
 
-/// Axisymmetric collapse of a column with a = 1 against Lube et al. (2004), at a coarse
-/// resolution (R0 = 5 cells): the farthest-particle run-out within 25 % (−24 % measured), the
-/// edge of the continuous deposit within 30 % (−26 %: at this resolution it misses the 25 %
-/// the finer runs meet, docs/validation.md), the final height within 15 % of Lube et al.'s
-/// or Lajeunesse et al.'s (2004) law, and a round deposit.
+/// Axisymmetric collapse of a column with a = 1 against Lube et al. (2004), at the validation
+/// resolution (R0 = 10 cells): the farthest-particle run-out within 25 % (−23 % measured), the
+/// edge of the continuous deposit within 30 % (−27 %: it misses the 25 %,
+/// docs/validation.md), the final height within 15 % of Lube et al.'s or Lajeunesse et al.'s
+/// (2004) law, and a round deposit. (At R0 = 5 cells the run-out is 30 % short.)
 #[test]
 fn axisymmetric_column_collapse() {
     let a = 1.0;
     let c = axisymmetric_collapse(
         "column_collapse_axi_a1_3d.json",
-        &Numerics::new(0.02, KernelKind::Gimp),
-        3.0,
+        &Numerics::new(0.01, KernelKind::Gimp),
+        4.0,
     );
     eprintln!("axisymmetric collapse a = {a}: {c:?}");
     assert!(c.failure.is_none(), "{:?}", c.failure);

@@ -2,8 +2,9 @@
 //! and An et al. (2016).
 //!
 //! Yield function f = √J2 + α_φ I1 − k_c, plastic potential g = √J2 + α_ψ I1 (Eq. 11–12), with
-//! the plane-strain matching of Eq. 13 (or, as an option, the steady-flow match of
-//! [`FrictionMatch::SteadyFlow`]). Stress is tension-positive (σ = −P I + s), so the cone
+//! the plane-strain matching of Eq. 13 for sand at rest; by default the cone widens as a
+//! particle flows, so that flowing sand stops at the angle where sand at rest starts to fail
+//! ([`FrictionMatch::StartStop`], a departure from the paper; docs/validation.md). Stress is tension-positive (σ = −P I + s), so the cone
 //! opens towards compression and its apex sits at I1 = k_c/α_φ.
 //!
 //! The plastic correction of Eq. 14, Δσ = −Δλ (3 α_ψ K I + (G/√J2) s), is applied to the elastic
@@ -58,9 +59,10 @@ pub struct DruckerPragerParams {
     /// default) or its grid cell's average (against volumetric locking; [`VolumetricRate`]).
     #[serde(default, skip_serializing_if = "VolumetricRate::is_particle")]
     pub volumetric_rate: VolumetricRate,
-    /// How the cone's constants follow from φ, ψ and c: Eq. 13 (the default) or the
-    /// steady-flow match ([`FrictionMatch`]).
-    #[serde(default, skip_serializing_if = "FrictionMatch::is_plane_strain")]
+    /// How the cone's constants follow from φ, ψ and c: Eq. 13's cone at rest widening as
+    /// the sand flows (the default), Eq. 13 alone, or the steady-flow match
+    /// ([`FrictionMatch`]).
+    #[serde(default, skip_serializing_if = "FrictionMatch::is_default")]
     pub friction_match: FrictionMatch,
 }
 
@@ -74,29 +76,44 @@ pub struct DruckerPragerParams {
 /// cone to Mohr–Coulomb in plane strain for associated flow, so a φ = 32° sand of the paper
 /// flows down to 26.9°, not 32°. The steady-flow match, α = tan θ / 3 and k_c = c, makes the
 /// flowing layer mobilise τ = c + σ_n tan φ, the friction coefficient μ = tan φ that granular
-/// rheologies measure from the angle of repose (Jop et al. 2006; Dunatunga & Kamrin 2015).
+/// rheologies measure from the angle of repose (Jop et al. 2006; Dunatunga & Kamrin 2015),
+/// but a slope at rest, whose stress can take Mohr–Coulomb's orientation, then stands up to
+/// asin(tan φ): 90° for φ = 45°. No cone of stress alone both starts a slope failing at an
+/// angle and stops the flow at the same angle, so the default, the start–stop match, makes the
+/// cone depend on the particle's history: Eq. 13's (start at φ_ps = asin 3 α_s) until the
+/// particle has flowed, the steady-flow cone of the same φ_ps (3 α_f = tan φ_ps, stop at
+/// φ_ps) once it has. Granular layers have a start–stop hysteresis of their own (Daerr &
+/// Douady 1999, θ_start above θ_stop); this one undoes the non-associated flow's loss of
+/// strength.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FrictionMatch {
     /// α = tan θ / √(9 + 12 tan²θ), k_c = 3c / √(9 + 12 tan²φ) (Eq. 13, the paper's).
-    #[default]
     PlaneStrain,
     /// α = tan θ / 3, k_c = c: a steadily shearing layer mobilises τ = c + σ_n tan φ.
     SteadyFlow,
+    /// Eq. 13's cone at rest, widening with the particle's accumulated plastic strain to the
+    /// steady-flow cone of the same plane-strain angle (3 α = tan φ_ps, reached at
+    /// ε_p = [`FLOWING_STRAIN`]): a slope starts to fail and a flowing layer stops at the same
+    /// angle φ_ps. The default.
+    #[default]
+    StartStop,
 }
 
 impl FrictionMatch {
     /// The scene-file names.
-    pub const NAMES: [&'static str; 2] = ["plane_strain", "steady_flow"];
+    pub const NAMES: [&'static str; 3] = ["plane_strain", "steady_flow", "start_stop"];
 
-    pub fn is_plane_strain(&self) -> bool {
-        *self == FrictionMatch::PlaneStrain
+    pub fn is_default(&self) -> bool {
+        *self == FrictionMatch::default()
     }
 
     /// The cone's α for a friction coefficient μ = tan θ.
     pub fn alpha(self, mu: f64) -> f64 {
         match self {
-            FrictionMatch::PlaneStrain => mu / (9.0 + 12.0 * mu * mu).sqrt(),
+            FrictionMatch::PlaneStrain | FrictionMatch::StartStop => {
+                mu / (9.0 + 12.0 * mu * mu).sqrt()
+            }
             FrictionMatch::SteadyFlow => mu / 3.0,
         }
     }
@@ -105,7 +122,9 @@ impl FrictionMatch {
     #[inline(always)]
     pub fn alpha_lanes<T: Lane>(self, mu: T) -> T {
         match self {
-            FrictionMatch::PlaneStrain => mu / (mu * mu * 12.0 + 9.0).sqrt(),
+            FrictionMatch::PlaneStrain | FrictionMatch::StartStop => {
+                mu / (mu * mu * 12.0 + 9.0).sqrt()
+            }
             FrictionMatch::SteadyFlow => mu * (1.0 / 3.0),
         }
     }
@@ -113,7 +132,9 @@ impl FrictionMatch {
     /// The cone's k_c for cohesion c and a friction coefficient μ = tan φ.
     pub fn k_c(self, cohesion: f64, mu: f64) -> f64 {
         match self {
-            FrictionMatch::PlaneStrain => 3.0 * cohesion / (9.0 + 12.0 * mu * mu).sqrt(),
+            FrictionMatch::PlaneStrain | FrictionMatch::StartStop => {
+                3.0 * cohesion / (9.0 + 12.0 * mu * mu).sqrt()
+            }
             FrictionMatch::SteadyFlow => cohesion,
         }
     }
@@ -124,7 +145,7 @@ impl FrictionMatch {
     /// would ask for principal tension in compression.
     pub fn max_friction_angle(self) -> f64 {
         match self {
-            FrictionMatch::PlaneStrain => 90.0,
+            FrictionMatch::PlaneStrain | FrictionMatch::StartStop => 90.0,
             FrictionMatch::SteadyFlow => 60.0,
         }
     }
@@ -136,7 +157,11 @@ impl<'de> Deserialize<'de> for FrictionMatch {
         named(
             d,
             &Self::NAMES,
-            &[FrictionMatch::PlaneStrain, FrictionMatch::SteadyFlow],
+            &[
+                FrictionMatch::PlaneStrain,
+                FrictionMatch::SteadyFlow,
+                FrictionMatch::StartStop,
+            ],
         )
     }
 }
@@ -221,7 +246,7 @@ impl DruckerPragerParams {
             max,
             true,
             match self.friction_match {
-                FrictionMatch::PlaneStrain => "degrees",
+                FrictionMatch::PlaneStrain | FrictionMatch::StartStop => "degrees",
                 FrictionMatch::SteadyFlow => "degrees, with the steady-flow friction match",
             },
         )?;
@@ -242,27 +267,20 @@ impl DruckerPragerParams {
             None => Ok(()),
         }
     }
-    /// f = √J2 + α_φ I1 − k_c = 0 with I1 = −3p and √J2 = q/√3: q = √3 (k_c + 3 α_φ p), a cone
-    /// whose apex is at p = −k_c / (3 α_φ) (the model's apex I1 = k_c/α_φ).
-    pub fn pq_surface(&self) -> super::PqSurface {
-        let m = self.model();
-        let (a, k) = (m.alpha_phi as f64, m.k_c as f64);
-        super::PqSurface {
-            kind: "drucker_prager",
-            label: "Drucker–Prager cone",
-            slope: 3f64.sqrt() * 3.0 * a,
-            intercept: 3f64.sqrt() * k,
-            apex_p: if a > 0.0 {
-                -k / (3.0 * a)
-            } else {
-                f64::NEG_INFINITY
-            },
-        }
+    /// The cone in p–q space for a particle with the accumulated plastic strain
+    /// `plastic_strain` ([`DruckerPrager::pq_surface`]).
+    pub fn pq_surface(&self, plastic_strain: f64) -> super::PqSurface {
+        self.model().pq_surface(plastic_strain)
     }
     /// The friction coefficient a steadily shearing layer of the cohesionless material
-    /// mobilises, τ/σ_n = 3 α_φ (ψ = 0): slopes steeper than its arctangent keep flowing.
+    /// mobilises, τ/σ_n = 3 α_φ (ψ = 0; the flowing cone's α_φ with the start–stop match):
+    /// slopes steeper than its arctangent keep flowing.
     pub fn steady_shear_friction(&self) -> f64 {
-        3.0 * self.model().alpha_phi as f64
+        let a = self.model().alpha_phi as f64;
+        3.0 * match self.friction_match {
+            FrictionMatch::StartStop => flowing_alpha(a),
+            _ => a,
+        }
     }
     pub fn model(&self) -> DruckerPrager {
         let fm = self.friction_match;
@@ -280,7 +298,12 @@ impl DruckerPragerParams {
         let alpha_psi = fm.alpha(self.dilatancy_angle.to_radians().tan());
         let inv_hardening =
             1.0 / (elastic.g as f64 + 9.0 * alpha_phi * alpha_psi * elastic.k as f64);
+        let widening = (fm == FrictionMatch::StartStop).then(|| Widening {
+            alpha: (flowing_alpha(alpha_phi) - alpha_phi) as Real,
+            per_strain: (1.0 / FLOWING_STRAIN) as Real,
+        });
         DruckerPrager {
+            widening,
             mu_i: self
                 .mu_i
                 .map(|m| m.model(self.friction_angle, self.density, fm)),
@@ -310,9 +333,64 @@ pub struct DruckerPrager {
     pub mu_i: Option<MuI>,
     /// [`LOOSEST`] / density (m³/kg): the largest volume per unit mass.
     pub max_specific_volume: Real,
+    /// The cone's widening with the plastic strain ([`FrictionMatch::StartStop`]).
+    pub widening: Option<Widening>,
+}
+
+/// How [`FrictionMatch::StartStop`]'s cone widens: α_φ grows by
+/// `alpha · min(ε_p · per_strain, 1)` with the particle's accumulated plastic strain ε_p.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Widening {
+    /// α_f − α_s.
+    pub alpha: Real,
+    /// 1 / [`FLOWING_STRAIN`].
+    pub per_strain: Real,
+}
+
+impl Widening {
+    /// The cone's α_φ for the base `alpha` (Eq. 13's, or μ(I)'s) and the plastic strain
+    /// `plastic_strain`, lane by lane.
+    #[inline(always)]
+    pub fn alpha_phi<T: Lane>(&self, alpha: T, plastic_strain: T) -> T {
+        alpha + (plastic_strain * self.per_strain).min(T::ONE) * self.alpha
+    }
+}
+
+/// The accumulated equivalent plastic strain √(2/3 e_p : e_p) at which a particle with the
+/// start–stop friction match is flowing, its cone widened to the steady-flow one (in simple
+/// shear, a shear strain γ = √3 ε_p ≈ 1.7). Measured, not derived (docs/validation.md,
+/// "Drucker–Prager: starting and stopping"): 0.5 let over-steep slopes harden before they
+/// failed; 2 left heaps at φ = 45° 4–5° low.
+pub const FLOWING_STRAIN: f64 = 1.0;
+
+/// The steady-flow cone with the plane-strain angle of Eq. 13's cone α_s: sin φ_ps = 3 α_s and
+/// 3 α_f = tan φ_ps, so α_f = α_s / √(1 − 9 α_s²) (finite: Eq. 13 keeps 3 α_s < √3/2).
+pub fn flowing_alpha(alpha_s: f64) -> f64 {
+    alpha_s / (1.0 - 9.0 * alpha_s * alpha_s).sqrt()
 }
 
 impl DruckerPrager {
+    /// f = √J2 + α_φ I1 − k_c = 0 with I1 = −3p and √J2 = q/√3: q = √3 (k_c + 3 α_φ p), a cone
+    /// whose apex is at p = −k_c / (3 α_φ) (the model's apex I1 = k_c/α_φ); α_φ is the cone's
+    /// for a particle with the accumulated plastic strain `plastic_strain`.
+    pub fn pq_surface(&self, plastic_strain: f64) -> super::PqSurface {
+        let a = match self.widening {
+            Some(w) => w.alpha_phi(self.alpha_phi, plastic_strain as Real),
+            None => self.alpha_phi,
+        };
+        let (a, k) = (a as f64, self.k_c as f64);
+        super::PqSurface {
+            kind: "drucker_prager",
+            label: "Drucker–Prager cone",
+            slope: 3f64.sqrt() * 3.0 * a,
+            intercept: 3f64.sqrt() * k,
+            apex_p: if a > 0.0 {
+                -k / (3.0 * a)
+            } else {
+                f64::NEG_INFINITY
+            },
+        }
+    }
     /// f(I1, J2) of Eq. 11.
     pub fn yield_function<S: SymTensor>(&self, stress: S) -> S::Scalar {
         stress.j2().sqrt() + stress.trace() * self.alpha_phi - self.k_c
@@ -327,6 +405,7 @@ impl Constitutive for DruckerPrager {
         stress: &mut S,
         rate: S,
         spin: S::Spin,
+        plastic_strain: S::Scalar,
         dt: Real,
     ) -> StressUpdate<S::Scalar> {
         let zero = S::Scalar::ZERO;
@@ -337,22 +416,34 @@ impl Constitutive for DruckerPrager {
         let s_trial = trial - S::iso(i1_trial * (1.0 / 3.0));
         let j2_trial = s_trial.ddot(s_trial) * 0.5;
         let sqrt_j2_trial = j2_trial.sqrt();
-        // The cone: fixed, or widened by the flow's inertial number (the same in every lane
-        // when μ(I) is off; the branch is on the model, not on a particle).
-        let (alpha_phi, apex, inv_hardening) = match &self.mu_i {
-            None => (
+        // The cone: fixed, or widened by the flow's inertial number (μ(I)) and, with the
+        // start–stop match, by the particle's plastic strain (the same in every lane when
+        // both are off; the branch is on the model, not on a particle).
+        let (alpha_phi, apex, inv_hardening) = match (&self.mu_i, &self.widening) {
+            (None, None) => (
                 S::Scalar::splat(self.alpha_phi),
                 S::Scalar::splat(self.apex),
                 S::Scalar::splat(self.inv_hardening),
             ),
-            Some(m) => {
-                let a = m.alpha_phi(rate, i1_trial);
+            (mu_i, widening) => {
+                let mut a = match mu_i {
+                    None => S::Scalar::splat(self.alpha_phi),
+                    Some(m) => m.alpha_phi(rate, i1_trial),
+                };
+                if let Some(w) = widening {
+                    a = w.alpha_phi(a, plastic_strain);
+                }
                 let apex = if self.k_c == 0.0 {
                     S::Scalar::ZERO
                 } else {
                     S::Scalar::splat(self.k_c) / a
                 };
-                let inv = S::Scalar::ONE / (a * (9.0 * e.k * self.alpha_psi) + g);
+                // (no division for the usual ψ = 0, where the denominator is G)
+                let inv = if self.alpha_psi == 0.0 {
+                    S::Scalar::splat(self.inv_hardening)
+                } else {
+                    S::Scalar::ONE / (a * (9.0 * e.k * self.alpha_psi) + g)
+                };
                 (a, apex, inv)
             }
         };
@@ -506,8 +597,70 @@ mod tests {
                         assert!((stop - expected).abs() < 0.02, "φ = {phi}: θ* = {stop}");
                         assert!(ratio < 0.95 * tan_phi, "φ = {phi}: {ratio}");
                     }
+                    // its own test below
+                    FrictionMatch::StartStop => unreachable!("not in this loop"),
                 }
             }
+        }
+    }
+
+    /// The start–stop match. A particle without plastic strain has Eq. 13's cone: sheared
+    /// under confinement p it first yields at √J2 = 3 α_s p, where the default does (a slope
+    /// starts to fail at φ_ps = asin 3 α_s). Once it has flowed (ε_p ≥ [`FLOWING_STRAIN`]) its
+    /// cone is the steady-flow one of the same angle: the steady simple shear of
+    /// `steady_simple_shear_mobilises_three_alpha_phi`, carried to γ = 4, holds
+    /// τ/σ_n = tan φ_ps, so a flowing layer stops at φ_ps too, not at atan(sin φ_ps).
+    #[test]
+    fn start_stop_starts_and_stops_at_the_plane_strain_angle() {
+        use crate::material::test_util::rate_spin;
+        for phi in [20.0f64, 32.0, 45.0] {
+            let m = matched(phi, 0.0, 0.0, FrictionMatch::StartStop);
+            let alpha_s = sand(phi, 0.0, 0.0).alpha_phi as f64;
+            let sin_ps = 3.0 * alpha_s;
+            let tan_ps = sin_ps / (1.0 - sin_ps * sin_ps).sqrt();
+            // first yield under confinement
+            let p = 1.0e3;
+            let (rate, spin) = rate_spin([[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0; 3]]);
+            let (mut s, mut ep) = (confined(p), 0.0);
+            let first_yield = loop {
+                let u = m.update(&mut s, rate, spin, ep, 1e-5);
+                // (an elastic step may report a plastic strain of round-off size)
+                if u.plastic_strain > 1e-9 {
+                    break s.j2().sqrt() as f64 / p as f64;
+                }
+                ep += u.plastic_strain;
+                assert!(s.j2().sqrt() < p, "φ = {phi}: no yield");
+            };
+            assert!(
+                (first_yield / sin_ps - 1.0).abs() < 1e-4,
+                "φ = {phi}: first yield at √J2/p = {first_yield}, 3 α_s = {sin_ps}"
+            );
+            // steady simple shear from K0 = 0.5
+            let at_rest = Sym3 {
+                xx: -50.0,
+                yy: -100.0,
+                zz: -50.0,
+                ..Sym3::ZERO
+            };
+            let (s, ep, _) = drive(
+                &m,
+                at_rest,
+                [[0.0, 1.0, 0.0], [0.0; 3], [0.0; 3]],
+                1e-4,
+                40_000,
+                |_, _| {},
+            );
+            assert!(ep as f64 > FLOWING_STRAIN, "φ = {phi}: ε_p = {ep}");
+            let ratio = (s.xy / -s.yy) as f64;
+            assert!(
+                (ratio / tan_ps - 1.0).abs() < 1e-3,
+                "φ = {phi}: τ/σ_n = {ratio}, tan φ_ps = {tan_ps}"
+            );
+            // Eq. 13 alone stops at atan(sin φ_ps): 6 % to 32 % less friction
+            assert!(
+                ratio > 1.05 * sin_ps,
+                "φ = {phi}: {ratio} vs sin φ_ps {sin_ps}"
+            );
         }
     }
 
@@ -579,7 +732,7 @@ mod tests {
         }
         // at rest the cone is the rate-independent one
         let mut s = confined(p);
-        let u = m.update(&mut s, Sym3::ZERO, Default::default(), 1e-3);
+        let u = m.update(&mut s, Sym3::ZERO, Default::default(), 0.0, 1e-3);
         assert_eq!((s, u.plastic_strain), (confined(p), 0.0));
         let json = r#"{"youngs_modulus": 3.5e5, "poisson_ratio": 0.3, "density": 2200,
             "friction_angle": 32, "mu_i": {"grain_diameter": -1}}"#;
@@ -646,8 +799,15 @@ mod tests {
             serde_json::from_str::<DruckerPragerParams>(&text).unwrap(),
             p
         );
-        p.volumetric_rate = VolumetricRate::Particle;
+        // the paper's Eq. 13 alone is written out; the default start–stop match is not
         p.friction_match = FrictionMatch::PlaneStrain;
+        let text = serde_json::to_string(&p).unwrap();
+        assert!(
+            text.contains(r#""friction_match":"plane_strain""#),
+            "{text}"
+        );
+        p.volumetric_rate = VolumetricRate::Particle;
+        p.friction_match = FrictionMatch::StartStop;
         let text = serde_json::to_string(&p).unwrap();
         assert!(
             !text.contains("volumetric_rate") && !text.contains("friction_match"),
@@ -655,13 +815,13 @@ mod tests {
         );
         let p: DruckerPragerParams = serde_json::from_str(&text).unwrap();
         assert_eq!(p.volumetric_rate, VolumetricRate::Particle);
-        assert_eq!(p.friction_match, FrictionMatch::PlaneStrain);
+        assert_eq!(p.friction_match, FrictionMatch::StartStop);
         let bad = json.replace("steady_flow", "steady");
         assert_eq!(
             serde_json::from_str::<DruckerPragerParams>(&bad)
                 .unwrap_err()
                 .to_string(),
-            "unknown variant `steady`, expected `plane_strain` or `steady_flow` at line 3 column 38"
+            "unknown variant `steady`, expected one of `plane_strain`, `steady_flow`, `start_stop` at line 3 column 38"
         );
     }
 
@@ -742,7 +902,7 @@ mod tests {
                 [rnd(), rnd(), rnd() - 0.3],
             ];
             let (rate, spin) = crate::material::test_util::rate_spin(l);
-            let u = m.update(&mut s, rate, spin, 2e-3);
+            let u = m.update(&mut s, rate, spin, 0.0, 2e-3);
             assert!(s.is_finite());
             assert!(
                 m.yield_function(s) <= 1e-3 * (m.k_c + s.trace().abs()),

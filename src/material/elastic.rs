@@ -112,6 +112,7 @@ impl Constitutive for Elastic {
         stress: &mut S,
         rate: S,
         spin: S::Spin,
+        _plastic_strain: S::Scalar,
         dt: Real,
     ) -> StressUpdate<S::Scalar> {
         *stress = self.trial(*stress, rate, spin, dt);

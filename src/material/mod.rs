@@ -45,7 +45,9 @@ impl<T: Lane> StressUpdate<T> {
 }
 
 /// A constitutive model: advances a particle's Cauchy stress (tension positive) over one
-/// time step, given the strain rate ε̇ = ½(∇v + ∇vᵀ) and spin ω = ½(∇v − ∇vᵀ). Generic over
+/// time step, given the strain rate ε̇ = ½(∇v + ∇vᵀ), the spin ω = ½(∇v − ∇vᵀ) and the
+/// particle's history, its accumulated equivalent plastic strain ε_p (which a model may
+/// harden or soften with; the solver adds each update's increment to it). Generic over
 /// the tensor type, whose components may be [`Lanes`]: the solver updates four particles per
 /// call, so a model is written without branches (selects, `min`, `max`), the same arithmetic
 /// in every lane.
@@ -57,6 +59,7 @@ pub trait Constitutive: Copy + Send + Sync + 'static {
         stress: &mut S,
         rate: S,
         spin: S::Spin,
+        plastic_strain: S::Scalar,
         dt: Real,
     ) -> StressUpdate<S::Scalar>;
     /// The elastic part of the model (moduli and stored energy).
@@ -121,7 +124,7 @@ impl Material {
             cohesion,
             mu_i: None,
             volumetric_rate: VolumetricRate::Particle,
-            friction_match: FrictionMatch::PlaneStrain,
+            friction_match: FrictionMatch::default(),
         })
     }
 
@@ -171,12 +174,14 @@ impl Material {
         self.elastic_params().wave_speed()
     }
 
-    /// Where the yield surface lies in p–q space (see [`PqSurface`]).
-    pub fn pq_surface(&self) -> PqSurface {
+    /// Where the yield surface of a particle with the accumulated plastic strain
+    /// `plastic_strain` lies in p–q space (see [`PqSurface`]; only sand's start–stop cone
+    /// depends on it).
+    pub fn pq_surface(&self, plastic_strain: f64) -> PqSurface {
         match self {
             Material::Elastic(m) => m.pq_surface(),
             Material::VonMises(m) => m.pq_surface(),
-            Material::DruckerPrager(m) => m.pq_surface(),
+            Material::DruckerPrager(m) => m.pq_surface(plastic_strain),
         }
     }
 
@@ -302,7 +307,7 @@ pub(crate) mod test_util {
         let (rate, spin) = rate_spin(l);
         let (mut ep, mut diss) = (0.0, 0.0);
         for i in 0..steps {
-            let u = model.update(&mut stress, rate, spin, dt);
+            let u = model.update(&mut stress, rate, spin, ep, dt);
             ep += u.plastic_strain;
             diss += u.dissipation;
             each(i, &stress);
@@ -340,11 +345,11 @@ mod tests {
                 _ => [[0.6, 0.1, 0.0], [0.0, 0.5, 0.0], [0.0, 0.0, 0.4]],
             };
             let (rate, spin) = test_util::rate_spin(l);
-            let u = model.update(&mut s3, rate, spin, 1e-3);
+            let u = model.update(&mut s3, rate, spin, 0.0, 1e-3);
             check(u, elastic.energy_density(s3), "3D");
             let g = Mat2::from_cols(Vec2::new(l[0][0], l[1][0]), Vec2::new(l[0][1], l[1][1]));
             let (rate, spin) = D2::rate_and_spin(g);
-            let u = model.update(&mut s2, rate, spin, 1e-3);
+            let u = model.update(&mut s2, rate, spin, 0.0, 1e-3);
             check(u, elastic.energy_density(s2), "2D");
         }
     }
@@ -392,12 +397,21 @@ mod tests {
         let (rates, spins): ([Sym3; LANES], [[Real; 3]; LANES]) =
             (rates.try_into().unwrap(), spins.try_into().unwrap());
         let dt = 2e-3;
+        // each lane with its own history (accumulated plastic strain)
+        let history = [0.0, 0.05, 0.5, 2.0];
+        let lanes_history = Lanes::from_slice(&history);
         let mut lanes = Sym3::pack(&stress3);
-        let u = model.update(&mut lanes, Sym3::pack(&rates), Sym3::pack_spin(&spins), dt);
+        let u = model.update(
+            &mut lanes,
+            Sym3::pack(&rates),
+            Sym3::pack_spin(&spins),
+            lanes_history,
+            dt,
+        );
         let out = Sym3::unpack(lanes);
         for l in 0..LANES {
             let mut s = stress3[l];
-            let v = model.update(&mut s, rates[l], spins[l], dt);
+            let v = model.update(&mut s, rates[l], spins[l], history[l], dt);
             assert_eq!(out[l], s, "3D lane {l}");
             let lane = |x: Lanes| x.to_array()[l];
             assert_eq!(
@@ -432,12 +446,13 @@ mod tests {
             &mut lanes,
             Sym2::pack(&rates2),
             Sym2::pack_spin(&spins2),
+            lanes_history,
             dt,
         );
         let out = Sym2::unpack(lanes);
         for l in 0..LANES {
             let mut s = stress2[l];
-            let v = model.update(&mut s, rates2[l], spins2[l], dt);
+            let v = model.update(&mut s, rates2[l], spins2[l], history[l], dt);
             assert_eq!(out[l], s, "2D lane {l}");
             assert_eq!(u.energy.to_array()[l], v.energy, "2D lane {l}");
             assert_eq!(
@@ -475,6 +490,25 @@ mod tests {
             };
             check_lanes(&m);
             check_energy(&m, 300);
+            // with the start–stop cone, which widens with each lane's plastic strain, alone
+            // and with μ(I)
+            for mu_i in [
+                None,
+                Some(mu_i::MuIParams {
+                    grain_diameter: 1e-3,
+                }),
+            ] {
+                let mut with = Material::drucker_prager(e, nu, rho, 30.0, 10.0, c);
+                if let Material::DruckerPrager(p) = &mut with {
+                    p.friction_match = FrictionMatch::StartStop;
+                    p.mu_i = mu_i;
+                }
+                let Model::DruckerPrager(m) = with.model() else {
+                    unreachable!()
+                };
+                check_lanes(&m);
+                check_energy(&m, 300);
+            }
         }
     }
 
@@ -489,7 +523,7 @@ mod tests {
         let squeeze = [[-0.5, 0.0, 0.0], [0.0, -0.5, 0.0], [0.0, 0.0, -0.5]];
         let shear = [[0.0, 2.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]];
         let check = |m: Material, model: &dyn Fn(&mut Sym3, [[Real; 3]; 3])| {
-            let surface = m.pq_surface();
+            let surface = m.pq_surface(0.0);
             let mut s = Sym3::ZERO;
             model(&mut s, squeeze);
             let (p, q) = pq(s);
@@ -511,10 +545,15 @@ mod tests {
         check(vm.clone(), &|s, l| {
             test_util::drive(&v, *s, l, 1e-3, 1, |_, x| *s = *x);
         });
-        for (c, fm) in [0.0, 500.0]
-            .into_iter()
-            .flat_map(|c| [FrictionMatch::PlaneStrain, FrictionMatch::SteadyFlow].map(|f| (c, f)))
-        {
+        for (c, fm) in [0.0, 500.0].into_iter().flat_map(|c| {
+            [
+                FrictionMatch::PlaneStrain,
+                FrictionMatch::SteadyFlow,
+                // the cone at rest (each call here starts without plastic strain)
+                FrictionMatch::StartStop,
+            ]
+            .map(|f| (c, f))
+        }) {
             let mut dp = Material::drucker_prager(e, nu, rho, 30.0, 0.0, c);
             if let Material::DruckerPrager(p) = &mut dp {
                 p.friction_match = fm;
@@ -525,7 +564,7 @@ mod tests {
             check(dp.clone(), &|s, l| {
                 test_util::drive(&d, *s, l, 1e-3, 1, |_, x| *s = *x);
             });
-            let apex = dp.pq_surface().apex_p;
+            let apex = dp.pq_surface(0.0).apex_p;
             let at_apex = Sym3::iso(-apex as Real);
             assert!(
                 d.yield_function(at_apex).abs() <= 1e-3 * (1.0 + c as Real),
@@ -533,7 +572,7 @@ mod tests {
             );
         }
         let el = Material::elastic(e, nu, rho);
-        assert_eq!(el.pq_surface(), PqSurface::NONE);
+        assert_eq!(el.pq_surface(0.0), PqSurface::NONE);
         assert!(!PqSurface::NONE.reached(1e9, 1e9));
     }
 

@@ -68,6 +68,7 @@ impl Constitutive for VonMises {
         stress: &mut S,
         rate: S,
         spin: S::Spin,
+        _plastic_strain: S::Scalar,
         dt: Real,
     ) -> StressUpdate<S::Scalar> {
         let trial = self.elastic.trial(*stress, rate, spin, dt); // Eq. 6
@@ -130,7 +131,7 @@ mod tests {
             let try_rate = |lat: Real| {
                 let (r, w) = rate_spin([[axial_rate, 0.0, 0.0], [0.0, lat, 0.0], [0.0, 0.0, lat]]);
                 let mut t = s;
-                let u = m.update(&mut t, r, w, dt);
+                let u = m.update(&mut t, r, w, 0.0, dt);
                 (t, u)
             };
             let (mut a, mut b) = (lateral, lateral * 1.01 + 1e-6);

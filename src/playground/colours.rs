@@ -2,7 +2,7 @@
 //! state, with the range a colour map should span.
 
 use crate::error::{Result, not_one_of};
-use crate::material::pq;
+use crate::material::{Material, pq};
 use crate::math::{Dim, Real};
 use crate::sim::Simulation;
 
@@ -114,10 +114,16 @@ fn fill<D: Dim>(
                 previous_plastic.resize(max_id, Real::NAN);
             }
             for (body, config) in s.bodies().iter().zip(&s.scene().bodies) {
-                let surface = config.material.pq_surface();
+                // sand's cone depends on each particle's plastic strain (the start–stop match)
+                let sand = match &config.material {
+                    Material::DruckerPrager(m) => Some(m.model()),
+                    _ => None,
+                };
+                let fixed = config.material.pq_surface(0.0);
                 for i in body.range() {
                     let id = p.id[i] as usize;
                     let ep = p.plastic_strain[i];
+                    let surface = sand.map_or(fixed, |m| m.pq_surface(ep as f64));
                     let before = previous_plastic[id];
                     previous_plastic[id] = ep;
                     let (pressure, q) = pq(p.stress[i]);

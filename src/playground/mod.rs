@@ -845,7 +845,7 @@ fn stress_point<D: Dim>(s: &Simulation<D>, i: usize) -> StressPoint {
         q,
         plastic_strain: p.plastic_strain[i] as f64,
         position: xyz::<D>(p.x[i]),
-        surface: material.pq_surface(),
+        surface: material.pq_surface(p.plastic_strain[i] as f64),
     }
 }
 

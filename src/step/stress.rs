@@ -381,7 +381,7 @@ pub fn update_one<D: Dim, M: Constitutive>(
     q: usize,
     report: &mut StressReport,
 ) {
-    let u = model.update(stress, rate, spin, dt);
+    let u = model.update(stress, rate, spin, *plastic_strain, dt);
     let before = *volume;
     let mut v = before * exp_small(rate.trace() * dt);
     if let Some(s) = model.max_specific_volume() {
@@ -453,6 +453,23 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
             Some((ps.stress, ps.volume)),
         )
     };
+    // The particles' accumulated plastic strains in lanes (zero for models that do not yield,
+    // and in a short chunk's padding).
+    let history = if !M::PLASTIC {
+        Lanes2(Lanes::ZERO, Lanes::ZERO)
+    } else if len == CHUNK {
+        Lanes2(
+            Lanes::from_slice(&ps.plastic_strain[..LANES]),
+            Lanes::from_slice(&ps.plastic_strain[LANES..]),
+        )
+    } else {
+        let mut e = [0.0; CHUNK];
+        e[..len].copy_from_slice(ps.plastic_strain);
+        Lanes2(
+            Lanes::from_slice(&e[..LANES]),
+            Lanes::from_slice(&e[LANES..]),
+        )
+    };
     let mut plastic = [0.0; CHUNK];
     // The eight particles in two groups of four lanes, updated in one call: the two groups'
     // dependency chains interleave.
@@ -474,6 +491,7 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
         &mut lanes,
         D::Sym::zip(r0, r1),
         D::Sym::zip_spin(w0, w1),
+        history,
         &mut v,
         cap,
         dt,
@@ -496,8 +514,8 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
         // a particle); a short one adds them one by one.
         match <&mut [Real; CHUNK]>::try_from(&mut *ps.plastic_strain) {
             Ok(e) => {
-                (Lanes::from_slice(&e[..LANES]) + ep.0).write_to_slice(&mut e[..LANES]);
-                (Lanes::from_slice(&e[LANES..]) + ep.1).write_to_slice(&mut e[LANES..]);
+                (history.0 + ep.0).write_to_slice(&mut e[..LANES]);
+                (history.1 + ep.1).write_to_slice(&mut e[LANES..]);
             }
             Err(_) => {
                 for (e, de) in ps.plastic_strain.iter_mut().zip(plastic) {
@@ -531,16 +549,18 @@ struct Group {
 /// Steps 2–3 for one group of particles in lanes: the stress by the model (returning their
 /// plastic strain increments) and the volume.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn update_group<S: SymTensor, M: Constitutive>(
     model: &M,
     stress: &mut S,
     rate: S,
     spin: S::Spin,
+    history: S::Scalar,
     volume: &mut S::Scalar,
     cap: Option<S::Scalar>,
     dt: Real,
 ) -> (S::Scalar, Group) {
-    let u = model.update(stress, rate, spin, dt);
+    let u = model.update(stress, rate, spin, history, dt);
     let before = *volume;
     let mut v = before * exp_small(rate.trace() * dt);
     if let Some(cap) = cap {

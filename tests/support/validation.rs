@@ -8,6 +8,7 @@
 #![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
 #![allow(dead_code)]
 
+use mpm::material::FrictionMatch;
 use mpm::math::{Dim, SymTensor, VectorOps};
 use mpm::{KernelKind, Material, Real, SceneConfig, Simulation};
 use std::path::{Path, PathBuf};
@@ -39,9 +40,9 @@ pub struct Numerics {
     /// Sand under test takes its cells' averaged volumetric strain rate
     /// (`"volumetric_rate": "cell_average"`) instead of each particle's.
     pub cell_average: bool,
-    /// Sand under test takes the steady-flow friction match (`"friction_match":
-    /// "steady_flow"`: 3 α_φ = tan φ) instead of Eq. 13.
-    pub steady_flow: bool,
+    /// Sand under test takes this friction match (`"friction_match"`, e.g. the steady-flow
+    /// match 3 α_φ = tan φ) instead of the scene's.
+    pub friction_match: Option<FrictionMatch>,
 }
 
 impl Numerics {
@@ -55,7 +56,7 @@ impl Numerics {
             cfl: 0.4,
             mu_i: None,
             cell_average: false,
-            steady_flow: false,
+            friction_match: None,
         }
     }
     /// Sand with the volumetric strain rate averaged over each grid cell.
@@ -65,7 +66,18 @@ impl Numerics {
     }
     /// Sand with the steady-flow friction match.
     pub fn steady_flow(mut self) -> Self {
-        self.steady_flow = true;
+        self.friction_match = Some(FrictionMatch::SteadyFlow);
+        self
+    }
+    /// Sand with Eq. 13's cone alone (the paper's friction match).
+    pub fn plane_strain(mut self) -> Self {
+        self.friction_match = Some(FrictionMatch::PlaneStrain);
+        self
+    }
+    /// Sand with the start–stop friction match (Eq. 13's cone widening with the plastic
+    /// strain to the steady-flow cone of the same plane-strain angle).
+    pub fn start_stop(mut self) -> Self {
+        self.friction_match = Some(FrictionMatch::StartStop);
         self
     }
     /// Sand with the μ(I) friction of grain diameter `d` (m).
@@ -118,10 +130,10 @@ impl Numerics {
         {
             m.volumetric_rate = mpm::material::VolumetricRate::CellAverage;
         }
-        if let (true, Material::DruckerPrager(m)) =
-            (self.steady_flow, &mut scene.bodies[0].material)
+        if let (Some(f), Material::DruckerPrager(m)) =
+            (self.friction_match, &mut scene.bodies[0].material)
         {
-            m.friction_match = mpm::material::FrictionMatch::SteadyFlow;
+            m.friction_match = f;
         }
     }
     /// A short label, e.g. `gimp h=0.0125 ppc=2 α=1 cfl=0.4` (and ` apic`, ` μ(I) d=0.5mm`,
@@ -142,7 +154,12 @@ impl Numerics {
             self.mu_i
                 .map_or(String::new(), |d| format!(" μ(I) d={}mm", 1e3 * d)),
             if self.cell_average { " cell-avg" } else { "" },
-            if self.steady_flow { " steady-flow" } else { "" }
+            match self.friction_match {
+                Some(FrictionMatch::SteadyFlow) => " steady-flow",
+                Some(FrictionMatch::StartStop) => " start-stop",
+                Some(FrictionMatch::PlaneStrain) => " plane-strain",
+                None => "",
+            }
         )
     }
 }
