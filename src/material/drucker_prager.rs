@@ -516,6 +516,30 @@ mod tests {
         Sym3::IDENTITY * -p
     }
 
+    /// An at-rest stress: σ_yy = −100 Pa, σ_xx = σ_zz = K0 σ_yy with K0 = 0.5.
+    const AT_REST: Sym3 = Sym3 {
+        xx: -50.0,
+        yy: -100.0,
+        zz: -50.0,
+        xy: 0.0,
+        xz: 0.0,
+        yz: 0.0,
+    };
+
+    /// [`AT_REST`] sheared at constant volume (v_x = y, γ̇ = 1 /s) for `steps` steps of 10⁻⁴ s:
+    /// the stress, τ_xy/(−σ_yy) and the accumulated plastic strain.
+    fn simple_shear(m: &DruckerPrager, steps: usize) -> (Sym3, f64, Real) {
+        let (s, ep, _) = drive(
+            m,
+            AT_REST,
+            [[0.0, 1.0, 0.0], [0.0; 3], [0.0; 3]],
+            1e-4,
+            steps,
+            |_, _| {},
+        );
+        (s, (s.xy / -s.yy) as f64, ep)
+    }
+
     #[test]
     fn eq13_constants() {
         let m = sand(30.0, 0.0, 1000.0);
@@ -547,13 +571,7 @@ mod tests {
     /// for φ = 20°, 32°, 45°); by the steady-flow match it is tan φ.
     #[test]
     fn steady_simple_shear_mobilises_three_alpha_phi() {
-        let (p0, k0) = (100.0, 0.5);
-        let at_rest = Sym3 {
-            xx: -k0 * p0,
-            yy: -p0,
-            zz: -k0 * p0,
-            ..Sym3::ZERO
-        };
+        let at_rest = AT_REST;
         let p = -at_rest.trace() / 3.0;
         let normal_deviators = |s: &Sym3| {
             let d = *s - Sym3::iso(s.trace() / 3.0);
@@ -564,15 +582,7 @@ mod tests {
             let tan_phi = phi.to_radians().tan();
             for fm in [FrictionMatch::PlaneStrain, FrictionMatch::SteadyFlow] {
                 let m = matched(phi, 0.0, 0.0, fm);
-                let (s, _, _) = drive(
-                    &m,
-                    at_rest,
-                    [[0.0, 1.0, 0.0], [0.0; 3], [0.0; 3]],
-                    1e-4,
-                    10_000,
-                    |_, _| {},
-                );
-                let ratio = (s.xy / -s.yy) as f64;
+                let (s, ratio, _) = simple_shear(&m, 10_000);
                 let three_alpha = 3.0 * m.alpha_phi as f64;
                 assert!(
                     (ratio / three_alpha - 1.0).abs() < 1e-3,
@@ -636,22 +646,8 @@ mod tests {
                 "φ = {phi}: first yield at √J2/p = {first_yield}, 3 α_s = {sin_ps}"
             );
             // steady simple shear from K0 = 0.5
-            let at_rest = Sym3 {
-                xx: -50.0,
-                yy: -100.0,
-                zz: -50.0,
-                ..Sym3::ZERO
-            };
-            let (s, ep, _) = drive(
-                &m,
-                at_rest,
-                [[0.0, 1.0, 0.0], [0.0; 3], [0.0; 3]],
-                1e-4,
-                40_000,
-                |_, _| {},
-            );
+            let (_, ratio, ep) = simple_shear(&m, 40_000);
             assert!(ep as f64 > FLOWING_STRAIN, "φ = {phi}: ε_p = {ep}");
-            let ratio = (s.xy / -s.yy) as f64;
             assert!(
                 (ratio / tan_ps - 1.0).abs() < 1e-3,
                 "φ = {phi}: τ/σ_n = {ratio}, tan φ_ps = {tan_ps}"
