@@ -27,6 +27,16 @@ pub enum Error {
         quantity: &'static str,
         step: u64,
     },
+    /// A body was compressed to no volume: the impact brought more energy per unit volume than
+    /// its material law can store.
+    #[error(
+        "body {body:?} crushed to zero volume (particle {particle}, step {step}): its material stores less energy than the impact brings; a stiffer material or a slower body holds"
+    )]
+    Crushed {
+        body: String,
+        particle: usize,
+        step: u64,
+    },
 }
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -381,14 +381,24 @@ fn stencil_lanes<const S: usize, K: Kernel<S>>(
 #[derive(Clone, Copy, Debug)]
 pub struct Linear;
 
+/// The least offset of a particle from its first node under the linear kernel, in cells.
+pub const LINEAR_NUDGE: Real = 1e-6;
+
 impl Kernel<2> for Linear {
     const KIND: KernelKind = KernelKind::Linear;
     #[inline(always)]
     fn first<L: Lanes>(xg: L, _lp: Real) -> (L::Int, L) {
         xg.floor_nonneg()
     }
+    /// A particle on a node line (f = 0 exactly, as happens when x/h rounds to a whole number
+    /// in f32) is moved a millionth of a cell past it: else the second node gets weight 0 but
+    /// gradient 1/h, so a force on no mass (dropped: momentum lost) and a velocity of 0 in the
+    /// particle's velocity gradient (a translating body strained from nothing). Beyond 16
+    /// cells the nudge is under one f32 step of x/h: the stencil is that of the next position
+    /// a particle can have, one the kernel meets as often (docs/stability.md).
     #[inline(always)]
     fn node<L: Lanes>(f: L, k: usize, _lp: Real) -> (L, L) {
+        let f = f.clamp(LINEAR_NUDGE, 1.0);
         if k == 0 {
             (L::splat(1.0) - f, L::splat(-1.0))
         } else {

@@ -608,11 +608,21 @@ impl<D: Dim> Simulation<D> {
                 .first_bad
                 .or_else(|| gathered[i].first_bad.map(|p| (p, "velocity or position")));
             if let Some((p, quantity)) = bad {
-                let e = Error::NonFinite {
-                    body: self.scene.bodies[i].name.clone(),
-                    particle: p,
-                    quantity,
-                    step: self.steps,
+                let body = self.scene.bodies[i].name.clone();
+                let step = self.steps;
+                let e = if quantity == crate::step::stress::CRUSHED {
+                    Error::Crushed {
+                        body,
+                        particle: p,
+                        step,
+                    }
+                } else {
+                    Error::NonFinite {
+                        body,
+                        particle: p,
+                        quantity,
+                        step,
+                    }
                 };
                 self.failed = Some(e.clone());
                 return Err(e);

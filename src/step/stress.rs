@@ -98,6 +98,12 @@ pub struct StressState<'a, D: Dim> {
     pub plastic_strain: &'a mut [Real],
 }
 
+/// A finite stress with a volume of zero or less: the body was compressed further than its
+/// law can resist (the log-strain pressure stores at most about the constrained modulus per
+/// unit volume), so J fell each step until it underflowed. A failure of the scene, not of the
+/// step: [`crate::Error::Crushed`].
+pub const CRUSHED: &str = "crushed";
+
 /// What the stress update measured.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct StressReport {
@@ -114,10 +120,15 @@ pub struct StressReport {
 }
 
 impl StressReport {
-    /// Counts particle `q` as bad (its stress or, with a finite stress, its volume).
-    fn bad(&mut self, q: usize, stress_finite: bool) {
+    /// Counts particle `q` as bad (its stress or, with a finite stress, its volume `v`: zero
+    /// when the body was crushed flat, see [`CRUSHED`]).
+    fn bad(&mut self, q: usize, stress_finite: bool, v: Real) {
         self.bad += 1;
-        let what = if stress_finite { "volume" } else { "stress" };
+        let what = match (stress_finite, v.is_finite()) {
+            (false, _) => "stress",
+            (true, true) => CRUSHED,
+            (true, false) => "volume",
+        };
         self.first_bad.get_or_insert((q, what));
     }
 }
@@ -393,7 +404,7 @@ pub fn update_one<D: Dim, M: Constitutive>(
         *plastic_strain += u.plastic_strain;
     }
     if !(stress.is_finite() && v.is_finite() && v > 0.0) {
-        report.bad(q, stress.is_finite());
+        report.bad(q, stress.is_finite(), v);
         return;
     }
     report.elastic += (u.energy * v) as f64;
@@ -528,7 +539,7 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
         // Only a chunk that was not all finite is looked at particle by particle.
         let ok = finite || stress[i].is_finite() && volume[i].is_finite() && volume[i] > 0.0;
         if !ok {
-            report.bad(first + i, stress[i].is_finite());
+            report.bad(first + i, stress[i].is_finite(), volume[i]);
         }
     }
     if let Some((to_stress, to_volume)) = short {

@@ -326,13 +326,16 @@ export class App {
     syncControls(this, false);
   }
 
-  /// The simulation stopped (non-finite state): pause and say so, with a way back.
+  /// The simulation stopped (non-finite state, or a body crushed beyond what its material
+  /// can store): pause and say so, with a way back.
   fail(message) {
     this.playing = false;
     this.session.play(false);
     syncControls(this, false);
-    banner('failed', 'bad', `The simulation became unstable (${message}). A smaller CFL number or a softer material helps.`,
-      { label: 'Reset', run: () => this.reset() });
+    const text = message.includes('crushed to zero volume')
+      ? `The simulation stopped: ${message}.`
+      : `The simulation became unstable (${message}). A smaller CFL number or a softer material helps.`;
+    banner('failed', 'bad', text, { label: 'Reset', run: () => this.reset() });
   }
 }
 
