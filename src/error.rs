@@ -27,10 +27,10 @@ pub enum Error {
         quantity: &'static str,
         step: u64,
     },
-    /// A body was compressed to no volume: the impact brought more energy per unit volume than
-    /// its material law can store.
+    /// A body was compressed to no volume: an impact brought more energy per unit volume than
+    /// its material law can store, or the step went unstable.
     #[error(
-        "body {body:?} crushed to zero volume (particle {particle}, step {step}): its material stores less energy than the impact brings; a stiffer material or a slower body holds"
+        "body {body:?} crushed to zero volume (particle {particle}, step {step}): compressed further than its material can resist, as by an impact bringing more energy than the material stores (a stiffer material or a slower body holds) or by an unstable step (a smaller CFL number holds)"
     )]
     Crushed {
         body: String,

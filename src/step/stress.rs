@@ -98,10 +98,9 @@ pub struct StressState<'a, D: Dim> {
     pub plastic_strain: &'a mut [Real],
 }
 
-/// A finite stress with a volume of zero or less: the body was compressed further than its
-/// law can resist (the log-strain pressure stores at most about the constrained modulus per
-/// unit volume), so J fell each step until it underflowed. A failure of the scene, not of the
-/// step: [`crate::Error::Crushed`].
+/// A finite stress with a volume of zero: the body was compressed further than its law can
+/// resist (the log-strain pressure stores at most about the constrained modulus per unit
+/// volume), so J fell each step until it underflowed: [`crate::Error::Crushed`].
 pub const CRUSHED: &str = "crushed";
 
 /// What the stress update measured.
