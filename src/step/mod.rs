@@ -21,9 +21,10 @@
 //! validation cases come out closer to their closed forms. The linear kernel cannot take
 //! that order: its weight gradient does not vanish with its weight, so a node that a particle
 //! barely reaches gets a finite force on next to no mass, and the velocity gradient taken
-//! from the new grid velocities blows up (for the C¹ kernels |∇w|²/w stays bounded). For
-//! sand the other order made some granular figures better and some worse (the angle of
-//! repose at φ = 20° by 4°), so it keeps the paper's. docs/validation.md has the figures.
+//! from the new grid velocities blows up (for the C¹ kernels |∇w|²/w stays bounded). Sand
+//! keeps the paper's order: stress last would make it 1.07–1.22× faster but takes some
+//! granular figures past issue 16's bounds (docs/validation.md, "The order of the stress
+//! update"); its `"cell_average"` volumetric rate is computed in the stress-first pass only.
 //!
 //! [`transfer`] holds the choice of how velocities travel between particles and grid (the
 //! PIC/FLIP blend α, APIC), per body, used by the scatter and the gather.
@@ -93,8 +94,8 @@ pub enum StressOrder {
 
 impl StressOrder {
     /// The order for a body of `model` with `kernel`: the linear kernel keeps the paper's
-    /// order (its weight gradient does not vanish with its weight), and so does sand, whose
-    /// validation figures the other order did not improve (docs/validation.md).
+    /// order (its weight gradient does not vanish with its weight), and so does sand, some of
+    /// whose validation figures the other order takes past their bounds (docs/validation.md).
     pub fn for_body(kernel: KernelKind, model: &Model) -> Self {
         match (kernel, model) {
             (KernelKind::Linear, _) | (_, Model::DruckerPrager(_)) => StressOrder::First,
