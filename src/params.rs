@@ -255,7 +255,7 @@ pub const FRICTION_ANGLE: Field = Field {
     label: "Friction angle",
     symbol: "φ",
     unit: "°",
-    help: "the opening of the yield cone: steeper heaps at larger angles",
+    help: "the opening of the yield cone: sand starts to slide, and stops, a little under this slope (steeper heaps at larger angles)",
     max: 60.0,
     step: 0.5,
     key: Some('f'),
