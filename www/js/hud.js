@@ -89,9 +89,9 @@ export function hudRows(st, d, { particles, playing, stableDt, time, renderer, q
     ['quality', `${label}: h ${+(100 * resolution.cell_size).toPrecision(3)} cm, ${Array(dim).fill(resolution.particles_per_cell).join('×')} per cell`,
       `Cells ${+(resolution.cell_size / resolution.scene_cell_size).toPrecision(3)} × the scene file's; particles per cell per axis ${resolution.particles_per_cell}`],
     ['error', `period ${pct(a.bar_period)}, run-out ${pct(a.column_runout)}, settling ${pct(a.resting_settlement)}`,
-      'What this resolution costs in accuracy, measured on the validation cases at the same cell factor and particles per cell ' +
+      'The errors at this resolution, measured on the validation cases at the same cell factor and particles per cell ' +
       `(docs/playground.md): vibrating bar period ${pct(a.bar_period)} (L2 ${pct(a.bar_l2)}), column collapse run-out ` +
-      `${pct(a.column_runout)} and height ${pct(a.column_height)} against the converged reference, resting column settlement ${pct(a.resting_settlement)}`],
+      `${pct(a.column_runout)} and height ${pct(a.column_height)} against Lube et al. (2005)'s experiments, resting column settlement ${pct(a.resting_settlement)}`],
     ['renderer', `${renderer.replace(/ \(.*\)$/, '')}${quality ? `, ${quality}` : ''}`],
     ['solver', `wasm, ${thread}`],
   ];
