@@ -20,7 +20,9 @@ pub enum Error {
     #[error("{path}: {message}")]
     Io { path: String, message: String },
     /// The state went non-finite: the step stopped before the value could spread.
-    #[error("non-finite {quantity} at particle {particle} of body {body:?} in step {step}")]
+    #[error(
+        "non-finite {quantity} at particle {particle} of body {body:?} in step {step}: the step went unstable (a smaller CFL number or a softer material helps)"
+    )]
     NonFinite {
         body: String,
         particle: usize,

@@ -15,7 +15,7 @@ use crate::material::{Model, VolumetricRate};
 use crate::math::{D2, D3, Dim, Real, VectorOps};
 use crate::step::contact::{ContactPair, ContactRule};
 use crate::step::gather::GatherReport;
-use crate::step::stress::StressReport;
+use crate::step::stress::{Bad, StressReport};
 use crate::step::transfer::Transfer;
 use std::ops::Range;
 
@@ -604,25 +604,26 @@ impl<D: Dim> Simulation<D> {
         d.max_speed = max_speed;
         d.cfl = dt * (c + max_speed) / self.world.h as f64;
         for i in 0..self.bodies.len() {
-            let bad = stress[i]
-                .first_bad
-                .or_else(|| gathered[i].first_bad.map(|p| (p, "velocity or position")));
-            if let Some((p, quantity)) = bad {
+            let bad = stress[i].first_bad.or_else(|| {
+                gathered[i]
+                    .first_bad
+                    .map(|p| (p, Bad::NonFinite("velocity or position")))
+            });
+            if let Some((particle, bad)) = bad {
                 let body = self.scene.bodies[i].name.clone();
                 let step = self.steps;
-                let e = if quantity == crate::step::stress::CRUSHED {
-                    Error::Crushed {
+                let e = match bad {
+                    Bad::Crushed => Error::Crushed {
                         body,
-                        particle: p,
+                        particle,
                         step,
-                    }
-                } else {
-                    Error::NonFinite {
+                    },
+                    Bad::NonFinite(quantity) => Error::NonFinite {
                         body,
-                        particle: p,
+                        particle,
                         quantity,
                         step,
-                    }
+                    },
                 };
                 self.failed = Some(e.clone());
                 return Err(e);

@@ -98,10 +98,16 @@ pub struct StressState<'a, D: Dim> {
     pub plastic_strain: &'a mut [Real],
 }
 
-/// A finite stress with a volume of zero: the body was compressed further than its law can
-/// resist (the log-strain pressure stores at most about the constrained modulus per unit
-/// volume), so J fell each step until it underflowed: [`crate::Error::Crushed`].
-pub const CRUSHED: &str = "crushed";
+/// Why a particle's state is unusable after its update.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Bad {
+    /// A quantity went non-finite: [`crate::Error::NonFinite`].
+    NonFinite(&'static str),
+    /// A finite stress with a volume of zero: the body was compressed further than its law
+    /// can resist (the log-strain pressure stores at most about the constrained modulus per
+    /// unit volume), so J fell each step until it underflowed: [`crate::Error::Crushed`].
+    Crushed,
+}
 
 /// What the stress update measured.
 #[derive(Clone, Copy, Debug, Default)]
@@ -115,18 +121,18 @@ pub struct StressReport {
     pub max_volume: Real,
     /// Number of particles whose stress or volume went non-finite, and the first of them.
     pub bad: usize,
-    pub first_bad: Option<(usize, &'static str)>,
+    pub first_bad: Option<(usize, Bad)>,
 }
 
 impl StressReport {
     /// Counts particle `q` as bad (its stress or, with a finite stress, its volume `v`: zero
-    /// when the body was crushed flat, see [`CRUSHED`]).
+    /// when the body was crushed flat).
     fn bad(&mut self, q: usize, stress_finite: bool, v: Real) {
         self.bad += 1;
         let what = match (stress_finite, v.is_finite()) {
-            (false, _) => "stress",
-            (true, true) => CRUSHED,
-            (true, false) => "volume",
+            (false, _) => Bad::NonFinite("stress"),
+            (true, true) => Bad::Crushed,
+            (true, false) => Bad::NonFinite("volume"),
         };
         self.first_bad.get_or_insert((q, what));
     }

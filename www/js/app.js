@@ -327,15 +327,13 @@ export class App {
   }
 
   /// The simulation stopped (non-finite state, or a body crushed beyond what its material
-  /// can store): pause and say so, with a way back.
+  /// can store): pause and say so, with a way back. The solver's message names the cause and
+  /// what helps.
   fail(message) {
     this.playing = false;
     this.session.play(false);
     syncControls(this, false);
-    const text = message.includes('crushed to zero volume')
-      ? `The simulation stopped: ${message}.`
-      : `The simulation became unstable (${message}). A smaller CFL number or a softer material helps.`;
-    banner('failed', 'bad', text, { label: 'Reset', run: () => this.reset() });
+    banner('failed', 'bad', `The simulation stopped: ${message}.`, { label: 'Reset', run: () => this.reset() });
   }
 }
 
