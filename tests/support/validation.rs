@@ -928,6 +928,8 @@ pub struct Pile {
 pub const LIFT_SPEED: f64 = 0.05;
 /// A slower lift, √(g H) / 70: closer to the quasi-static limit.
 pub const SLOW_LIFT_SPEED: f64 = 0.02;
+/// Slower still, √(g H) / 140: to check that [`SLOW_LIFT_SPEED`] is quasi-static.
+pub const SLOWEST_LIFT_SPEED: f64 = 0.01;
 
 /// The plane-strain Mohr–Coulomb angle of the paper's Drucker–Prager cone with ψ = 0.
 pub fn plane_strain_angle(phi_deg: f64) -> f64 {
