@@ -24,9 +24,10 @@ pub fn floor_nonneg(x: Real) -> i32 {
 }
 
 /// The arithmetic the shape functions are written in: one axis at a time ([`Real`]), or, in
-/// the WebAssembly build, all four lanes of a stencil at once ([`F4`]). LLVM turns the scalar
-/// lane loop of [`Kernel::stencil`] into SIMD natively but not for wasm32, where V8 then
-/// compiles each clamp to two branches and each truncation to a checked round trip.
+/// the x86-64 and WebAssembly builds, all four lanes of a stencil at once ([`F4`]). LLVM turns
+/// the scalar lane loop of [`Kernel::stencil`] into SIMD only in part natively (with shuffles
+/// between most operations) and not at all for wasm32, where V8 then compiles each clamp to
+/// two branches and each truncation to a checked round trip.
 pub trait Lanes: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> {
     /// The integer type with as many lanes.
     type Int: Copy;
@@ -71,6 +72,96 @@ impl Lanes for Real {
     not(feature = "f64")
 ))]
 pub use simd::F4;
+#[cfg(all(target_arch = "x86_64", not(feature = "f64")))]
+pub use sse::F4;
+
+/// Four f32 lanes in one SSE register, for the stencils of the native x86-64 build (SSE2 is
+/// part of the baseline). LLVM vectorises the scalar lane loop of [`Kernel::stencil`] only in
+/// part, with a shuffle for every other operation (docs/performance.md).
+#[cfg(all(target_arch = "x86_64", not(feature = "f64")))]
+mod sse {
+    use super::Lanes;
+    use core::arch::x86_64::*;
+    use std::ops::{Add, Mul, Sub};
+
+    /// Runs SSE2 intrinsics.
+    macro_rules! sse {
+        ($e:expr) => {
+            // SAFETY: the intrinsics' only requirement is the CPU feature they are marked
+            // with, SSE or SSE2, which every x86-64 CPU has (the target's baseline enables
+            // both); none of those called through this macro reads or writes memory.
+            unsafe { $e }
+        };
+    }
+
+    #[derive(Clone, Copy, Debug)]
+    pub struct F4(__m128);
+
+    impl F4 {
+        #[inline(always)]
+        pub fn new(x: [f32; 4]) -> Self {
+            F4(sse!(_mm_setr_ps(x[0], x[1], x[2], x[3])))
+        }
+        #[inline(always)]
+        pub fn store(self, to: &mut [f32; 4]) {
+            // SAFETY: `to` is valid for writes of 16 bytes (four f32), and `_mm_storeu_ps` has
+            // no alignment requirement.
+            unsafe { _mm_storeu_ps(to.as_mut_ptr(), self.0) }
+        }
+    }
+    macro_rules! binop {
+        ($tr:ident, $f:ident, $op:ident) => {
+            impl $tr for F4 {
+                type Output = F4;
+                #[inline(always)]
+                fn $f(self, o: F4) -> F4 {
+                    F4(sse!($op(self.0, o.0)))
+                }
+            }
+        };
+    }
+    binop!(Add, add, _mm_add_ps);
+    binop!(Sub, sub, _mm_sub_ps);
+    binop!(Mul, mul, _mm_mul_ps);
+    impl Lanes for F4 {
+        type Int = [i32; 4];
+        #[inline(always)]
+        fn splat(x: f32) -> Self {
+            F4(sse!(_mm_set1_ps(x)))
+        }
+        #[inline(always)]
+        fn abs(self) -> Self {
+            // Clears the sign bit, as `f32::abs`.
+            F4(sse!(_mm_andnot_ps(_mm_set1_ps(-0.0), self.0)))
+        }
+        #[inline(always)]
+        fn clamp(self, lo: f32, hi: f32) -> Self {
+            // maxps(a, b) = a > b ? a : b and minps(a, b) = a < b ? a : b, so with the bound
+            // first a NaN lane stays NaN: `if x < lo { lo }`, then `if x > hi { hi }`, as
+            // `f32::clamp`.
+            let x = sse!(_mm_max_ps(_mm_set1_ps(lo), self.0));
+            F4(sse!(_mm_min_ps(_mm_set1_ps(hi), x)))
+        }
+        #[inline(always)]
+        fn max0(self) -> Self {
+            // x > 0 ? x : 0, as `math::max(x, 0)` (0 for NaN).
+            F4(sse!(_mm_max_ps(self.0, _mm_setzero_ps())))
+        }
+        #[inline(always)]
+        fn floor_nonneg(self) -> ([i32; 4], Self) {
+            // As `super::floor_nonneg`: the clamp to [0, 2^22] (0 for NaN), then truncation,
+            // which is the floor of a number ≥ 0.
+            let c = sse!(_mm_max_ps(self.0, _mm_setzero_ps()));
+            let c = sse!(_mm_min_ps(c, _mm_set1_ps(4_194_304.0)));
+            let n = sse!(_mm_cvttps_epi32(c));
+            let mut out = [0i32; 4];
+            // SAFETY: `out` is valid for writes of 16 bytes (four i32), and
+            // `_mm_storeu_si128` has no alignment requirement.
+            unsafe { _mm_storeu_si128(out.as_mut_ptr().cast::<__m128i>(), n) };
+            (out, F4(sse!(_mm_cvtepi32_ps(n))))
+        }
+    }
+}
 
 /// Four f32 lanes in one `v128`, for the stencils of the WebAssembly build.
 #[cfg(all(
@@ -262,9 +353,12 @@ pub trait Kernel<const S: usize>: Copy + Send + Sync + 'static {
     /// specialisation of [`Kernel::stencil`]: a 2D stencil uses two of the four lanes, so
     /// both particles' axes go through the lanes at once, (a_x, a_y, b_x, b_y). Each comes
     /// out laid out as [`Kernel::stencil`] lays it out, bit for bit (a test checks it).
+    ///
+    /// The lanes are computed by the scalar loop: in four SIMD lanes the pairs cost the 2D
+    /// sand block's stress pass more than they save elsewhere (docs/performance.md).
     #[inline(always)]
     fn stencil_pair_2d(a: [Real; 3], b: [Real; 3], inv_h: Real, lp: Real) -> [Stencil<S>; 2] {
-        let (base, st) = stencil_lanes::<S, Self>([a[0], a[1], b[0], b[1]], inv_h, lp);
+        let (base, st) = stencil_lanes_scalar::<S, Self>([a[0], a[1], b[0], b[1]], inv_h, lp);
         [
             Stencil::from_lanes(Self::KIND, &st, [base[0], base[1], base[1]], [0, 1, 1, 1]),
             Stencil::from_lanes(Self::KIND, &st, [base[2], base[3], base[3]], [2, 3, 3, 3]),
@@ -311,14 +405,55 @@ impl<const S: usize> Stencil<S> {
     }
 }
 
-/// [`Kernel::stencil`] one lane at a time (LLVM vectorises it natively).
-#[cfg(not(all(
-    target_arch = "wasm32",
-    target_feature = "simd128",
-    not(feature = "f64")
-)))]
+/// Whether this build evaluates stencils in four SIMD lanes ([`F4`]): natively on x86-64
+/// (SSE2), and in WebAssembly with simd128.
+macro_rules! simd_stencils {
+    ($($item:item)*) => {$(
+        #[cfg(all(
+            any(target_arch = "x86_64", all(target_arch = "wasm32", target_feature = "simd128")),
+            not(feature = "f64")
+        ))]
+        $item
+    )*};
+}
+/// The opposite of [`simd_stencils`].
+macro_rules! scalar_stencils {
+    ($($item:item)*) => {$(
+        #[cfg(not(all(
+            any(target_arch = "x86_64", all(target_arch = "wasm32", target_feature = "simd128")),
+            not(feature = "f64")
+        )))]
+        $item
+    )*};
+}
+
+simd_stencils! {
+    /// [`Kernel::stencil`]'s arithmetic, in the build's SIMD lanes.
+    #[inline(always)]
+    fn stencil_lanes<const S: usize, K: Kernel<S>>(
+        x: [Real; 4],
+        inv_h: Real,
+        lp: Real,
+    ) -> ([i32; 4], LaneStencil<S>) {
+        stencil_lanes_simd::<S, K>(x, inv_h, lp)
+    }
+}
+scalar_stencils! {
+    /// [`Kernel::stencil`]'s arithmetic, one lane at a time.
+    #[inline(always)]
+    fn stencil_lanes<const S: usize, K: Kernel<S>>(
+        x: [Real; 4],
+        inv_h: Real,
+        lp: Real,
+    ) -> ([i32; 4], LaneStencil<S>) {
+        stencil_lanes_scalar::<S, K>(x, inv_h, lp)
+    }
+}
+
+/// [`Kernel::stencil`] one lane at a time: the reference for [`stencil_lanes_simd`], and the
+/// version of builds without SIMD lanes.
 #[inline(always)]
-fn stencil_lanes<const S: usize, K: Kernel<S>>(
+fn stencil_lanes_scalar<const S: usize, K: Kernel<S>>(
     x: [Real; 4],
     inv_h: Real,
     lp: Real,
@@ -346,35 +481,34 @@ fn stencil_lanes<const S: usize, K: Kernel<S>>(
     (base, st)
 }
 
-/// [`Kernel::stencil`] in four SIMD lanes — SIMD specialisation of the scalar lane loop above,
-/// the same arithmetic lane by lane (LLVM does not vectorise that loop for wasm32). The wasm
-/// test `simd_stencils_equal_the_scalar_kernel_bit_for_bit` compares the two.
-#[cfg(all(
-    target_arch = "wasm32",
-    target_feature = "simd128",
-    not(feature = "f64")
-))]
-#[inline(always)]
-fn stencil_lanes<const S: usize, K: Kernel<S>>(
-    x: [Real; 4],
-    inv_h: Real,
-    lp: Real,
-) -> ([i32; 4], LaneStencil<S>) {
-    let x = F4::new(x);
-    let (base, first) = K::first(x, lp);
-    let f = x - first;
-    let mut st = LaneStencil {
-        w: [[0.0; 4]; S],
-        dw: [[0.0; 4]; S],
-        d: [[0.0; 4]; S],
-    };
-    for k in 0..S {
-        let (w, dw) = K::node(f, k, lp);
-        w.store(&mut st.w[k]);
-        (dw * F4::splat(inv_h)).store(&mut st.dw[k]);
-        (F4::splat(k as Real) - f).store(&mut st.d[k]);
+simd_stencils! {
+    /// [`stencil_lanes_scalar`] in four SIMD lanes ([`F4`]) — SIMD specialisation: the same
+    /// arithmetic lane by lane, bit for bit (tests compare the two, natively and in wasm).
+    /// Natively LLVM vectorises the scalar loop only in part, with shuffles between most
+    /// operations; for wasm32 not at all, and V8 compiles each clamp to two branches
+    /// (docs/performance.md).
+    #[inline(always)]
+    fn stencil_lanes_simd<const S: usize, K: Kernel<S>>(
+        x: [Real; 4],
+        inv_h: Real,
+        lp: Real,
+    ) -> ([i32; 4], LaneStencil<S>) {
+        let x = F4::new(x);
+        let (base, first) = K::first(x, lp);
+        let f = x - first;
+        let mut st = LaneStencil {
+            w: [[0.0; 4]; S],
+            dw: [[0.0; 4]; S],
+            d: [[0.0; 4]; S],
+        };
+        for k in 0..S {
+            let (w, dw) = K::node(f, k, lp);
+            w.store(&mut st.w[k]);
+            (dw * F4::splat(inv_h)).store(&mut st.dw[k]);
+            (F4::splat(k as Real) - f).store(&mut st.d[k]);
+        }
+        (base, st)
     }
-    (base, st)
 }
 
 /// The paper's linear shape function (Eq. 16–17): N = ½(1 + N_x N_Ix) per axis.
@@ -540,6 +674,56 @@ mod tests {
                     |s: &Stencil<S>| [s.w, s.dw, s.d].map(|r| r.map(|l| l.map(Real::to_bits)));
                 assert_eq!(bits(&pair), bits(&single), "{:?} at {a:?}, {b:?}", K::KIND);
             }
+        }
+    }
+
+    /// The SIMD stencils give what the scalar lane loop gives, bit for bit, for every kernel,
+    /// at node positions, ties and the values the floor clamps (huge, infinite, NaN).
+    #[cfg(all(
+        any(
+            target_arch = "x86_64",
+            all(target_arch = "wasm32", target_feature = "simd128")
+        ),
+        not(feature = "f64")
+    ))]
+    #[test]
+    fn simd_stencils_equal_the_scalar_lanes_bit_for_bit() {
+        fn bits<const S: usize>(b: [i32; 4], st: &LaneStencil<S>) -> ([i32; 4], Vec<u32>) {
+            let all = [st.w, st.dw, st.d];
+            (
+                b,
+                all.iter()
+                    .flatten()
+                    .flatten()
+                    .map(|v| v.to_bits())
+                    .collect(),
+            )
+        }
+        fn check<const S: usize, K: Kernel<S>>(lp: Real) {
+            let mut xs: Vec<Real> = (0..2000).map(|i| 2.0 + i as Real * 0.003_71).collect();
+            xs.extend([
+                0.5,
+                0.75,
+                1.0,
+                3.0,
+                3.5,
+                1e30,
+                4_194_304.0,
+                Real::INFINITY,
+                Real::NAN,
+            ]);
+            for (i, &x) in xs.iter().enumerate() {
+                let pick = |m: usize, c: usize| xs[(i * m + c) % xs.len()];
+                let lanes = [x, pick(7, 3), pick(13, 5), pick(3, 11)];
+                let (b0, s0) = stencil_lanes_scalar::<S, K>(lanes, 25.0, lp);
+                let (b1, s1) = stencil_lanes_simd::<S, K>(lanes, 25.0, lp);
+                assert_eq!(bits(b0, &s0), bits(b1, &s1), "{:?} at {lanes:?}", K::KIND);
+            }
+        }
+        check::<2, Linear>(0.0);
+        check::<3, QuadraticBspline>(0.0);
+        for lp in [0.125, 0.25, 0.5] {
+            check::<3, Gimp>(lp);
         }
     }
 
