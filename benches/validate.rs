@@ -519,7 +519,10 @@ fn main() {
         for phi in [20.0, 32.0, 45.0] {
             // three cell sizes at three lift speeds: the heap converges in both
             let lifts = [LIFT_SPEED, SLOW_LIFT_SPEED, SLOWEST_LIFT_SPEED];
-            for (lift, h) in lifts.iter().flat_map(|&l| [0.02, 0.01, 0.005].map(|h| (l, h))) {
+            for (lift, h) in lifts
+                .iter()
+                .flat_map(|&l| [0.02, 0.01, 0.005].map(|h| (l, h)))
+            {
                 let n = gimp(h);
                 let p = repose_pile(&n, 1.2 * 0.24 / lift + 6.0, Some(phi), lift);
                 println!("repose φ={phi} lift {lift} {}: {p:?}", n.label());

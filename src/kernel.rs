@@ -108,6 +108,11 @@ mod sse {
             // no alignment requirement.
             unsafe { _mm_storeu_ps(to.as_mut_ptr(), self.0) }
         }
+        /// Bit `a` set where lane `a` equals zero (±0; not NaN).
+        #[inline(always)]
+        pub fn zero_lanes(self) -> u32 {
+            sse!(_mm_movemask_ps(_mm_cmpeq_ps(self.0, _mm_setzero_ps()))) as u32
+        }
     }
     macro_rules! binop {
         ($tr:ident, $f:ident, $op:ident) => {
@@ -187,6 +192,11 @@ mod simd {
             // SAFETY: `to` is valid for writes of 16 bytes (four f32), and `v128_store` has no
             // alignment requirement.
             unsafe { v128_store(to.as_mut_ptr().cast::<v128>(), self.0) }
+        }
+        /// Bit `a` set where lane `a` equals zero (±0; not NaN).
+        #[inline(always)]
+        pub fn zero_lanes(self) -> u32 {
+            i32x4_bitmask(f32x4_eq(self.0, f32x4_splat(0.0))) as u32
         }
     }
     macro_rules! binop {
@@ -345,8 +355,7 @@ pub trait Kernel<const S: usize>: Copy + Send + Sync + 'static {
     fn stencil(xg: [Real; 3], dim: usize, inv_h: Real, lp: Real) -> Stencil<S> {
         let last = xg[dim - 1];
         let x = [xg[0], xg[1], if dim == 3 { xg[2] } else { last }, last];
-        let (base, st) = stencil_lanes::<S, Self>(x, inv_h, lp);
-        Stencil::from_lanes(Self::KIND, &st, [base[0], base[1], base[2]], [0, 1, 2, 3])
+        stencil_of_lanes::<S, Self>(x, inv_h, lp)
     }
 
     /// The stencils of two 2D particles at grid coordinates `a` and `b` — packing
@@ -428,30 +437,49 @@ macro_rules! scalar_stencils {
 }
 
 simd_stencils! {
-    /// [`Kernel::stencil`]'s arithmetic, in the build's SIMD lanes.
+    /// [`Kernel::stencil`] of the lanes `x`, in the build's SIMD lanes.
     #[inline(always)]
-    fn stencil_lanes<const S: usize, K: Kernel<S>>(
+    fn stencil_of_lanes<const S: usize, K: Kernel<S>>(
         x: [Real; 4],
         inv_h: Real,
         lp: Real,
-    ) -> ([i32; 4], LaneStencil<S>) {
-        stencil_lanes_simd::<S, K>(x, inv_h, lp)
+    ) -> Stencil<S> {
+        stencil_simd::<S, K>(x, inv_h, lp)
     }
 }
 scalar_stencils! {
-    /// [`Kernel::stencil`]'s arithmetic, one lane at a time.
+    /// [`Kernel::stencil`] of the lanes `x`, one lane at a time.
     #[inline(always)]
-    fn stencil_lanes<const S: usize, K: Kernel<S>>(
+    fn stencil_of_lanes<const S: usize, K: Kernel<S>>(
         x: [Real; 4],
         inv_h: Real,
         lp: Real,
-    ) -> ([i32; 4], LaneStencil<S>) {
-        stencil_lanes_scalar::<S, K>(x, inv_h, lp)
+    ) -> Stencil<S> {
+        stencil_scalar::<S, K>(x, inv_h, lp)
     }
 }
 
-/// [`Kernel::stencil`] one lane at a time: the reference for [`stencil_lanes_simd`], and the
-/// version of builds without SIMD lanes.
+/// [`Kernel::stencil`] of the lanes `x` by the scalar lane loop: the reference for
+/// [`stencil_simd`], and the version of builds without SIMD lanes.
+#[cfg_attr(
+    all(
+        any(
+            target_arch = "x86_64",
+            all(target_arch = "wasm32", target_feature = "simd128")
+        ),
+        not(feature = "f64"),
+        not(test)
+    ),
+    allow(dead_code)
+)]
+#[inline(always)]
+fn stencil_scalar<const S: usize, K: Kernel<S>>(x: [Real; 4], inv_h: Real, lp: Real) -> Stencil<S> {
+    let (base, st) = stencil_lanes_scalar::<S, K>(x, inv_h, lp);
+    Stencil::from_lanes(K::KIND, &st, [base[0], base[1], base[2]], [0, 1, 2, 3])
+}
+
+/// The weights, derivatives and offsets of a stencil's four lanes, one lane at a time (for
+/// [`stencil_scalar`] and [`Kernel::stencil_pair_2d`]).
 #[inline(always)]
 fn stencil_lanes_scalar<const S: usize, K: Kernel<S>>(
     x: [Real; 4],
@@ -482,32 +510,30 @@ fn stencil_lanes_scalar<const S: usize, K: Kernel<S>>(
 }
 
 simd_stencils! {
-    /// [`stencil_lanes_scalar`] in four SIMD lanes ([`F4`]) — SIMD specialisation: the same
-    /// arithmetic lane by lane, bit for bit (tests compare the two, natively and in wasm).
-    /// Natively LLVM vectorises the scalar loop only in part, with shuffles between most
-    /// operations; for wasm32 not at all, and V8 compiles each clamp to two branches
-    /// (docs/performance.md).
+    /// [`stencil_scalar`] in four SIMD lanes ([`F4`]) — SIMD specialisation: the same
+    /// arithmetic lane by lane, bit for bit (tests compare the two, natively and in wasm),
+    /// each row stored straight into the stencil and GIMP's reach read from one compare of
+    /// the last row. Natively LLVM vectorises the scalar loop only in part, with shuffles
+    /// between most operations; for wasm32 not at all, and V8 compiles each clamp to two
+    /// branches (docs/performance.md).
     #[inline(always)]
-    fn stencil_lanes_simd<const S: usize, K: Kernel<S>>(
-        x: [Real; 4],
-        inv_h: Real,
-        lp: Real,
-    ) -> ([i32; 4], LaneStencil<S>) {
+    fn stencil_simd<const S: usize, K: Kernel<S>>(x: [Real; 4], inv_h: Real, lp: Real) -> Stencil<S> {
         let x = F4::new(x);
         let (base, first) = K::first(x, lp);
         let f = x - first;
-        let mut st = LaneStencil {
-            w: [[0.0; 4]; S],
-            dw: [[0.0; 4]; S],
-            d: [[0.0; 4]; S],
-        };
+        let mut st = Stencil::at([base[0], base[1], base[2]]);
         for k in 0..S {
             let (w, dw) = K::node(f, k, lp);
             w.store(&mut st.w[k]);
             (dw * F4::splat(inv_h)).store(&mut st.dw[k]);
             (F4::splat(k as Real) - f).store(&mut st.d[k]);
+            if K::KIND == KernelKind::Gimp && k == S - 1 {
+                // as `Stencil::from_lanes` finds it: one bit per lane whose weight is zero
+                let zero = w.zero_lanes();
+                st.reach = [0, 1, 2].map(|a| S - ((zero >> a) & 1) as usize);
+            }
         }
-        (base, st)
+        st
     }
 }
 
@@ -688,16 +714,15 @@ mod tests {
     ))]
     #[test]
     fn simd_stencils_equal_the_scalar_lanes_bit_for_bit() {
-        fn bits<const S: usize>(b: [i32; 4], st: &LaneStencil<S>) -> ([i32; 4], Vec<u32>) {
+        fn bits<const S: usize>(st: &Stencil<S>) -> ([i32; 3], [usize; 3], Vec<u32>) {
             let all = [st.w, st.dw, st.d];
-            (
-                b,
-                all.iter()
-                    .flatten()
-                    .flatten()
-                    .map(|v| v.to_bits())
-                    .collect(),
-            )
+            let v = all
+                .iter()
+                .flatten()
+                .flatten()
+                .map(|v| v.to_bits())
+                .collect();
+            (st.base, st.reach, v)
         }
         fn check<const S: usize, K: Kernel<S>>(lp: Real) {
             let mut xs: Vec<Real> = (0..2000).map(|i| 2.0 + i as Real * 0.003_71).collect();
@@ -715,9 +740,9 @@ mod tests {
             for (i, &x) in xs.iter().enumerate() {
                 let pick = |m: usize, c: usize| xs[(i * m + c) % xs.len()];
                 let lanes = [x, pick(7, 3), pick(13, 5), pick(3, 11)];
-                let (b0, s0) = stencil_lanes_scalar::<S, K>(lanes, 25.0, lp);
-                let (b1, s1) = stencil_lanes_simd::<S, K>(lanes, 25.0, lp);
-                assert_eq!(bits(b0, &s0), bits(b1, &s1), "{:?} at {lanes:?}", K::KIND);
+                let scalar = stencil_scalar::<S, K>(lanes, 25.0, lp);
+                let simd = stencil_simd::<S, K>(lanes, 25.0, lp);
+                assert_eq!(bits(&scalar), bits(&simd), "{:?} at {lanes:?}", K::KIND);
             }
         }
         check::<2, Linear>(0.0);
