@@ -436,27 +436,13 @@ macro_rules! scalar_stencils {
     )*};
 }
 
+// [`Kernel::stencil`] of the lanes `x`: in the build's SIMD lanes where it has them, else
+// one lane at a time.
 simd_stencils! {
-    /// [`Kernel::stencil`] of the lanes `x`, in the build's SIMD lanes.
-    #[inline(always)]
-    fn stencil_of_lanes<const S: usize, K: Kernel<S>>(
-        x: [Real; 4],
-        inv_h: Real,
-        lp: Real,
-    ) -> Stencil<S> {
-        stencil_simd::<S, K>(x, inv_h, lp)
-    }
+    use self::stencil_simd as stencil_of_lanes;
 }
 scalar_stencils! {
-    /// [`Kernel::stencil`] of the lanes `x`, one lane at a time.
-    #[inline(always)]
-    fn stencil_of_lanes<const S: usize, K: Kernel<S>>(
-        x: [Real; 4],
-        inv_h: Real,
-        lp: Real,
-    ) -> Stencil<S> {
-        stencil_scalar::<S, K>(x, inv_h, lp)
-    }
+    use self::stencil_scalar as stencil_of_lanes;
 }
 
 /// [`Kernel::stencil`] of the lanes `x` by the scalar lane loop: the reference for
