@@ -447,17 +447,7 @@ scalar_stencils! {
 
 /// [`Kernel::stencil`] of the lanes `x` by the scalar lane loop: the reference for
 /// [`stencil_simd`], and the version of builds without SIMD lanes.
-#[cfg_attr(
-    all(
-        any(
-            target_arch = "x86_64",
-            all(target_arch = "wasm32", target_feature = "simd128")
-        ),
-        not(feature = "f64"),
-        not(test)
-    ),
-    allow(dead_code)
-)]
+#[cfg_attr(not(test), allow(dead_code))] // only the tests call it where the build has lanes
 #[inline(always)]
 fn stencil_scalar<const S: usize, K: Kernel<S>>(x: [Real; 4], inv_h: Real, lp: Real) -> Stencil<S> {
     let (base, st) = stencil_lanes_scalar::<S, K>(x, inv_h, lp);
@@ -689,52 +679,48 @@ mod tests {
         }
     }
 
-    /// The SIMD stencils give what the scalar lane loop gives, bit for bit, for every kernel,
-    /// at node positions, ties and the values the floor clamps (huge, infinite, NaN).
-    #[cfg(all(
-        any(
-            target_arch = "x86_64",
-            all(target_arch = "wasm32", target_feature = "simd128")
-        ),
-        not(feature = "f64")
-    ))]
-    #[test]
-    fn simd_stencils_equal_the_scalar_lanes_bit_for_bit() {
-        fn bits<const S: usize>(st: &Stencil<S>) -> ([i32; 3], [usize; 3], Vec<u32>) {
-            let all = [st.w, st.dw, st.d];
-            let v = all
-                .iter()
-                .flatten()
-                .flatten()
-                .map(|v| v.to_bits())
-                .collect();
-            (st.base, st.reach, v)
-        }
-        fn check<const S: usize, K: Kernel<S>>(lp: Real) {
-            let mut xs: Vec<Real> = (0..2000).map(|i| 2.0 + i as Real * 0.003_71).collect();
-            xs.extend([
-                0.5,
-                0.75,
-                1.0,
-                3.0,
-                3.5,
-                1e30,
-                4_194_304.0,
-                Real::INFINITY,
-                Real::NAN,
-            ]);
-            for (i, &x) in xs.iter().enumerate() {
-                let pick = |m: usize, c: usize| xs[(i * m + c) % xs.len()];
-                let lanes = [x, pick(7, 3), pick(13, 5), pick(3, 11)];
-                let scalar = stencil_scalar::<S, K>(lanes, 25.0, lp);
-                let simd = stencil_simd::<S, K>(lanes, 25.0, lp);
-                assert_eq!(bits(&scalar), bits(&simd), "{:?} at {lanes:?}", K::KIND);
+    simd_stencils! {
+        /// The SIMD stencils give what the scalar lane loop gives, bit for bit, for every
+        /// kernel, at node positions, ties and the values the floor clamps (huge, infinite,
+        /// NaN).
+        #[test]
+        fn simd_stencils_equal_the_scalar_lanes_bit_for_bit() {
+            fn bits<const S: usize>(st: &Stencil<S>) -> ([i32; 3], [usize; 3], Vec<u32>) {
+                let all = [st.w, st.dw, st.d];
+                let v = all
+                    .iter()
+                    .flatten()
+                    .flatten()
+                    .map(|v| v.to_bits())
+                    .collect();
+                (st.base, st.reach, v)
             }
-        }
-        check::<2, Linear>(0.0);
-        check::<3, QuadraticBspline>(0.0);
-        for lp in [0.125, 0.25, 0.5] {
-            check::<3, Gimp>(lp);
+            fn check<const S: usize, K: Kernel<S>>(lp: Real) {
+                let mut xs: Vec<Real> = (0..2000).map(|i| 2.0 + i as Real * 0.003_71).collect();
+                xs.extend([
+                    0.5,
+                    0.75,
+                    1.0,
+                    3.0,
+                    3.5,
+                    1e30,
+                    4_194_304.0,
+                    Real::INFINITY,
+                    Real::NAN,
+                ]);
+                for (i, &x) in xs.iter().enumerate() {
+                    let pick = |m: usize, c: usize| xs[(i * m + c) % xs.len()];
+                    let lanes = [x, pick(7, 3), pick(13, 5), pick(3, 11)];
+                    let scalar = stencil_scalar::<S, K>(lanes, 25.0, lp);
+                    let simd = stencil_simd::<S, K>(lanes, 25.0, lp);
+                    assert_eq!(bits(&scalar), bits(&simd), "{:?} at {lanes:?}", K::KIND);
+                }
+            }
+            check::<2, Linear>(0.0);
+            check::<3, QuadraticBspline>(0.0);
+            for lp in [0.125, 0.25, 0.5] {
+                check::<3, Gimp>(lp);
+            }
         }
     }
 

@@ -596,7 +596,7 @@ mod tests {
                         (ratio / tan_phi - 1.0).abs() < 1e-3,
                         "φ = {phi}: τ/σ_n = {ratio} vs tan φ = {tan_phi}"
                     ),
-                    // Eq. 13's stops 1.4° to 12° short of φ: the tolerance above tells them apart
+                    // Eq. 13's cone comes to rest 1.4° to 12° short of φ: the tolerance above tells them apart
                     FrictionMatch::PlaneStrain => {
                         let stop = ratio.atan().to_degrees();
                         let expected = [(20.0, 18.55), (32.0, 26.87), (45.0, 33.21)]
