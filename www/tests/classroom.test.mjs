@@ -110,7 +110,8 @@ test('the Lessons menu opens a lesson; its sliders set one body and go in the li
   assert.equal(name, 'bodies[1].drucker_prager.friction_angle');
   await page.fill(`#lesson-params [data-param-value="${name}"]`, '30');
   await page.press(`#lesson-params [data-param-value="${name}"]`, 'Enter');
-  await page.waitForFunction(() => mpm.sim.scene.bodies[1].material.drucker_prager.friction_angle === 30, null, { timeout: 10_000 });
+  await page.waitForFunction(() => mpm.sim.scene.bodies[1].material.drucker_prager.friction_angle === 30
+    && /bodies\[1\]\.drucker_prager\.friction_angle=30/.test(decodeURIComponent(location.hash)), null, { timeout: 10_000 });
   const bodies = await page.evaluate(() => mpm.sim.scene.bodies.map((b) => b.material.drucker_prager.friction_angle));
   assert.deepEqual(bodies, [20, 30], 'only that body changed');
   const hash = await page.evaluate(() => location.hash);
@@ -150,7 +151,9 @@ test('a lesson the solver refuses shows its message naming the field', async () 
   const msg = await page.textContent('#banners .banner.bad');
   assert.match(msg, /lessons\/pic_flip\.json: view\.params\[0\] = von_mises\.yield_stress: does not apply/, msg);
   assert.equal(await page.evaluate(() => mpm.lesson), null);
-  assert.match(await page.evaluate(() => location.hash), /^#scene=sandbox/, 'the sandbox instead');
+  // The banner shows first; the sandbox loads after it and then writes the link.
+  await page.waitForFunction(() => /^#scene=sandbox/.test(location.hash), null, { timeout: 30_000 })
+    .catch(async () => assert.fail(`the sandbox instead: ${await page.evaluate(() => location.hash)}`));
   assert.deepEqual(errors, []);
   await page.close();
 });
