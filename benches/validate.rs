@@ -67,9 +67,14 @@ fn slope_cells(r: &HeapSlope) -> [String; 9] {
 /// Heaps built by lifting the walls at `LIFT_SPEED`, one per (φ, numerics), as a report table
 /// (`study` prefixes the progress lines).
 fn heaps_table(study: &str, runs: &[(f64, Numerics)]) -> String {
+    heaps_table_lifted(study, runs, LIFT_SPEED)
+}
+
+/// [`heaps_table`] with the walls lifted at `lift` (m/s).
+fn heaps_table_lifted(study: &str, runs: &[(f64, Numerics)], lift: f64) -> String {
     let mut rows = Vec::new();
     for &(phi, n) in runs {
-        let p = repose_pile(&n, 1.2 * 0.24 / LIFT_SPEED + 6.0, Some(phi), LIFT_SPEED);
+        let p = repose_pile(&n, 1.2 * 0.24 / lift + 6.0, Some(phi), lift);
         println!("{study} repose φ={phi} {}: {p:?}", n.label());
         let mut row = vec![n.label(), format!("{phi}")];
         row.extend(heap_cells(&p));
@@ -669,6 +674,11 @@ fn main() {
             )
         );
     }
+    // Opt-in (`-- startstop-fine`): the default's plane collapses, over-steep slopes and heaps
+    // refined once more, to h = 0.0025 m (about an hour): do they converge, which way, how fast.
+    if filters.0.iter().any(|f| f == "startstop-fine") {
+        startstop_fine_study(&mut md, &path);
+    }
     std::fs::write(&path, &md).unwrap();
     if want("flip") {
         let mut rows = Vec::new();
@@ -1092,4 +1102,38 @@ fn startstop_study(md: &mut String, path: &std::path::Path) {
         "## Start–stop: axisymmetric collapses (3D, φ = 32°, floor μ = 0.625, h = 0.01 m; Lube et al. 2004, Lajeunesse et al. 2004)\n\nRun-out as the mean over 16 azimuthal sectors of the farthest particle, and as the edge of the continuous deposit. Issue 16: run-out within 25 %, H∞ within 15 %.\n\n{}",
         axi_table("startstop", runs)
     );
+}
+
+/// The default (start–stop) sand at h = 0.0025 m: the plane collapses, the over-steep slopes,
+/// then the heaps at the two faster lift speeds; the coarser grids are in the `startstop` and `repose` studies.
+fn startstop_fine_study(md: &mut String, path: &std::path::Path) {
+    let n = Numerics::new(0.0025, KernelKind::Gimp).start_stop();
+    let runs = PLANE_COLLAPSES
+        .iter()
+        .map(|&(file, a)| (file, a, n))
+        .collect();
+    let _ = writeln!(
+        md,
+        "## Start–stop: plane column collapses at h = 0.0025 m (φ = 32°, floor μ = 0.625; Lube et al. 2005)\n\nRun-out as the farthest particle and as the edge of the continuous deposit. Issue 16: run-out within 20 %, H∞ within 10 %.\n\n{}",
+        collapses_table("startstop-fine", runs)
+    );
+    std::fs::write(path, &*md).unwrap();
+    let cases = [(20.0, 30.0), (32.0, 40.0), (45.0, 50.0)]
+        .map(|(phi, steep)| (phi, steep, n))
+        .to_vec();
+    let _ = writeln!(
+        md,
+        "## Start–stop: over-steep slopes at h = 0.0025 m (2 s, E = 350 kPa)\n\nIssue 16: a slope steeper than φ_ps fails within a fraction of a second and stops near φ_ps.\n\n{}",
+        slopes_table("startstop-fine", cases)
+    );
+    std::fs::write(path, &*md).unwrap();
+    for lift in [LIFT_SPEED, SLOW_LIFT_SPEED] {
+        let runs: Vec<(f64, Numerics)> = [20.0, 32.0, 45.0].map(|phi| (phi, n)).to_vec();
+        let _ = writeln!(
+            md,
+            "## Start–stop: heaps at h = 0.0025 m (walls lifted at {lift} m/s, floor μ = tan φ)\n\nIssue 16: within 3° of φ_ps.\n\n{}",
+            heaps_table_lifted("startstop-fine", &runs, lift)
+        );
+        std::fs::write(path, &*md).unwrap();
+    }
 }
