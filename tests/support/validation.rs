@@ -209,7 +209,7 @@ fn rest_positions<D: Dim>(sim: &Simulation<D>) -> Vec<[f64; 3]> {
 }
 
 /// The particle spacing of body 0 (cell size / particles per cell).
-fn spacing(scene: &SceneConfig) -> f64 {
+pub fn spacing(scene: &SceneConfig) -> f64 {
     scene.cell_size / scene.bodies[0].particles_per_cell as f64
 }
 
@@ -1181,13 +1181,9 @@ pub struct HeapSlope {
 /// of the stress-free release.
 pub const CREEP_FROM: f64 = 0.5;
 
-pub fn heap_slope(
-    phi: f64,
-    slope: f64,
-    youngs_modulus: f64,
-    n: &Numerics,
-    duration: f64,
-) -> HeapSlope {
+/// The scene of [`heap_slope`]: a trapezoidal sand heap 0.1 m high with a 0.1 m top and flanks
+/// at `slope` degrees, on a floor with μ = tan φ, under the numerics `n`.
+pub fn heap_slope_scene(phi: f64, slope: f64, youngs_modulus: f64, n: &Numerics) -> SceneConfig {
     let (height, top) = (0.1, 0.05);
     let run = height / slope.to_radians().tan();
     let mut scene = SceneConfig::new(2, &[1.2, 0.4], n.cell_size);
@@ -1203,6 +1199,17 @@ pub fn heap_slope(
         Material::drucker_prager(youngs_modulus, 0.3, 2200.0, phi, 0.0, 0.0),
     ));
     n.apply(&mut scene);
+    scene
+}
+
+pub fn heap_slope(
+    phi: f64,
+    slope: f64,
+    youngs_modulus: f64,
+    n: &Numerics,
+    duration: f64,
+) -> HeapSlope {
+    let scene = heap_slope_scene(phi, slope, youngs_modulus, n);
     let Material::DruckerPrager(m) = scene.bodies[0].material else {
         unreachable!("the heap is sand");
     };
