@@ -3,7 +3,7 @@
 //! strain ε_p against `FLOWING_STRAIN` = 1), beside the flank angle. See docs/validation.md,
 //! "Drucker–Prager: starting and stopping".
 //!
-//! `taskset -c 0 cargo run --release --example slope_strain` (about a minute)
+//! `taskset -c 0 cargo run --release --example slope_strain [φ θ]` (about a minute)
 
 #[path = "../tests/support/validation.rs"]
 mod validation;
@@ -12,9 +12,18 @@ use mpm::{D2, KernelKind, Simulation};
 use validation::*;
 
 fn main() -> mpm::Result<()> {
-    let (phi, slope) = (32.0, 40.0);
+    // `slope_strain φ θ` for another heap (degrees)
+    let args: Vec<f64> = std::env::args()
+        .skip(1)
+        .filter_map(|a| a.parse().ok())
+        .collect();
+    let (phi, slope) = match args[..] {
+        [phi, slope] => (phi, slope),
+        _ => (32.0, 40.0),
+    };
+    println!("φ = {phi}°, θ = {slope}°");
     println!(
-        "h (m) | flank after 2 s | moved > 1 cm | their ε_p: < 0.1 / < 0.5 / < 1 / ≥ 1 | median ε_p"
+        "h (m) | flank after 2 s | peak speed (m/s) | moved > 1 cm | their ε_p: < 0.1 / < 0.5 / < 1 / ≥ 1 | median ε_p"
     );
     for h in [0.01, 0.005, 0.0025] {
         let n = Numerics::new(h, KernelKind::Gimp).start_stop();
@@ -28,8 +37,10 @@ fn main() -> mpm::Result<()> {
             }
             x
         };
+        let mut peak = 0.0f64;
         while sim.time() < 2.0 - 1e-9 {
             sim.advance(0.01)?;
+            peak = peak.max(sim.diagnostics().max_speed);
         }
         let p = sim.particles();
         let pts: Vec<(f64, f64)> = (0..p.len())
@@ -49,7 +60,7 @@ fn main() -> mpm::Result<()> {
             eps.iter().filter(|&&e| e < below).count() as f64 / eps.len().max(1) as f64
         };
         println!(
-            "{h} | {:.1}° | {} of {} | {:.2} / {:.2} / {:.2} / {:.2} | {:.2}",
+            "{h} | {:.1}° | {peak:.2} | {} of {} | {:.2} / {:.2} / {:.2} / {:.2} | {:.2}",
             0.5 * (f[0] + f[1]),
             eps.len(),
             p.len(),
