@@ -1,0 +1,96 @@
+//! The default start–stop sand's slopes, heaps (walls lifted at 0.05 m/s) and plane collapses
+//! at one cell size under two levers that are not defaults: the quadratic B-spline kernel beside
+//! GIMP (`sand_levers h`), or GIMP with μ(I) friction of grain diameter d (`sand_levers h all d`,
+//! d in m). `slopes`, `heaps` or `collapse` in place of `all` runs one family. See
+//! docs/validation.md, "Drucker–Prager: starting and stopping".
+//!
+//! `taskset -c 0 cargo run --release --example sand_levers -- 0.01` (about 4 minutes; 0.005:
+//! about 10)
+
+#[path = "../tests/support/validation.rs"]
+mod validation;
+use mpm::KernelKind;
+use validation::*;
+
+fn main() -> Result<(), String> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let h: f64 = match args.first() {
+        None => 0.01,
+        Some(a) => a
+            .parse()
+            .ok()
+            .filter(|h| (0.001..=0.05).contains(h))
+            .ok_or(format!("h: `{a}` is not a cell size in [0.001, 0.05] m"))?,
+    };
+    let which = args.get(1).cloned().unwrap_or("all".into());
+    if !["all", "slopes", "heaps", "collapse"].contains(&which.as_str()) {
+        return Err(format!(
+            "family: `{which}` is not all, slopes, heaps or collapse"
+        ));
+    }
+    let variant = args.get(2).cloned().unwrap_or("kernels".into());
+    let runs: Vec<(String, Numerics)> = match variant.as_str() {
+        "kernels" => [KernelKind::Gimp, KernelKind::QuadraticBspline]
+            .into_iter()
+            .map(|k| (kernel_name(k).to_string(), Numerics::new(h, k).start_stop()))
+            .collect(),
+        d => {
+            let d: f64 = d
+                .parse()
+                .ok()
+                .filter(|d| (1e-5..=0.01).contains(d))
+                .ok_or(format!(
+                    "d: `{d}` is not a grain diameter in [1e-5, 0.01] m"
+                ))?;
+            vec![(
+                format!("gimp mu_i d={d}"),
+                Numerics::new(h, KernelKind::Gimp).start_stop().mu_i(d),
+            )]
+        }
+    };
+    for (k, n) in runs {
+        if which == "all" || which == "slopes" {
+            for (phi, th) in [
+                (20.0, 30.0),
+                (32.0, 40.0),
+                (45.0, 50.0),
+                (32.0, 25.0),
+                (45.0, 35.0),
+            ] {
+                let r = heap_slope(phi, th, 3.5e5, &n, 2.0);
+                println!(
+                    "{k} h={h} slope φ={phi} θ={th}: failed {:?} → {:.1}° ({:+.1}) creep {:.2} mm peak {:.3}",
+                    r.failed_at,
+                    r.angle,
+                    r.angle - r.plane_strain_angle,
+                    r.creep * 1e3,
+                    r.peak_speed
+                );
+            }
+        }
+        if which == "all" || which == "heaps" {
+            for phi in [20.0, 32.0, 45.0] {
+                let p = repose_pile(&n, 1.2 * 0.24 / LIFT_SPEED + 6.0, Some(phi), LIFT_SPEED);
+                println!(
+                    "{k} h={h} heap φ={phi}: {:.1}° ({:+.1})",
+                    p.angle,
+                    p.angle - p.plane_strain_angle
+                );
+            }
+        }
+        if which == "all" || which == "collapse" {
+            for a in ["0.5", "1", "2", "3"] {
+                let c = column_collapse(&format!("column_collapse_a{a}_2d.json"), &n, 4.0);
+                let af: f64 = a.parse().unwrap();
+                println!(
+                    "{k} h={h} collapse a={a}: farthest {:+.1} % edge {:+.1} % H {:+.1} % ({:?})",
+                    (c.runout / lube_runout(af) - 1.0) * 100.0,
+                    (c.runout_edge / lube_runout(af) - 1.0) * 100.0,
+                    (c.height / lube_height(af) - 1.0) * 100.0,
+                    c.failure
+                );
+            }
+        }
+    }
+    Ok(())
+}
