@@ -74,7 +74,7 @@ fn heaps_table(study: &str, runs: &[(f64, Numerics)]) -> String {
 fn heaps_table_lifted(study: &str, runs: &[(f64, Numerics)], lift: f64) -> String {
     let mut rows = Vec::new();
     for &(phi, n) in runs {
-        let p = repose_pile(&n, 1.2 * 0.24 / lift + 6.0, Some(phi), lift);
+        let p = repose_pile(&n, repose_duration(lift), Some(phi), lift);
         println!("{study} repose φ={phi} {}: {p:?}", n.label());
         let mut row = vec![n.label(), format!("{phi}")];
         row.extend(heap_cells(&p));
@@ -206,14 +206,6 @@ fn slopes_table(study: &str, cases: Vec<(f64, f64, Numerics)>) -> String {
         &rows,
     )
 }
-
-/// The plane column collapses of aspect ratio a = 0.5, 1, 2 and 3.
-const PLANE_COLLAPSES: [(&str, f64); 4] = [
-    ("column_collapse_a0.5_2d.json", 0.5),
-    ("column_collapse_a1_2d.json", 1.0),
-    ("column_collapse_a2_2d.json", 2.0),
-    ("column_collapse_a3_2d.json", 3.0),
-];
 
 /// The axisymmetric column collapses of aspect ratio a = 0.5, 1 and 2.
 const AXI_COLLAPSES: [(&str, f64); 3] = [
@@ -402,12 +394,7 @@ fn main() {
     std::fs::write(&path, &md).unwrap();
     if want("collapse") {
         let mut rows = Vec::new();
-        let files = [
-            ("column_collapse_a0.5_2d.json", 0.5),
-            ("column_collapse_a1_2d.json", 1.0),
-            ("column_collapse_a2_2d.json", 2.0),
-            ("column_collapse_a3_2d.json", 3.0),
-        ];
+        let files = PLANE_COLLAPSES;
         // the sand's default transfer over three cell sizes (and a = 2 at a fourth), then the
         // paper's plain PIC/FLIP blend at the validation resolution, the transfer before APIC
         let mut runs: Vec<(&str, f64, Numerics)> = Vec::new();
@@ -529,7 +516,7 @@ fn main() {
                 .flat_map(|&l| [0.02, 0.01, 0.005].map(|h| (l, h)))
             {
                 let n = gimp(h);
-                let p = repose_pile(&n, 1.2 * 0.24 / lift + 6.0, Some(phi), lift);
+                let p = repose_pile(&n, repose_duration(lift), Some(phi), lift);
                 println!("repose φ={phi} lift {lift} {}: {p:?}", n.label());
                 let mut row = vec![n.label(), format!("{lift}"), format!("{phi}")];
                 row.extend(heap_cells(&p));

@@ -70,7 +70,7 @@ fn main() -> Result<(), String> {
         }
         if which == "all" || which == "heaps" {
             for phi in [20.0, 32.0, 45.0] {
-                let p = repose_pile(&n, 1.2 * 0.24 / LIFT_SPEED + 6.0, Some(phi), LIFT_SPEED);
+                let p = repose_pile(&n, repose_duration(LIFT_SPEED), Some(phi), LIFT_SPEED);
                 println!(
                     "{k} h={h} heap φ={phi}: {:.1}° ({:+.1})",
                     p.angle,
@@ -79,14 +79,13 @@ fn main() -> Result<(), String> {
             }
         }
         if which == "all" || which == "collapse" {
-            for a in ["0.5", "1", "2", "3"] {
-                let c = column_collapse(&format!("column_collapse_a{a}_2d.json"), &n, 4.0);
-                let af: f64 = a.parse().unwrap();
+            for (file, a) in PLANE_COLLAPSES {
+                let c = column_collapse(file, &n, 4.0);
                 println!(
                     "{k} h={h} collapse a={a}: farthest {:+.1} % edge {:+.1} % H {:+.1} % ({:?})",
-                    (c.runout / lube_runout(af) - 1.0) * 100.0,
-                    (c.runout_edge / lube_runout(af) - 1.0) * 100.0,
-                    (c.height / lube_height(af) - 1.0) * 100.0,
+                    (c.runout / lube_runout(a) - 1.0) * 100.0,
+                    (c.runout_edge / lube_runout(a) - 1.0) * 100.0,
+                    (c.height / lube_height(a) - 1.0) * 100.0,
                     c.failure
                 );
             }

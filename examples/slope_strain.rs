@@ -11,15 +11,19 @@ mod validation;
 use mpm::{D2, KernelKind, Simulation};
 use validation::*;
 
-fn main() -> mpm::Result<()> {
+fn main() -> Result<(), Box<dyn std::error::Error>> {
     // `slope_strain φ θ` for another heap (degrees)
-    let args: Vec<f64> = std::env::args()
-        .skip(1)
-        .filter_map(|a| a.parse().ok())
-        .collect();
-    let (phi, slope) = match args[..] {
-        [phi, slope] => (phi, slope),
-        _ => (32.0, 40.0),
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let angle = |name: &str, a: &str| {
+        a.parse::<f64>()
+            .ok()
+            .filter(|d| (1.0..=80.0).contains(d))
+            .ok_or(format!("{name}: `{a}` is not an angle in [1, 80] degrees"))
+    };
+    let (phi, slope) = match &args[..] {
+        [] => (32.0, 40.0),
+        [p, s] => (angle("φ", p)?, angle("θ", s)?),
+        _ => return Err("expected no arguments or two: φ θ (degrees)".into()),
     };
     println!("φ = {phi}°, θ = {slope}°");
     println!(

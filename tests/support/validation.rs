@@ -649,6 +649,14 @@ pub struct Collapse {
     pub cost: Cost,
 }
 
+/// The plane column collapses of aspect ratio a = 0.5, 1, 2 and 3 (scene file, a).
+pub const PLANE_COLLAPSES: [(&str, f64); 4] = [
+    ("column_collapse_a0.5_2d.json", 0.5),
+    ("column_collapse_a1_2d.json", 1.0),
+    ("column_collapse_a2_2d.json", 2.0),
+    ("column_collapse_a3_2d.json", 3.0),
+];
+
 /// Lube, Huppert, Sparks & Freundt (2005), plane collapses: (L∞ − L0)/L0 = 1.2 a for
 /// a ≲ 2.3, 1.9 a^(2/3) above.
 pub fn lube_runout(a: f64) -> f64 {
@@ -930,6 +938,12 @@ pub const LIFT_SPEED: f64 = 0.05;
 pub const SLOW_LIFT_SPEED: f64 = 0.02;
 /// Slower still, √(g H) / 140: to check that [`SLOW_LIFT_SPEED`] is quasi-static.
 pub const SLOWEST_LIFT_SPEED: f64 = 0.01;
+
+/// How long a [`repose_pile`] run lasts with the walls lifted at `lift_speed` (m/s): the walls
+/// clearing the 0.24 m column with a fifth to spare, then 6 s for the heap to settle.
+pub fn repose_duration(lift_speed: f64) -> f64 {
+    1.2 * 0.24 / lift_speed + 6.0
+}
 
 /// The plane-strain Mohr–Coulomb angle of the paper's Drucker–Prager cone with ψ = 0.
 pub fn plane_strain_angle(phi_deg: f64) -> f64 {
