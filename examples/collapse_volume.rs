@@ -28,7 +28,7 @@ fn main() -> mpm::Result<()> {
             .max_by(|&a, &b| p.volume[a].total_cmp(&p.volume[b]))
             .unwrap_or(0);
         let near = (0..p.len())
-            .filter(|&j| j != i && (p.x[j] - p.x[i]).length() < h as f32)
+            .filter(|&j| j != i && (p.x[j] - p.x[i]).length() < h as mpm::math::Real)
             .count();
         println!(
             "step {} t {:.3} s dt {:.2e} s max speed {:.3} m/s | largest V/V0 {:.2}: id {} x {:?} v {:?} stress {:?} C_p {:?}, {} neighbours within h",

@@ -5,9 +5,13 @@
 //!
 //! `taskset -c 0 cargo run --release --example slope_strain [φ θ]` (about a minute)
 
+// Real is f32 by default, f64 with the `f64` feature: the casts to f64 are no-ops there.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
+
 #[path = "../tests/support/validation.rs"]
 mod validation;
 
+use mpm::math::Real;
 use mpm::{D2, KernelKind, Simulation};
 use validation::*;
 
@@ -33,7 +37,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let n = Numerics::new(h, KernelKind::Gimp).start_stop();
         let scene = heap_slope_scene(phi, slope, 3.5e5, &n);
         let mut sim = Simulation::<D2>::new(scene)?;
-        let start: Vec<[f32; 2]> = {
+        let start: Vec<[Real; 2]> = {
             let p = sim.particles();
             let mut x = vec![[0.0; 2]; p.len()];
             for i in 0..p.len() {
@@ -51,7 +55,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .map(|i| (p.x[i][0] as f64, p.x[i][1] as f64))
             .collect();
         let (_, f) = flank_angles(&pts, spacing(sim.scene()), h, 1.2);
-        let mut eps: Vec<f32> = (0..p.len())
+        let mut eps: Vec<Real> = (0..p.len())
             .filter(|&i| {
                 let x0 = start[p.id[i] as usize];
                 let d = (p.x[i][0] - x0[0]).hypot(p.x[i][1] - x0[1]);
@@ -60,7 +64,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .map(|i| p.plastic_strain[i])
             .collect();
         eps.sort_by(|a, b| a.total_cmp(b));
-        let share = |below: f32| {
+        let share = |below: Real| {
             eps.iter().filter(|&&e| e < below).count() as f64 / eps.len().max(1) as f64
         };
         println!(

@@ -210,7 +210,7 @@ struct SweepStats {
 
 /// Whether body `name` of `scene` may meet more kinetic energy per unit volume than its
 /// elastic law can store (about its constrained modulus M, see
-/// `a_body_thrown_harder_than_its_law_can_stop_stops_with_a_clear_error`): ½ρv² > M for v its
+/// `a_body_thrown_harder_than_its_law_can_store_stays_finite_and_gains_no_energy`): ½ρv² > M for v its
 /// own speed plus the fastest body's plus what a fall across the domain adds. Such a body may
 /// be crushed flat, which stops the step with [`mpm::Error::Crushed`].
 fn beyond_the_law(scene: &SceneConfig, name: &str) -> bool {
@@ -581,16 +581,17 @@ fn overlapping_bodies_stay_stable() {
 
 /// The hypoelastic law's log-strain pressure stores at most about the constrained modulus M
 /// per unit volume (∫ K ln(1/J) dJ from 1 to 0 is K). The random sweep's softest, lightest
-/// box (E = 1 kPa, ν = 0, ρ = 300 kg/m³, 0.1 m across) thrown with ½ρv² = 0.5 M bounces
-/// off the walls and stays finite; thrown as the sweep drew it, with ½ρv² ≈ 54 M (19 m/s)
-/// into the walls, it is crushed flat, and the step stops with an error that says so rather
-/// than a silent NaN.
+/// box (E = 1 kPa, ν = 0, ρ = 300 kg/m³, 0.1 m across) thrown as the sweep drew it, with
+/// ½ρv² ≈ 54 M (19 m/s), into the walls was crushed flat (J underflowed) before the solids
+/// had a bulk viscosity; with it the shock dissipates what the law cannot store. Thrown at
+/// 0.5 to 5400 M with every kernel, the box stays finite and its mechanical energy never
+/// rises above the throw's.
 #[test]
-fn a_body_thrown_harder_than_its_law_can_stop_stops_with_a_clear_error() {
+fn a_body_thrown_harder_than_its_law_can_store_stays_finite_and_gains_no_energy() {
     let (e, rho): (f64, f64) = (1e3, 300.0);
     let m = e; // ν = 0
     let dir = [-0.766, 0.643];
-    for (ratio, crushed) in [(0.5, false), (54.0, true)] {
+    for ratio in [0.5, 54.0, 540.0, 5400.0] {
         let speed = (2.0 * ratio * m / rho).sqrt();
         for (kernel, apic) in [
             (mpm::KernelKind::Linear, false),
@@ -612,34 +613,72 @@ fn a_body_thrown_harder_than_its_law_can_stop_stops_with_a_clear_error() {
                 .body(body)
                 .build()
                 .unwrap();
-            let mut outcome = None;
-            while sim.time() < 1.0 {
-                if let Err(err) = sim.step() {
-                    outcome = Some(err.to_string());
-                    break;
-                }
+            let e0 = sim.diagnostics().total_energy();
+            let mut highest = e0;
+            while sim.time() < 0.5 {
+                let what = format!("{kernel:?}, ½ρv² = {ratio} M ({speed:.2} m/s)");
+                let d = sim.step().unwrap_or_else(|err| panic!("{what}: {err}"));
+                highest = highest.max(d.total_energy());
                 assert_sane(&sim);
             }
-            let what = format!("{kernel:?}, ½ρv² = {ratio} M ({speed:.2} m/s): {outcome:?}");
-            eprintln!("{what}");
-            match &outcome {
-                // the law stores the gentle throw: no crush with any kernel
-                None => {}
-                Some(msg) => {
-                    assert!(crushed, "{what}");
-                    assert!(
-                        msg.starts_with("body \"jelly\" crushed to zero volume"),
-                        "{what}"
-                    );
+            let d = sim.diagnostics();
+            eprintln!(
+                "{kernel:?}, ½ρv² = {ratio} M: highest energy {:.6} of the throw, viscous {:.3}",
+                highest / e0,
+                d.dissipated_viscous / e0
+            );
+            assert!(
+                highest <= e0 * 1.001,
+                "{kernel:?}, {ratio} M: {highest} > {e0}"
+            );
+        }
+    }
+}
+
+/// The sweep's supersonic blow: a 2D elastic box of four particles (0.1 m across on cells
+/// of 0.05 m, one particle per cell, B-spline, APIC) of E = 4.4 kPa, ν = 0.42,
+/// ρ = 300 kg/m³ thrown at 15 m/s in zero gravity: 2.5 times its own wave speed
+/// √(M/ρ) = 6.0 m/s, ½ρv²/M = 3.1. Thrown from three places in eight directions against
+/// walls of four frictions, without a bulk viscosity 25 of the 96 throws gained more than
+/// 1 % of their energy (up to 10⁴ times it) and 3 were crushed (docs/stability.md); with it
+/// none gains more than 10⁻³ of it.
+#[test]
+fn a_blow_faster_than_the_body_s_waves_gains_no_energy() {
+    let mut viscous = 0.0f64;
+    for friction in [0.0, 0.3, 0.6, 0.9] {
+        for degrees in [0.0f64, 20.0, 45.0, 70.0, 90.0, 135.0, 180.0, 225.0] {
+            for x in [0.3, 0.5, 0.7] {
+                let a = degrees.to_radians();
+                let mut body = BodyConfig::new(
+                    "jelly",
+                    Shape::cuboid(&[x, 0.45], &[x + 0.1, 0.55]),
+                    Material::elastic(4.4e3, 0.42, 300.0),
+                )
+                .with_velocity(&[15.0 * a.cos(), 15.0 * a.sin()])
+                .with_particles_per_cell(1)
+                .with_flip(0.0);
+                body.apic = Some(true);
+                let mut scene = SceneConfig::new(2, &[1.0, 1.0], 0.05);
+                scene.gravity = Some(vec![0.0, 0.0]);
+                scene.kernel = mpm::KernelKind::QuadraticBspline;
+                scene.boundary.friction = friction;
+                scene.bodies.push(body);
+                let mut sim = Simulation::<D2>::new(scene).unwrap();
+                let e0 = sim.diagnostics().total_energy();
+                let mut highest = e0;
+                let what = format!("friction {friction}, {degrees}°, from x = {x}");
+                for _ in 0..400 {
+                    let d = sim.step().unwrap_or_else(|e| panic!("{what}: {e}"));
+                    highest = highest.max(d.total_energy());
+                    assert_sane(&sim);
                 }
-            }
-            // the sweep's case (GIMP, APIC) is crushed; the others may survive the hard
-            // throw, as the walls take up the energy at the grid too
-            if crushed && apic {
-                assert!(outcome.is_some(), "{what}");
+                assert!(highest <= e0 * 1.001, "{what}: {highest} > {e0}");
+                viscous = viscous.max(sim.diagnostics().dissipated_viscous / e0);
             }
         }
     }
+    // the shock does work against the viscosity
+    assert!(viscous > 0.01, "{viscous}");
 }
 
 #[test]

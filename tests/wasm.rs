@@ -46,6 +46,7 @@ struct Diag {
     gravitational: f64,
     elastic: f64,
     dissipated_plastic: f64,
+    dissipated_viscous: f64,
     dissipated_boundary: f64,
     dissipated_contact: f64,
     dt: f64,
@@ -96,7 +97,10 @@ fn every_scene_steps_with_finite_bounded_energy() {
             ("elastic", d.elastic),
             (
                 "dissipated",
-                d.dissipated_plastic + d.dissipated_boundary + d.dissipated_contact,
+                d.dissipated_plastic
+                    + d.dissipated_viscous
+                    + d.dissipated_boundary
+                    + d.dissipated_contact,
             ),
             ("dt", d.dt),
             ("cfl", d.cfl),

@@ -32,8 +32,11 @@ pub struct Energy {
     pub gravitational: f64,
     /// Stored elastic energy.
     pub elastic: f64,
-    /// Cumulative energy removed by plasticity, by the walls and by contact.
+    /// Cumulative energy removed by plasticity, by the solids' bulk viscosity, by the walls
+    /// and by contact.
     pub dissipated_plastic: f64,
+    #[serde(default)]
+    pub dissipated_viscous: f64,
     pub dissipated_boundary: f64,
     pub dissipated_contact: f64,
 }
@@ -74,6 +77,7 @@ impl Summary {
                 gravitational: d.gravitational,
                 elastic: d.elastic,
                 dissipated_plastic: d.dissipated_plastic,
+                dissipated_viscous: d.dissipated_viscous,
                 dissipated_boundary: d.dissipated_boundary,
                 dissipated_contact: d.dissipated_contact,
             },

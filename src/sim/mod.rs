@@ -15,7 +15,7 @@ use crate::material::{Model, VolumetricRate};
 use crate::math::{D2, D3, Dim, Real, VectorOps};
 use crate::step::contact::{ContactPair, ContactRule};
 use crate::step::gather::GatherReport;
-use crate::step::stress::{Bad, StressReport};
+use crate::step::stress::{BULK_VISCOSITY, Bad, StressReport};
 use crate::step::transfer::Transfer;
 use std::ops::Range;
 
@@ -79,6 +79,10 @@ pub struct Body<D: Dim> {
     pub(crate) constrained: bool,
     /// What the stress update of the current step measured.
     pub(crate) stress_report: StressReport,
+    /// The length C h of its artificial bulk viscosity ([`Body::bulk_length_for`]), and the
+    /// fastest compression −tr ε̇ of its latest stress update (1/s), for the time step.
+    pub(crate) bulk_length: Real,
+    pub(crate) max_compression: Real,
 }
 
 impl<D: Dim> Body<D> {
@@ -102,6 +106,27 @@ impl<D: Dim> Body<D> {
         }
         let lowest_density = self.min_mass as f64 / self.max_volume as f64;
         self.model.elastic().wave_speed(lowest_density)
+    }
+
+    /// The speed the time step must resolve (m/s): the wave speed c, raised by the bulk
+    /// viscosity to Q + √(Q² + c²) with Q = C² h |tr ε̇|max (the explicit limit of a
+    /// von Neumann–Richtmyer viscosity, as in the hydrocodes: a lone particle squeezed fast
+    /// has a viscous pressure ρ (C h tr ε̇)² that grows without bound).
+    pub fn signal_speed(&self) -> f64 {
+        let c = self.wave_speed();
+        let q = (BULK_VISCOSITY * self.bulk_length * self.max_compression) as f64;
+        q + (q * q + c * c).sqrt()
+    }
+
+    /// The length C h of the artificial bulk viscosity of a body of `model` on a grid of cell
+    /// `h`: solids only. Sand has none (its flows are dissipative already, and a viscosity is
+    /// what docs/validation.md finds too much of), nor has a kinematic body (no stress).
+    pub(crate) fn bulk_length_for(model: &Model, kinematic: bool, h: Real) -> Real {
+        match model {
+            Model::DruckerPrager(_) => 0.0,
+            _ if kinematic => 0.0,
+            _ => BULK_VISCOSITY * h,
+        }
     }
 }
 
@@ -315,6 +340,12 @@ impl<D: Dim> Simulation<D> {
             contact_impulse: [0.0; 3],
             constrained: false,
             stress_report: StressReport::default(),
+            bulk_length: Body::<D>::bulk_length_for(
+                &config.material.model(),
+                config.kinematic,
+                self.world.h,
+            ),
+            max_compression: 0.0,
         });
         self.refresh_diagnostics();
     }
@@ -444,6 +475,12 @@ impl<D: Dim> Simulation<D> {
         for (body, cfg) in self.bodies.iter_mut().zip(&next.bodies) {
             body.model = cfg.material.model();
             body.volumetric_rate = cfg.material.volumetric_rate();
+            body.bulk_length =
+                Body::<D>::bulk_length_for(&body.model, body.kinematic, self.world.h);
+            if body.bulk_length == 0.0 {
+                // no viscous pressure left for a body that turned to sand to meet again
+                self.particles.viscous_pressure[body.range.clone()].fill(0.0);
+            }
             let apic = cfg.uses_apic(next.kernel);
             if apic && !body.transfer.apic {
                 // a body that turns to APIC starts from a zero affine velocity
@@ -501,16 +538,17 @@ impl<D: Dim> Simulation<D> {
                 .sum::<usize>()
     }
 
-    /// The largest wave speed of the bodies (m/s), see [`Body::wave_speed`].
+    /// The largest signal speed of the bodies (m/s), see [`Body::signal_speed`].
     pub fn max_wave_speed(&self) -> f64 {
         self.bodies
             .iter()
-            .map(|b| b.wave_speed())
+            .map(|b| b.signal_speed())
             .fold(0.0, f64::max)
     }
 
     /// The time step the next step will take: dt = CFL · h / max(c + |v|), capped by max_dt,
-    /// with c = √((K + 4G/3)/ρ) at each body's lowest density.
+    /// with c = √((K + 4G/3)/ρ) at each body's lowest density (raised by the bulk viscosity
+    /// of a fast-compressing solid, [`Body::signal_speed`]).
     pub fn stable_dt(&self) -> f64 {
         cfl_time_step(
             self.world.cfl,
@@ -582,6 +620,7 @@ impl<D: Dim> Simulation<D> {
                 body.max_volume = s.max_volume; // a kinematic body's report has none
             }
             d.dissipated_plastic += s.dissipated;
+            d.dissipated_viscous += s.viscous;
             d.dissipated_boundary += g.dissipated_walls;
             body.stats.dissipated_plastic += s.dissipated;
             body.stats.elastic = s.elastic;
@@ -657,8 +696,9 @@ impl<D: Dim> Simulation<D> {
             stress.push(s);
             gathered.push(acc);
         }
-        let (kept_plastic, kept_boundary, kept_contact) = (
+        let (kept_plastic, kept_viscous, kept_boundary, kept_contact) = (
             self.diagnostics.dissipated_plastic,
+            self.diagnostics.dissipated_viscous,
             self.diagnostics.dissipated_boundary,
             self.diagnostics.dissipated_contact,
         );
@@ -666,6 +706,7 @@ impl<D: Dim> Simulation<D> {
         // finish_step adds this step's dissipation; a measurement adds none.
         let _ = self.finish_step(dt, &stress, &gathered);
         self.diagnostics.dissipated_plastic = kept_plastic;
+        self.diagnostics.dissipated_viscous = kept_viscous;
         self.diagnostics.dissipated_boundary = kept_boundary;
         self.diagnostics.dissipated_contact = kept_contact;
     }

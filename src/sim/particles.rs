@@ -19,6 +19,9 @@ pub struct Particles<D: Dim> {
     pub mass: Vec<Real>,
     /// Accumulated equivalent plastic strain.
     pub plastic_strain: Vec<Real>,
+    /// The artificial bulk viscosity q_p ≥ 0 (Pa) of a solid's latest stress update, a pressure
+    /// its next force adds to the stress (see [`crate::step::stress`]); zero for sand.
+    pub viscous_pressure: Vec<Real>,
     /// A stable identifier (particles are reordered for locality).
     pub id: Vec<u32>,
     /// The affine velocity C_p of APIC (Jiang et al. 2015); empty unless a body uses APIC.
@@ -43,6 +46,7 @@ impl<D: Dim> Particles<D> {
         self.volume.push(volume);
         self.mass.push(mass);
         self.plastic_strain.push(0.0);
+        self.viscous_pressure.push(0.0);
         self.id.push(id);
         if self.with_affine {
             self.affine.push(D::GRAD_ZERO);
@@ -65,6 +69,7 @@ impl<D: Dim> Particles<D> {
         self.volume.drain(range.clone());
         self.mass.drain(range.clone());
         self.plastic_strain.drain(range.clone());
+        self.viscous_pressure.drain(range.clone());
         self.id.drain(range.clone());
         if self.with_affine {
             self.affine.drain(range);
@@ -79,6 +84,7 @@ impl<D: Dim> Particles<D> {
         self.volume.clear();
         self.mass.clear();
         self.plastic_strain.clear();
+        self.viscous_pressure.clear();
         self.id.clear();
         self.affine.clear();
     }
@@ -99,6 +105,7 @@ impl<D: Dim> Particles<D> {
         apply(&mut self.volume[r.clone()], order);
         apply(&mut self.mass[r.clone()], order);
         apply(&mut self.plastic_strain[r.clone()], order);
+        apply(&mut self.viscous_pressure[r.clone()], order);
         apply(&mut self.id[r.clone()], order);
         if self.with_affine {
             apply(&mut self.affine[r], order);
@@ -109,7 +116,7 @@ impl<D: Dim> Particles<D> {
     pub fn bytes_per_particle() -> usize {
         2 * std::mem::size_of::<D::Vector>()
             + std::mem::size_of::<D::Sym>()
-            + 3 * std::mem::size_of::<Real>()
+            + 4 * std::mem::size_of::<Real>()
             + 4
     }
 

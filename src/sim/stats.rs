@@ -20,6 +20,8 @@ pub struct Diagnostics {
     pub elastic: f64,
     /// Cumulative energy removed by plastic return mapping.
     pub dissipated_plastic: f64,
+    /// Cumulative energy removed by the solids' artificial bulk viscosity.
+    pub dissipated_viscous: f64,
     /// Cumulative energy removed by the walls (impact and friction), on the grid and particles.
     pub dissipated_boundary: f64,
     /// Cumulative energy removed by contact between bodies.
@@ -39,7 +41,10 @@ impl Diagnostics {
     }
     /// All energy removed by the accounted dissipation mechanisms.
     pub fn dissipated(&self) -> f64 {
-        self.dissipated_plastic + self.dissipated_boundary + self.dissipated_contact
+        self.dissipated_plastic
+            + self.dissipated_viscous
+            + self.dissipated_boundary
+            + self.dissipated_contact
     }
 }
 

@@ -52,7 +52,9 @@ impl<D: Dim> Simulation<D> {
                 stress: &mut p.stress[r.clone()],
                 volume: &mut p.volume[r.clone()],
                 mass: &p.mass[r.clone()],
-                plastic_strain: &mut p.plastic_strain[r],
+                plastic_strain: &mut p.plastic_strain[r.clone()],
+                viscous_pressure: &mut p.viscous_pressure[r],
+                bulk_length: body.bulk_length,
             };
             if body.kinematic {
                 let g = advect_kinematic(state, dt, &w.walls, body.radius, w.gravity);

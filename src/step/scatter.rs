@@ -4,9 +4,10 @@
 //!
 //! with C_p the APIC affine velocity (zero without APIC; see [`super::transfer`]). For bodies
 //! whose stress is updated last ([`super::StressOrder`]) the same walk also scatters the internal
-//! forces of step 4, f_i = −Σ_p V_p σ_p ∇w_ip, from the stress and volume the previous step's
-//! gather left. Bodies that may touch another body also scatter the mass gradient
-//! ∇m_i = Σ_p m_p ∇w_ip, the contact normal of Eq. 20.
+//! forces of step 4, f_i = −Σ_p V_p (σ_p − q_p I) ∇w_ip, from the stress, volume and bulk
+//! viscosity q_p ([`super::stress`]) the previous step's gather left. Bodies that may touch
+//! another body also scatter the mass gradient ∇m_i = Σ_p m_p ∇w_ip, the contact normal of
+//! Eq. 20.
 
 use super::transfer::Transfer;
 use super::{
@@ -31,8 +32,13 @@ impl<D: Dim> Simulation<D> {
                 v: &p.v[r.clone()],
                 mass: &p.mass[r.clone()],
                 // A kinematic body carries no stress.
-                stress: (last && !body.kinematic)
-                    .then(|| (&p.stress[r.clone()], &p.volume[r.clone()])),
+                stress: (last && !body.kinematic).then(|| {
+                    (
+                        &p.stress[r.clone()],
+                        &p.volume[r.clone()],
+                        &p.viscous_pressure[r.clone()],
+                    )
+                }),
                 affine: body.transfer.apic.then(|| &p.affine[r]),
             };
             let lp = body.radius * inv_h;
@@ -41,13 +47,17 @@ impl<D: Dim> Simulation<D> {
     }
 }
 
+/// The particles' stress, volume and bulk viscosity's pressure, which make their forces.
+pub type ForceState<'a, D> = (&'a [<D as Dim>::Sym], &'a [Real], &'a [Real]);
+
 /// The particle state the scatter reads.
 pub struct ScatterState<'a, D: Dim> {
     pub x: &'a [D::Vector],
     pub v: &'a [D::Vector],
     pub mass: &'a [Real],
-    /// Stress and volume, for the forces of bodies that carry stress (stress updated last).
-    pub stress: Option<(&'a [D::Sym], &'a [Real])>,
+    /// Stress, volume and bulk viscosity's pressure q, for the forces of bodies that carry
+    /// stress (stress updated last).
+    pub stress: Option<ForceState<'a, D>>,
     /// The APIC affine velocities, for APIC bodies.
     pub affine: Option<&'a [D::Grad]>,
 }
@@ -71,7 +81,11 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
     } = &mut *grid;
     let with_gradient = !mass_grad.is_empty();
     let h = 1.0 / inv_h;
-    let force = |q: usize| ps.stress.map(|(s, v)| s[q] * -v[q]);
+    // F = −V (σ − q I): the viscous pressure of the latest update acts with the stress.
+    let force = |i: usize| {
+        ps.stress
+            .map(|(s, v, q)| (s[i] - D::Sym::iso(q[i])) * -v[i])
+    };
     let mut stencils = Stencils::<D, K, S>::new(inv_h, lp);
     // One loop per combination of the force, APIC and contact (mass gradient) terms, each
     // compiled in or out.

@@ -18,6 +18,19 @@
 //!   v_i^{n+1} in its own walk and calls [`UpdateStressLast`] on each chunk of particles; the
 //!   next step's scatter turns the stress into forces.
 //!
+//! **The solids' artificial bulk viscosity** (a departure from the paper, docs/method.md): a
+//! compressing solid particle carries besides σ_p a pressure
+//!
+//! q_p = ρ_p (C h tr ε̇_p)²  where tr ε̇_p < 0 (else 0),   C = [`BULK_VISCOSITY`],
+//!
+//! computed with its stress update and added to the force that stress makes,
+//! f_i = −Σ_p V_p (σ_p − q_p I) ∇w_ip (von Neumann & Richtmyer 1950, as explicit shock codes
+//! do). It spreads a shock over a few cells and dissipates what a blow faster than the body's
+//! waves brings and the log-strain law cannot store (docs/stability.md); at the slow
+//! compressions of the validation cases q is a small fraction of the stress. Its work
+//! q V |tr ε̇| Δt is booked as `dissipated_viscous`, and the time step resolves it
+//! ([`crate::sim::Body::signal_speed`]). Sand has none.
+//!
 //! **Sand's cell-averaged volumetric rate** (an option, `"volumetric_rate": "cell_average"`,
 //! off by default): the stress update takes ∇v_p with its volumetric part replaced by the
 //! volume-weighted mean over the body's particles in the particle's grid cell c,
@@ -69,7 +82,9 @@ impl<D: Dim> Simulation<D> {
                 stress: &mut p.stress[r.clone()],
                 volume: &mut p.volume[r.clone()],
                 mass: &p.mass[r.clone()],
-                plastic_strain: &mut p.plastic_strain[r],
+                plastic_strain: &mut p.plastic_strain[r.clone()],
+                viscous_pressure: &mut p.viscous_pressure[r],
+                bulk_length: body.bulk_length,
             };
             let lp = body.radius * inv_h;
             let grid = &mut body.grid;
@@ -96,6 +111,10 @@ pub struct StressState<'a, D: Dim> {
     pub volume: &'a mut [Real],
     pub mass: &'a [Real],
     pub plastic_strain: &'a mut [Real],
+    /// The bulk viscosity's pressure, written by the update when `bulk_length` > 0.
+    pub viscous_pressure: &'a mut [Real],
+    /// The bulk viscosity's length C h ([`BULK_VISCOSITY`]): zero for none (sand).
+    pub bulk_length: Real,
 }
 
 /// Why a particle's state is unusable after its update.
@@ -119,6 +138,10 @@ pub struct StressReport {
     /// The largest particle volume (with the body's smallest particle mass it bounds the
     /// lowest density, for the wave speed).
     pub max_volume: Real,
+    /// The fastest compression −tr ε̇ of the update (1/s; solids only, for the time step of the
+    /// bulk viscosity), and the viscosity's work in the step.
+    pub max_compression: Real,
+    pub viscous: f64,
     /// Number of particles whose stress or volume went non-finite, and the first of them.
     pub bad: usize,
     pub first_bad: Option<(usize, Bad)>,
@@ -208,7 +231,10 @@ pub fn update_stress_first<
         );
         for (i, q) in chunk.enumerate() {
             let v = ps.volume[q];
-            let sigma = ps.stress[q];
+            let mut sigma = ps.stress[q];
+            if ps.bulk_length > 0.0 {
+                sigma = sigma - D::Sym::iso(ps.viscous_pressure[q]);
+            }
             // A particle the update left non-finite (reported) gives no force.
             if report.bad > bad && !(sigma.is_finite() && v.is_finite() && v > 0.0) {
                 continue;
@@ -357,7 +383,9 @@ impl<D: Dim> StressState<'_, D> {
             stress: &mut self.stress[r.clone()],
             volume: &mut self.volume[r.clone()],
             mass: &self.mass[r.clone()],
-            plastic_strain: &mut self.plastic_strain[r],
+            plastic_strain: &mut self.plastic_strain[r.clone()],
+            viscous_pressure: &mut self.viscous_pressure[r],
+            bulk_length: self.bulk_length,
         }
     }
 }
@@ -547,10 +575,48 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
             report.bad(first + i, stress[i].is_finite(), volume[i]);
         }
     }
+    if ps.bulk_length > 0.0 {
+        bulk_viscosity(
+            &rates.rate[..len],
+            ps.mass,
+            &volume[..len],
+            ps.viscous_pressure,
+            ps.bulk_length,
+            dt,
+            report,
+        );
+    }
     if let Some((to_stress, to_volume)) = short {
         to_stress.copy_from_slice(&stress[..len]);
         to_volume.copy_from_slice(&volume[..len]);
     }
+}
+
+/// The bulk viscosity's coefficient C: q acts over a length C h.
+pub const BULK_VISCOSITY: Real = 1.0;
+
+/// The artificial bulk viscosity of a compressing particle, q_p = ρ_p (C h tr ε̇_p)² for
+/// tr ε̇_p < 0 (zero in expansion), into `q`, with ρ_p = m_p/V_p after the update; its work
+/// q V |tr ε̇| Δt and the fastest compression into the report.
+#[inline(always)]
+fn bulk_viscosity<S: SymTensor<Scalar = Real>>(
+    rate: &[S],
+    mass: &[Real],
+    volume: &[Real],
+    q: &mut [Real],
+    length: Real,
+    dt: Real,
+    report: &mut StressReport,
+) {
+    let mut work = 0.0;
+    for (i, q) in q.iter_mut().enumerate() {
+        let compression = (-rate[i].trace()).max(0.0);
+        let l = length * compression;
+        *q = mass[i] / volume[i] * l * l;
+        work += *q * volume[i] * compression;
+        report.max_compression = max(report.max_compression, compression);
+    }
+    report.viscous += (work * dt) as f64;
 }
 
 /// What one constitutive call (for `LANES` particles in SIMD lanes) adds to the report.
@@ -709,7 +775,7 @@ pub fn scatter_force_2d_packed<D: Dim, K: Kernel<S>, const S: usize>(
 mod tests {
     use super::*;
     use crate::material::{Material, Model};
-    use crate::math::{D2, D3};
+    use crate::math::{D2, D3, Mat2, Sym2, Vec2};
     use crate::step::test_util::noise;
 
     /// Made-up but plausible velocity gradients (1/s) and stresses (Pa) for `n` particles.
@@ -749,6 +815,7 @@ mod tests {
             .collect();
         let (mut stress2, mut volume2, mut plastic2) =
             (stress.clone(), volume.clone(), plastic.clone());
+        let mut viscous = vec![0.0; n];
         let (mut lanes, mut plain) = (StressReport::default(), StressReport::default());
         let dt = 1e-3;
         let mut rates = Rates::<D>::zero();
@@ -762,6 +829,8 @@ mod tests {
                 volume: &mut volume[r.clone()],
                 mass: &mass[r.clone()],
                 plastic_strain: &mut plastic[r.clone()],
+                viscous_pressure: &mut viscous[r.clone()],
+                bulk_length: 0.0,
             };
             update_chunk(model, &mut rates, ps, first, dt, &mut lanes);
             for q in r {
@@ -854,11 +923,14 @@ mod tests {
         let mut volume = c.volume.clone();
         let mut plastic = vec![0.0; n];
         let mass: Vec<Real> = c.volume.iter().map(|v| v * 2200.0).collect();
+        let mut viscous = vec![0.0; n];
         let state = StressState::<D> {
             stress: &mut stress,
             volume: &mut volume,
             mass: &mass,
             plastic_strain: &mut plastic,
+            viscous_pressure: &mut viscous,
+            bulk_length: 0.0,
         };
         if AVERAGE {
             sum_cell_dilatation::<D, K, S>(&mut grid, &c.x, &c.volume, c.inv_h, c.lp);
@@ -1046,6 +1118,69 @@ mod tests {
                     lanes_match_the_reference::<D3, _>(&m);
                 }
             }
+        }
+    }
+
+    /// The bulk viscosity in closed form: a chunk of particles compressed at tr ε̇ = −r carries
+    /// q = ρ (C h r)² with ρ = m/V after the update, its work q V r Δt is booked and its fastest
+    /// compression reported; particles in expansion carry none, and sand's chunk (no length)
+    /// is left untouched.
+    #[test]
+    fn the_viscous_pressure_is_rho_times_the_squared_compression_length() {
+        let model = match Material::elastic(1e6, 0.3, 1000.0).model() {
+            Model::Elastic(m) => m,
+            _ => unreachable!(),
+        };
+        let (n, dt, length) = (13, 1e-4, 0.02);
+        let mass = vec![0.5; n];
+        for bulk_length in [length, 0.0] {
+            let mut stress = vec![Sym2::ZERO; n];
+            let mut volume = vec![5e-4; n];
+            let mut plastic = vec![0.0; n];
+            let mut viscous = vec![-1.0; n];
+            let mut report = StressReport::default();
+            // rate −r I for the even particles (compression), +r I for the odd ones
+            let rate = |q: usize| {
+                if q.is_multiple_of(2) {
+                    -(q as Real + 1.0)
+                } else {
+                    3.0
+                }
+            };
+            let mut rates = Rates::<D2>::zero();
+            for first in (0..n).step_by(CHUNK) {
+                let r = first..n.min(first + CHUNK);
+                for q in r.clone() {
+                    let g = Mat2::from_diagonal(Vec2::splat(rate(q) / 2.0));
+                    rates.set(q - first, g);
+                }
+                let ps = StressState::<D2> {
+                    stress: &mut stress[r.clone()],
+                    volume: &mut volume[r.clone()],
+                    mass: &mass[r.clone()],
+                    plastic_strain: &mut plastic[r.clone()],
+                    viscous_pressure: &mut viscous[r],
+                    bulk_length,
+                };
+                update_chunk(&model, &mut rates, ps, first, dt, &mut report);
+            }
+            let mut work = 0.0;
+            for q in 0..n {
+                let r = (-rate(q)).max(0.0);
+                let expected = if bulk_length > 0.0 {
+                    mass[q] / volume[q] * (bulk_length * r).powi(2)
+                } else {
+                    -1.0 // untouched
+                };
+                assert!(
+                    (viscous[q] - expected).abs() <= 1e-5 * expected.abs(),
+                    "{q}"
+                );
+                work += (expected.max(0.0) * volume[q] * r * dt) as f64;
+            }
+            assert!((report.viscous - work).abs() <= 1e-5 * work, "{report:?}");
+            let fastest = if bulk_length > 0.0 { 13.0 } else { 0.0 };
+            assert_eq!(report.max_compression, fastest);
         }
     }
 }

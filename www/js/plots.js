@@ -72,7 +72,8 @@ export class EnergyPlot {
   }
 
   push(d) {
-    const dissipated = d.dissipated_plastic + d.dissipated_boundary + d.dissipated_contact;
+    const dissipated =
+      d.dissipated_plastic + d.dissipated_viscous + d.dissipated_boundary + d.dissipated_contact;
     if (!this.ref) this.ref = { gravitational: d.gravitational, dissipated, time: d.time };
     const s = {
       time: d.time - this.ref.time,
