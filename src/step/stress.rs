@@ -461,24 +461,29 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
     report: &mut StressReport,
 ) {
     let len = ps.stress.len();
-    // The volume bound's lanes, m_p times the model's largest specific volume (a short chunk
-    // padded with a real particle's mass).
-    let cap = model.max_specific_volume().map(|s| {
+    // The particles' masses in lanes (a short chunk padded with a real particle's mass), for
+    // the volume bound m_p times the model's largest specific volume and the bulk viscosity's
+    // m_p (C h)².
+    let viscous = ps.bulk_length > 0.0;
+    let mass = (viscous || model.max_specific_volume().is_some()).then(|| {
         let lanes = |m: &[Real]| {
             Lanes2(
                 Lanes::from_slice(&m[..LANES]),
                 Lanes::from_slice(&m[LANES..]),
             )
         };
-        let mass = if len == CHUNK {
+        if len == CHUNK {
             lanes(ps.mass)
         } else {
             let mut mass = [ps.mass[0]; CHUNK];
             mass[..len].copy_from_slice(ps.mass);
             lanes(&mass)
-        };
-        mass * s
+        }
     });
+    let cap = model.max_specific_volume().zip(mass).map(|(s, m)| m * s);
+    let bulk = mass
+        .filter(|_| viscous)
+        .map(|m| m * (ps.bulk_length * ps.bulk_length));
     // Set only for a short chunk (zeroing them for every chunk cost 4 instructions a particle).
     let (mut pad_stress, mut pad_volume);
     let (stress, volume, short): (&mut [D::Sym; CHUNK], &mut [Real; CHUNK], _) = if len == CHUNK {
@@ -530,6 +535,7 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
     let ((s0, r0, w0, v0), (s1, r1, w1, v1)) = (pack(0), pack(LANES));
     let mut lanes = D::Sym::zip(s0, s1);
     let mut v = Lanes2(v0, v1);
+    let mut q = Lanes2(Lanes::ZERO, Lanes::ZERO);
     let (ep, u) = update_group(
         model,
         &mut lanes,
@@ -538,8 +544,23 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
         history,
         &mut v,
         cap,
+        bulk.map(|b| (b, &mut q)),
         dt,
     );
+    if viscous {
+        match <&mut [Real; CHUNK]>::try_from(&mut *ps.viscous_pressure) {
+            Ok(out) => {
+                q.0.write_to_slice(&mut out[..LANES]);
+                q.1.write_to_slice(&mut out[LANES..]);
+            }
+            Err(_) => {
+                let mut all = [0.0; CHUNK];
+                q.0.write_to_slice(&mut all[..LANES]);
+                q.1.write_to_slice(&mut all[LANES..]);
+                ps.viscous_pressure.copy_from_slice(&all[..len]);
+            }
+        }
+    }
     let (s0, s1) = D::Sym::unzip(lanes);
     stress[..LANES].copy_from_slice(&D::Sym::unpack(s0));
     stress[LANES..].copy_from_slice(&D::Sym::unpack(s1));
@@ -552,6 +573,8 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
         report.elastic += u.elastic;
         report.dissipated += u.dissipated;
         report.max_volume = max(report.max_volume, u.max_volume);
+        report.viscous += u.viscous;
+        report.max_compression = max(report.max_compression, u.max_compression);
     }
     if M::PLASTIC {
         // A full chunk adds its plastic strains in lanes (one by one they cost 7 instructions
@@ -575,17 +598,6 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
             report.bad(first + i, stress[i].is_finite(), volume[i]);
         }
     }
-    if ps.bulk_length > 0.0 {
-        bulk_viscosity(
-            &rates.rate[..len],
-            ps.mass,
-            &volume[..len],
-            ps.viscous_pressure,
-            ps.bulk_length,
-            dt,
-            report,
-        );
-    }
     if let Some((to_stress, to_volume)) = short {
         to_stress.copy_from_slice(&stress[..len]);
         to_volume.copy_from_slice(&volume[..len]);
@@ -593,31 +605,7 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
 }
 
 /// The bulk viscosity's coefficient C: q acts over a length C h.
-pub const BULK_VISCOSITY: Real = 1.0;
-
-/// The artificial bulk viscosity of a compressing particle, q_p = ρ_p (C h tr ε̇_p)² for
-/// tr ε̇_p < 0 (zero in expansion), into `q`, with ρ_p = m_p/V_p after the update; its work
-/// q V |tr ε̇| Δt and the fastest compression into the report.
-#[inline(always)]
-fn bulk_viscosity<S: SymTensor<Scalar = Real>>(
-    rate: &[S],
-    mass: &[Real],
-    volume: &[Real],
-    q: &mut [Real],
-    length: Real,
-    dt: Real,
-    report: &mut StressReport,
-) {
-    let mut work = 0.0;
-    for (i, q) in q.iter_mut().enumerate() {
-        let compression = (-rate[i].trace()).max(0.0);
-        let l = length * compression;
-        *q = mass[i] / volume[i] * l * l;
-        work += *q * volume[i] * compression;
-        report.max_compression = max(report.max_compression, compression);
-    }
-    report.viscous += (work * dt) as f64;
-}
+pub const BULK_VISCOSITY: Real = 0.5;
 
 /// What one constitutive call (for `LANES` particles in SIMD lanes) adds to the report.
 struct Group {
@@ -625,11 +613,16 @@ struct Group {
     elastic: f64,
     dissipated: f64,
     max_volume: Real,
+    /// The bulk viscosity's work Σ q V |tr ε̇| Δt and the fastest compression |tr ε̇|.
+    viscous: f64,
+    max_compression: Real,
     finite: bool,
 }
 
 /// Steps 2–3 for one group of particles in lanes: the stress by the model (returning their
-/// plastic strain increments) and the volume.
+/// plastic strain increments) and the volume; with `bulk` = (m (C h)², q), the bulk
+/// viscosity q = ρ (C h tr ε̇)² = m (C h)² (tr ε̇)²/V of the compressing particles, whose work
+/// q V |tr ε̇| Δt = m (C h)² |tr ε̇|³ Δt needs no division.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn update_group<S: SymTensor, M: Constitutive>(
@@ -640,6 +633,7 @@ fn update_group<S: SymTensor, M: Constitutive>(
     history: S::Scalar,
     volume: &mut S::Scalar,
     cap: Option<S::Scalar>,
+    bulk: Option<(S::Scalar, &mut S::Scalar)>,
     dt: Real,
 ) -> (S::Scalar, Group) {
     let u = model.update(stress, rate, spin, history, dt);
@@ -649,6 +643,14 @@ fn update_group<S: SymTensor, M: Constitutive>(
         v = v.min(before.max(cap));
     }
     *volume = v;
+    let (mut viscous, mut max_compression) = (0.0, 0.0);
+    if let Some((ml2, q)) = bulk {
+        let c = (-rate.trace()).max(S::Scalar::ZERO);
+        let c2 = ml2 * (c * c);
+        *q = c2 / v;
+        viscous = ((c2 * c).sum() * dt) as f64;
+        max_compression = c.max_element();
+    }
     let group = Group {
         elastic: (u.energy * v).sum() as f64,
         dissipated: if M::PLASTIC {
@@ -657,6 +659,8 @@ fn update_group<S: SymTensor, M: Constitutive>(
             0.0
         },
         max_volume: v.max_element(),
+        viscous,
+        max_compression,
         finite: stress.is_finite() && v.all_finite() && v.min_element() > 0.0,
     };
     (u.plastic_strain, group)
