@@ -79,10 +79,8 @@ pub struct Body<D: Dim> {
     pub(crate) constrained: bool,
     /// What the stress update of the current step measured.
     pub(crate) stress_report: StressReport,
-    /// The length C h of its artificial bulk viscosity ([`Body::bulk_length_for`]), and the
-    /// fastest compression −tr ε̇ of its latest stress update (1/s), for the time step.
+    /// The length C h of its artificial bulk viscosity ([`Body::bulk_length_for`]).
     pub(crate) bulk_length: Real,
-    pub(crate) max_compression: Real,
 }
 
 impl<D: Dim> Body<D> {
@@ -114,7 +112,9 @@ impl<D: Dim> Body<D> {
     /// has a viscous pressure ρ (C h tr ε̇)² that grows without bound).
     pub fn signal_speed(&self) -> f64 {
         let c = self.wave_speed();
-        let q = (BULK_VISCOSITY * self.bulk_length * self.max_compression) as f64;
+        // the fastest compression of the latest stress update
+        let fastest = self.stress_report.max_compression;
+        let q = (BULK_VISCOSITY * self.bulk_length * fastest) as f64;
         q + (q * q + c * c).sqrt()
     }
 
@@ -345,7 +345,6 @@ impl<D: Dim> Simulation<D> {
                 config.kinematic,
                 self.world.h,
             ),
-            max_compression: 0.0,
         });
         self.refresh_diagnostics();
     }

@@ -77,9 +77,6 @@ impl<D: Dim> Simulation<D> {
         t.add_to(&mut self.timings);
         self.time += dt;
         self.steps += 1;
-        for b in &mut self.bodies {
-            b.max_compression = b.stress_report.max_compression;
-        }
         let stress: Vec<_> = self.bodies.iter().map(|b| b.stress_report).collect();
         self.finish_step(dt, &stress, &gathered)?;
         Ok(&self.diagnostics)
