@@ -154,6 +154,9 @@ pub struct Simulation<D: Dim> {
     pub(crate) particles: Particles<D>,
     pub(crate) bodies: Vec<Body<D>>,
     pub(crate) contacts: Vec<ContactPair>,
+    /// Whether the latest contact pass held two solids that update their stress last
+    /// together (see [`Simulation::step_cfl`]).
+    pub(crate) solids_stuck: bool,
     pub(crate) time: f64,
     pub(crate) steps: u64,
     pub(crate) diagnostics: Diagnostics,
@@ -210,6 +213,7 @@ impl<D: Dim> Simulation<D> {
             particles: Particles::default(),
             bodies: Vec::new(),
             contacts: Vec::new(),
+            solids_stuck: false,
             time: 0.0,
             steps: 0,
             diagnostics: Diagnostics::default(),
@@ -415,6 +419,7 @@ impl<D: Dim> Simulation<D> {
         self.bodies.clear();
         self.scene.bodies.clear();
         self.contacts.clear();
+        self.solids_stuck = false;
         self.failed = None;
         self.refresh_diagnostics();
     }
@@ -550,11 +555,23 @@ impl<D: Dim> Simulation<D> {
     /// of a fast-compressing solid, [`Body::signal_speed`]).
     pub fn stable_dt(&self) -> f64 {
         cfl_time_step(
-            self.world.cfl,
+            self.step_cfl(),
             self.world.h as f64,
             self.max_wave_speed() + self.diagnostics.max_speed,
             self.world.max_dt,
         )
+    }
+
+    /// The CFL number of the next step: the scene's, or at most
+    /// [`crate::step::contact::STICKING_CFL`] after a step in which a contact rule that
+    /// sticks ([`ContactRule::sticks`]) changed the grid velocities of two solids that update
+    /// their stress last.
+    pub fn step_cfl(&self) -> f64 {
+        if self.solids_stuck {
+            self.world.cfl.min(crate::step::contact::STICKING_CFL)
+        } else {
+            self.world.cfl
+        }
     }
 
     /// Advances by `duration` seconds (the last step is shortened to land on it, and the bodies

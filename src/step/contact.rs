@@ -10,14 +10,17 @@
 //! Only pairs of bodies whose block sets overlap are visited, and only their shared blocks:
 //! one body, or bodies apart, cost nothing.
 
-use super::constraint_dissipation;
+use super::{StressOrder, constraint_dissipation};
 use crate::grid::{Grid, GridIndex};
 use crate::math::{Dim, Real, VectorOps, min};
-use crate::sim::Simulation;
+use crate::sim::{Body, Simulation};
 
 impl<D: Dim> Simulation<D> {
     /// Step 5 between every pair of bodies whose grids share blocks.
     pub(super) fn resolve_contacts(&mut self) {
+        let kernel = self.world.kernel;
+        let sticks = self.world.contact.sticks();
+        self.solids_stuck = false;
         for body in &mut self.bodies {
             body.contact_impulse = [0.0; 3];
             body.constrained = false; // set again by the contacts and the walls of this step
@@ -33,6 +36,8 @@ impl<D: Dim> Simulation<D> {
                 (a.kinematic, b.kinematic),
             );
             self.diagnostics.dissipated_contact += r.dissipated;
+            let last = |b: &Body<D>| !b.kinematic && b.stress_order(kernel) == StressOrder::Last;
+            self.solids_stuck |= sticks && r.changed_a && r.changed_b && last(a) && last(b);
             a.constrained |= r.changed_a;
             b.constrained |= r.changed_b;
             for k in 0..3 {
@@ -59,6 +64,32 @@ pub enum ContactRule {
     /// Bardenhagen et al. (2001): remove the approaching normal velocity; the tangential slip is
     /// resisted by Coulomb friction with coefficient μ.
     Friction(Real),
+}
+
+/// The largest CFL number of a step in which two solids that update their stress last
+/// (elastic and von Mises bodies with the C¹ kernels, [`super::StressOrder`]) share grid
+/// nodes under a contact rule that sticks ([`ContactRule::sticks`]). Such a solid takes its
+/// strain from grid velocities the contact has just set to the pair's common velocity; at the
+/// paper's 0.4 that pumped energy into bodies held together in three of 40 long random
+/// sweeps (a replayed case gained 54 times its energy scale), at 0.3 into two of the three
+/// replays, at 0.2 into none (docs/stability.md, "Energy rises between bodies in contact").
+pub const STICKING_CFL: f64 = 0.2;
+
+impl ContactRule {
+    /// Coulomb friction above this coefficient counts as sticking ([`ContactRule::sticks`]).
+    pub const STICKING_FRICTION: Real = 1.0;
+
+    /// Whether the rule can hold two bodies together tangentially as well as normally: the
+    /// paper's rule, or Coulomb friction above [`Self::STICKING_FRICTION`]. In replays of
+    /// three random scenes whose energy rose under the paper's rule, Coulomb friction up to
+    /// μ = 1.5 kept the energy in all three, μ = 2 let one gain 2 % of its energy scale,
+    /// μ = 5 all three (docs/stability.md); [`STICKING_CFL`] applies under such a rule.
+    pub fn sticks(self) -> bool {
+        match self {
+            ContactRule::Stick => true,
+            ContactRule::Friction(mu) => mu > Self::STICKING_FRICTION,
+        }
+    }
 }
 
 /// Finds the pairs of grids that share allocated blocks.
