@@ -71,7 +71,7 @@ pub enum ContactRule {
 /// nodes under a contact rule that sticks ([`ContactRule::sticks`]). Such a solid takes its
 /// strain from grid velocities the contact has just set to the pair's common velocity; at the
 /// paper's 0.4 that pumped energy into bodies held together in three of 40 long random
-/// sweeps (a replayed case gained 54 times its energy scale), at 0.3 into two of the three
+/// sweeps (a replayed case gained 54 times its energy scale), at 0.3 into one of the three
 /// replays, at 0.2 into none (docs/stability.md, "Energy rises between bodies in contact").
 pub const STICKING_CFL: f64 = 0.2;
 
