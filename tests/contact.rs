@@ -189,17 +189,19 @@ fn a_von_mises_block_under_a_plate_yields_at_the_plane_strain_limit() {
     );
 }
 
-/// Bodies held together by the paper's sticking rule at its CFL number of 0.4, from random
-/// scenes whose energy rose while the solids updated their stress last (docs/stability.md,
-/// "Energy rises between bodies in contact"): a stiff box driving a 1 kPa jelly into another
-/// box (GIMP; the energy rose by 0.21 of its initial value), and four default elastic bodies
-/// overlapping at the start (B-spline, PIC; by 1.87). With the step's CFL number held at
-/// `STICKING_CFL` while such solids share grid nodes, neither gains energy.
+/// Bodies held together by sticking or frictional contact at the paper's CFL number of 0.4,
+/// from random scenes whose energy rose while the solids updated their stress last
+/// (docs/stability.md, "Energy rises between bodies in contact"): a stiff box driving a 1 kPa
+/// jelly into another box (GIMP, the paper's rule; the energy rose by 0.21 of its initial
+/// value), four default elastic bodies overlapping at the start (B-spline, PIC; by 1.87),
+/// and a box thrown into two overlapping ones under Coulomb μ = 0.86 (B-spline; by 0.47).
+/// With the step's CFL number held at `STICKING_CFL` while such solids stick, none gains.
 #[test]
 fn bodies_stuck_together_gain_no_energy() {
     let scenes = [
         r#"{"dim": 2, "domain": {"size": [1.0, 1.0]}, "cell_size": 0.05, "gravity": [0.0, 0.0], "cfl": 0.4, "max_dt": 0.001, "kernel": "gimp", "boundary": {"friction": 0.0}, "bodies": [{"name": "body 0", "shape": {"box": {"min": [0.2106, 0.5349], "max": [0.4043, 0.6349]}}, "material": {"elastic": {"youngs_modulus": 95770000.0, "poisson_ratio": 0.0, "density": 1967.0}}, "velocity": [5.098, 0.0], "particles_per_cell": 2, "flip": 0.0}, {"name": "body 1", "shape": {"box": {"min": [0.4645, 0.4607], "max": [0.5645, 0.5607]}}, "material": {"elastic": {"youngs_modulus": 1000.0, "poisson_ratio": 0.0, "density": 300.0}}, "velocity": [0.0, 0.0], "particles_per_cell": 1, "flip": 0.0, "apic": true}, {"name": "body 2", "shape": {"box": {"min": [0.5811, 0.4477], "max": [0.6811, 0.7438]}}, "material": {"elastic": {"youngs_modulus": 9897000.0, "poisson_ratio": 0.3811, "density": 300.0}}, "velocity": [0.0, 0.0], "particles_per_cell": 2, "flip": 0.0}]}"#,
         r#"{"dim": 2, "domain": {"size": [1.0, 1.0]}, "cell_size": 0.05, "gravity": [0.0, 0.0], "cfl": 0.4, "max_dt": 0.001, "kernel": "quadratic_bspline", "boundary": {"friction": 0.0}, "bodies": [{"name": "body 0", "shape": {"box": {"min": [0.349, 0.4982], "max": [0.449, 0.7857]}}, "material": {"elastic": {"youngs_modulus": 1175000.0, "poisson_ratio": 0.484, "density": 1679.0}}, "velocity": [-3.956, 0.0], "particles_per_cell": 1, "flip": 0.0}, {"name": "body 1", "shape": {"ball": {"center": [0.4414, 0.5834], "radius": 0.1238}}, "material": {"elastic": {"youngs_modulus": 1000.0, "poisson_ratio": 0.0, "density": 2281.0}}, "velocity": [0.0, 0.0], "particles_per_cell": 1, "flip": 0.0}, {"name": "body 2", "shape": {"box": {"min": [0.4021, 0.3527], "max": [0.5021, 0.5631]}}, "material": {"elastic": {"youngs_modulus": 1000.0, "poisson_ratio": 0.0, "density": 1664.0}}, "velocity": [-3.097, 4.054], "particles_per_cell": 1, "flip": 0.0}, {"name": "body 3", "shape": {"box": {"min": [0.2979, 0.483], "max": [0.5959, 0.6623]}}, "material": {"elastic": {"youngs_modulus": 5417000.0, "poisson_ratio": 0.3778, "density": 300.0}}, "velocity": [0.0, 0.0], "particles_per_cell": 1, "flip": 0.0}]}"#,
+        r#"{"dim": 2, "domain": {"size": [1.0, 1.0]}, "cell_size": 0.05, "gravity": [0.0, 0.0], "cfl": 0.4, "max_dt": 0.001, "kernel": "quadratic_bspline", "boundary": {"friction": 0.0}, "bodies": [{"name": "body 0", "shape": {"box": {"min": [0.4373, 0.4746], "max": [0.7348, 0.7172]}}, "material": {"elastic": {"youngs_modulus": 85080000.0, "poisson_ratio": 0.0, "density": 300.0}}, "velocity": [0.0, 0.0], "particles_per_cell": 1, "flip": 0.0}, {"name": "body 1", "shape": {"box": {"min": [0.5509, 0.6207], "max": [0.8324, 0.7207]}}, "material": {"elastic": {"youngs_modulus": 1000.0, "poisson_ratio": 0.0, "density": 300.0}}, "velocity": [0.0, 0.0], "particles_per_cell": 3, "flip": 0.0, "apic": true}, {"name": "body 2", "shape": {"box": {"min": [0.5695, 0.5987], "max": [0.7238, 0.6987]}}, "material": {"elastic": {"youngs_modulus": 40580000.0, "poisson_ratio": 0.4755, "density": 1943.0}}, "velocity": [2.375, 0.0], "particles_per_cell": 2, "flip": 0.0}], "contact": {"friction": 0.8639}}"#,
     ];
     for (i, json) in scenes.iter().enumerate() {
         let mut sim = Simulation::<D2>::new(mpm::SceneConfig::from_json(json).unwrap()).unwrap();
