@@ -36,7 +36,8 @@ impl<D: Dim> Simulation<D> {
                 (a.kinematic, b.kinematic),
             );
             self.diagnostics.dissipated_contact += r.dissipated;
-            let last = |b: &Body<D>| !b.kinematic && b.stress_order(kernel) == StressOrder::Last;
+            // (a kinematic body's grid is never changed: both changed means both deform)
+            let last = |b: &Body<D>| b.stress_order(kernel) == StressOrder::Last;
             self.solids_stuck |= sticks && r.changed_a && r.changed_b && last(a) && last(b);
             a.constrained |= r.changed_a;
             b.constrained |= r.changed_b;
