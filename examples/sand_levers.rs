@@ -1,8 +1,9 @@
 //! The default start–stop sand's slopes, heaps (walls lifted at 0.05 m/s) and plane collapses
-//! at one cell size under two levers that are not defaults: the quadratic B-spline kernel beside
-//! GIMP (`sand_levers h`), or GIMP with μ(I) friction of grain diameter d (`sand_levers h all d`,
-//! d in m). `slopes`, `heaps` or `collapse` in place of `all` runs one family. See
-//! docs/validation.md, "Drucker–Prager: starting and stopping".
+//! at one cell size under levers that are not defaults: the quadratic B-spline
+//! kernel beside GIMP (`sand_levers h`), GIMP with μ(I) friction of grain diameter d
+//! (`sand_levers h all d`, d in m), or GIMP at the CFL numbers 0.4, 0.2 and 0.1
+//! (`sand_levers h all cfl`, or `cfl-flip1` with α = 1). `slopes`, `heaps` or `collapse` in place of `all` runs one
+//! family. See docs/validation.md, "Drucker–Prager: starting and stopping".
 //!
 //! `taskset -c 0 cargo run --release --example sand_levers -- 0.01` (about 4 minutes; 0.005:
 //! about 10)
@@ -34,13 +35,24 @@ fn main() -> Result<(), String> {
             .into_iter()
             .map(|k| (kernel_name(k).to_string(), Numerics::new(h, k).start_stop()))
             .collect(),
+        "cfl" | "cfl-flip1" => [0.4, 0.2, 0.1]
+            .into_iter()
+            .map(|c| {
+                let n = Numerics::new(h, KernelKind::Gimp).start_stop().cfl(c);
+                if variant == "cfl" {
+                    (format!("gimp cfl={c}"), n)
+                } else {
+                    (format!("gimp α=1 cfl={c}"), n.flip(1.0))
+                }
+            })
+            .collect(),
         d => {
             let d: f64 = d
                 .parse()
                 .ok()
                 .filter(|d| (1e-5..=0.01).contains(d))
                 .ok_or(format!(
-                    "d: `{d}` is not a grain diameter in [1e-5, 0.01] m"
+                    "d: `{d}` is not `kernels`, `cfl`, `cfl-flip1` or a grain diameter in [1e-5, 0.01] m"
                 ))?;
             vec![(
                 format!("gimp mu_i d={d}"),
