@@ -2,7 +2,8 @@
 //! at one cell size under levers that are not defaults: the quadratic B-spline
 //! kernel beside GIMP (`sand_levers h`), GIMP with μ(I) friction of grain diameter d
 //! (`sand_levers h all d`, d in m), or GIMP at the CFL numbers 0.4, 0.2 and 0.1
-//! (`sand_levers h all cfl`, or `cfl-flip1` with α = 1). `slopes`, `heaps` or `collapse` in place of `all` runs one
+//! (`sand_levers h all cfl`, or `cfl-flip1` with α = 1), or GIMP with the cell-averaged
+//! volumetric rate (`sand_levers h all cell-average`). `slopes`, `heaps` or `collapse` in place of `all` runs one
 //! family. See docs/validation.md, "Drucker–Prager: starting and stopping".
 //!
 //! `taskset -c 0 cargo run --release --example sand_levers -- 0.01` (about 4 minutes; 0.005:
@@ -35,6 +36,12 @@ fn main() -> Result<(), String> {
             .into_iter()
             .map(|k| (kernel_name(k).to_string(), Numerics::new(h, k).start_stop()))
             .collect(),
+        "cell-average" => vec![(
+            "gimp cell-average".to_string(),
+            Numerics::new(h, KernelKind::Gimp)
+                .start_stop()
+                .cell_average(),
+        )],
         "cfl" | "cfl-flip1" => [0.4, 0.2, 0.1]
             .into_iter()
             .map(|c| {
@@ -52,7 +59,7 @@ fn main() -> Result<(), String> {
                 .ok()
                 .filter(|d| (1e-5..=0.01).contains(d))
                 .ok_or(format!(
-                    "d: `{d}` is not `kernels`, `cfl`, `cfl-flip1` or a grain diameter in [1e-5, 0.01] m"
+                    "d: `{d}` is not `kernels`, `cfl`, `cfl-flip1`, `cell-average` or a grain diameter in [1e-5, 0.01] m"
                 ))?;
             vec![(
                 format!("gimp mu_i d={d}"),
