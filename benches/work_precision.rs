@@ -69,7 +69,8 @@ fn main() {
     let mut md = String::new();
     let _ = writeln!(
         md,
-        "# Work–precision report (generated)\n\nRegenerate with `taskset -c 0 cargo bench --bench work_precision` (or `cargo xtask work-precision`). Run times are wall-clock seconds on one core of the shared development machine; errors are defined per case below. Written by `benches/work_precision.rs`; the discussion is in [work-precision.md](work-precision.md).\n"
+        "# Work–precision report (generated)\n\nRegenerate with `taskset -c 0 cargo bench --bench work_precision` (or `cargo xtask work-precision`). Run times are wall-clock seconds on one core of the shared development machine; errors are defined per case below. Written by `benches/work_precision.rs`; the discussion is in [work-precision.md](work-precision.md). Measured at {}.\n",
+        measured_at()
     );
     let path = filters.report_path("work-precision-report");
     std::fs::create_dir_all(path.parent().unwrap()).unwrap();

@@ -32,6 +32,28 @@ impl Filters {
     }
 }
 
+/// The commit the figures are measured at, for a report's header: `git rev-parse --short HEAD`,
+/// with "plus uncommitted changes" when tracked files differ from it, or "an unknown commit"
+/// outside a git checkout.
+pub fn measured_at() -> String {
+    let git = |args: &[&str]| {
+        std::process::Command::new("git")
+            .args(args)
+            .current_dir(root())
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+    };
+    match git(&["rev-parse", "--short", "HEAD"]) {
+        None => "an unknown commit".to_string(),
+        Some(head) => match git(&["status", "--porcelain", "--untracked-files=no"]) {
+            Some(changes) if changes.is_empty() => format!("`{head}`"),
+            _ => format!("`{head}` plus uncommitted changes"),
+        },
+    }
+}
+
 /// A markdown table.
 pub fn table(header: &[&str], rows: &[Vec<String>]) -> String {
     let mut s = String::new();
