@@ -19,11 +19,17 @@ fn main() -> Result<(), String> {
         .and_then(|a| a.parse().ok())
         .filter(|h| (0.001..=0.05).contains(h))
         .ok_or("h: give a cell size in [0.001, 0.05] m")?;
-    let a: f64 = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(1.0);
-    let (file, _) = PLANE_COLLAPSES
-        .iter()
-        .find(|(_, aa)| (*aa - a).abs() < 1e-9)
-        .ok_or(format!("a: `{a}` is not one of 0.5, 1, 2, 3"))?;
+    let a_arg = args.get(1).map(String::as_str).unwrap_or("1");
+    let (file, a) = a_arg
+        .parse::<f64>()
+        .ok()
+        .and_then(|a| {
+            PLANE_COLLAPSES
+                .iter()
+                .find(|(_, aa)| (*aa - a).abs() < 1e-9)
+        })
+        .copied()
+        .ok_or(format!("a: `{a_arg}` is not one of 0.5, 1, 2, 3"))?;
     let duration: f64 = args
         .get(2)
         .and_then(|d| d.parse().ok())
@@ -32,10 +38,7 @@ fn main() -> Result<(), String> {
     let scene = load(file, &Numerics::new(h, KernelKind::Gimp));
     let s = spacing(&scene);
     let mut sim = Simulation::<mpm::D2>::new(scene).map_err(|e| e.to_string())?;
-    let xs: Vec<f64> = sim.particles().x.iter().map(|x| x[0] as f64).collect();
-    let lo = xs.iter().cloned().fold(f64::INFINITY, f64::min) - 0.5 * s;
-    let hi = xs.iter().cloned().fold(f64::NEG_INFINITY, f64::max) + 0.5 * s;
-    let (xc, l0) = (0.5 * (lo + hi), 0.5 * (hi - lo));
+    let (xc, l0) = column_extent(&sim, s);
     let law = lube_runout(a);
     while sim.time() < duration - 1e-9 {
         sim.advance(0.05).map_err(|e| e.to_string())?;
@@ -45,16 +48,11 @@ fn main() -> Result<(), String> {
             .filter(|t| t.0 > 0.0)
             .collect();
         d.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut last = 0;
-        for (j, w) in d.windows(2).enumerate() {
-            if w[1].0 - w[0].0 > 2.0 * s {
-                break;
-            }
-            last = j + 1;
-        }
-        let front = d[last].0 + 0.5 * s;
-        let ten = &d[last.saturating_sub(9)..=last];
-        let v_front = ten.iter().map(|t| t.1).sum::<f64>() / ten.len() as f64;
+        let front = deposit_front(d.iter().map(|t| t.0).collect(), s, 0.0);
+        // the ten particles at the front: the last ones within the deposit
+        let within = d.partition_point(|t| t.0 <= front - 0.5 * s + 1e-12);
+        let ten = &d[within.saturating_sub(10)..within];
+        let v_front = ten.iter().map(|t| t.1).sum::<f64>() / ten.len().max(1) as f64;
         println!(
             "t = {:.2} s: front {:+.1} % of the law, front speed {:.3} m/s, fastest {:.3} m/s",
             sim.time(),

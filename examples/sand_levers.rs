@@ -1,10 +1,10 @@
 //! The default start–stop sand's slopes, heaps (walls lifted at 0.05 m/s) and plane collapses
-//! at one cell size under levers that are not defaults: the quadratic B-spline
-//! kernel beside GIMP (`sand_levers h`), GIMP with μ(I) friction of grain diameter d
-//! (`sand_levers h all d`, d in m), or GIMP at the CFL numbers 0.4, 0.2 and 0.1
-//! (`sand_levers h all cfl`, or `cfl-flip1` with α = 1), or GIMP with the cell-averaged
-//! volumetric rate (`sand_levers h all cell-average`). `slopes`, `heaps` or `collapse` in place of `all` runs one
-//! family. See docs/validation.md, "Drucker–Prager: starting and stopping".
+//! at one cell size under levers that are not defaults: the quadratic B-spline kernel beside
+//! GIMP (`sand_levers h`), GIMP with μ(I) friction of grain diameter d (`sand_levers h all d`,
+//! d in m), GIMP at the CFL numbers 0.4, 0.2 and 0.1 (`sand_levers h all cfl`, or `cfl-flip1`
+//! with α = 1), or GIMP with the cell-averaged volumetric rate (`sand_levers h all
+//! cell-average`). `slopes`, `heaps` or `collapse` in place of `all` runs one family. See
+//! docs/validation.md, "Drucker–Prager: starting and stopping".
 //!
 //! `taskset -c 0 cargo run --release --example sand_levers -- 0.01` (about 4 minutes; 0.005:
 //! about 10)

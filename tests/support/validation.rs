@@ -710,7 +710,7 @@ fn run_until_rest<D: Dim>(sim: &mut Simulation<D>, h0: f64, g: f64, t_max: f64) 
 /// `s` beyond `from` (gaps nearer the centre are ignored: an axisymmetric run's narrow
 /// sectors hold few particles near the axis), and the last particle stands for half a
 /// spacing of material beyond its centre.
-fn deposit_front(mut d: Vec<f64>, s: f64, from: f64) -> f64 {
+pub fn deposit_front(mut d: Vec<f64>, s: f64, from: f64) -> f64 {
     d.sort_by(|a, b| a.partial_cmp(b).unwrap());
     let mut end = d.first().copied().unwrap_or(0.0);
     for w in d.windows(2) {
@@ -762,18 +762,22 @@ fn deposit_edge(
     }
 }
 
+/// A plane column's centre x_c and half-width L0 from its particles (spacing `s`: each
+/// particle's material reaches half a spacing beyond its centre).
+pub fn column_extent<D: Dim>(sim: &Simulation<D>, s: f64) -> (f64, f64) {
+    let xs = sim.particles().x.iter().map(|x| x[0] as f64);
+    let lo = xs.clone().fold(f64::INFINITY, f64::min) - 0.5 * s;
+    let hi = xs.fold(f64::NEG_INFINITY, f64::max) + 0.5 * s;
+    (0.5 * (lo + hi), 0.5 * (hi - lo))
+}
+
 pub fn column_collapse(file: &str, n: &Numerics, t_max: f64) -> Collapse {
     let scene = load(file, n);
     let s = spacing(&scene);
     let g = scene.gravity_vector()[1].abs();
     let mut sim = Simulation::<mpm::D2>::new(scene).expect("column scene");
     let rest = rest_positions(&sim);
-    let xs: Vec<f64> = rest.iter().map(|r| r[0]).collect();
-    let (lo, hi) = (
-        xs.iter().cloned().fold(f64::INFINITY, f64::min) - 0.5 * s,
-        xs.iter().cloned().fold(f64::NEG_INFINITY, f64::max) + 0.5 * s,
-    );
-    let (xc, l0) = (0.5 * (lo + hi), 0.5 * (hi - lo));
+    let (xc, l0) = column_extent(&sim, s);
     let h0 = rest.iter().map(|r| r[1]).fold(0.0, f64::max) + 0.5 * s;
     let start = Instant::now();
     let failure = run_until_rest(&mut sim, h0, g, t_max);
