@@ -2,10 +2,9 @@
 //! page's window or of the worker) and the console. Nothing else in the crate knows the
 //! browser; the core takes a clock as a closure.
 
-use std::sync::Once;
-use web_sys::js_sys::{Error, Reflect, global};
+use web_sys::js_sys::{Reflect, global};
 use web_sys::wasm_bindgen::{JsCast, JsValue};
-use web_sys::{Performance, Window, WorkerGlobalScope, console};
+use web_sys::{Performance, Window, WorkerGlobalScope};
 
 thread_local! {
     static PERFORMANCE: Performance = performance();
@@ -34,13 +33,8 @@ pub fn now_ms() -> f64 {
     PERFORMANCE.with(Performance::now)
 }
 
-/// A Rust panic shows in the console as an `Error` with its message, location and the JS
-/// stack (`console.error`). Installed once.
+/// A Rust panic shows in the console with its message, location and the JS stack
+/// (`console.error`, through console_error_panic_hook). Installed once.
 pub fn log_panics() {
-    static HOOK: Once = Once::new();
-    HOOK.call_once(|| {
-        std::panic::set_hook(Box::new(|info| {
-            console::error_1(&Error::new(&info.to_string()).into());
-        }))
-    });
+    console_error_panic_hook::set_once();
 }
