@@ -37,6 +37,7 @@ pub mod material;
 pub mod math;
 pub mod params;
 pub mod playground;
+pub mod recipe;
 pub mod sim;
 pub mod step;
 #[cfg(target_arch = "wasm32")]

@@ -11,12 +11,12 @@ use crate::config::{BodyConfig, MAX_PARTICLES, SceneConfig};
 use crate::error::{Error, Result};
 use crate::grid::Grid;
 use crate::kernel::KernelKind;
-use crate::material::{Model, VolumetricRate};
+use crate::material::Model;
 use crate::math::{D2, D3, Dim, Real, VectorOps};
+use crate::recipe::{BULK_VISCOSITY, Recipe};
 use crate::step::contact::{ContactPair, ContactRule};
 use crate::step::gather::GatherReport;
-use crate::step::stress::{BULK_VISCOSITY, Bad, StressReport};
-use crate::step::transfer::Transfer;
+use crate::step::stress::{Bad, StressReport};
 use std::ops::Range;
 
 /// Runtime constants derived from the scene's world settings.
@@ -57,10 +57,9 @@ impl<D: Dim> World<D> {
 #[derive(Clone, Debug)]
 pub struct Body<D: Dim> {
     pub(crate) model: Model,
-    /// Which volumetric strain rate its stress update takes (sand's option).
-    pub(crate) volumetric_rate: VolumetricRate,
-    /// How velocities travel between particles and grid (PIC/FLIP α, APIC).
-    pub(crate) transfer: Transfer,
+    /// How the step treats it: transfer, FLIP share, stress order, volumetric rate, bulk
+    /// viscosity.
+    pub(crate) recipe: Recipe,
     pub(crate) range: Range<usize>,
     pub(crate) grid: Grid<D>,
     pub(crate) stats: BodyStats,
@@ -79,8 +78,6 @@ pub struct Body<D: Dim> {
     pub(crate) constrained: bool,
     /// What the stress update of the current step measured.
     pub(crate) stress_report: StressReport,
-    /// The length C h of its artificial bulk viscosity ([`Body::bulk_length_for`]).
-    pub(crate) bulk_length: Real,
 }
 
 impl<D: Dim> Body<D> {
@@ -114,19 +111,13 @@ impl<D: Dim> Body<D> {
         let c = self.wave_speed();
         // the fastest compression of the latest stress update
         let fastest = self.stress_report.max_compression;
-        let q = (BULK_VISCOSITY * self.bulk_length * fastest) as f64;
+        let q = (BULK_VISCOSITY * self.recipe.bulk_length * fastest) as f64;
         q + (q * q + c * c).sqrt()
     }
 
-    /// The length C h of the artificial bulk viscosity of a body of `model` on a grid of cell
-    /// `h`: solids only. Sand has none (its flows are dissipative already, and a viscosity is
-    /// what docs/validation.md finds too much of), nor has a kinematic body (no stress).
-    pub(crate) fn bulk_length_for(model: &Model, kinematic: bool, h: Real) -> Real {
-        match model {
-            Model::DruckerPrager(_) => 0.0,
-            _ if kinematic => 0.0,
-            _ => BULK_VISCOSITY * h,
-        }
+    /// How the step treats this body.
+    pub fn recipe(&self) -> &Recipe {
+        &self.recipe
     }
 }
 
@@ -311,8 +302,8 @@ impl<D: Dim> Simulation<D> {
             .velocity
             .as_deref()
             .map_or(D::Vector::ZERO, |v| D::Vector::from_fn(|a| v[a] as Real));
-        let apic = config.uses_apic(self.scene.kernel);
-        if apic {
+        let recipe = Recipe::new(config, self.scene.kernel, self.scene.cell_size);
+        if recipe.apic {
             self.particles.enable_affine();
         }
         let start = self.particles.len();
@@ -329,11 +320,7 @@ impl<D: Dim> Simulation<D> {
         }
         self.bodies.push(Body {
             model: config.material.model(),
-            volumetric_rate: config.material.volumetric_rate(),
-            transfer: Transfer {
-                flip: config.flip_ratio() as Real,
-                apic,
-            },
+            recipe,
             range: start..self.particles.len(),
             grid: Grid::default(),
             stats: BodyStats::default(),
@@ -344,11 +331,6 @@ impl<D: Dim> Simulation<D> {
             contact_impulse: [0.0; 3],
             constrained: false,
             stress_report: StressReport::default(),
-            bulk_length: Body::<D>::bulk_length_for(
-                &config.material.model(),
-                config.kinematic,
-                self.world.h,
-            ),
         });
         self.refresh_diagnostics();
     }
@@ -473,27 +455,25 @@ impl<D: Dim> Simulation<D> {
         }
         next.validate()?;
         self.world = World::new(&next);
-        if next.bodies.iter().any(|b| b.uses_apic(next.kernel)) {
+        let recipes: Vec<Recipe> = next
+            .bodies
+            .iter()
+            .map(|b| Recipe::new(b, next.kernel, next.cell_size))
+            .collect();
+        if recipes.iter().any(|r| r.apic) {
             self.particles.enable_affine();
         }
-        for (body, cfg) in self.bodies.iter_mut().zip(&next.bodies) {
+        for ((body, cfg), recipe) in self.bodies.iter_mut().zip(&next.bodies).zip(recipes) {
             body.model = cfg.material.model();
-            body.volumetric_rate = cfg.material.volumetric_rate();
-            body.bulk_length =
-                Body::<D>::bulk_length_for(&body.model, body.kinematic, self.world.h);
-            if body.bulk_length == 0.0 {
+            if recipe.bulk_length == 0.0 {
                 // no viscous pressure left for a body that turned to sand to meet again
                 self.particles.viscous_pressure[body.range.clone()].fill(0.0);
             }
-            let apic = cfg.uses_apic(next.kernel);
-            if apic && !body.transfer.apic {
+            if recipe.apic && !body.recipe.apic {
                 // a body that turns to APIC starts from a zero affine velocity
                 self.particles.affine[body.range.clone()].fill(D::GRAD_ZERO);
             }
-            body.transfer = Transfer {
-                flip: cfg.flip_ratio() as Real,
-                apic,
-            };
+            body.recipe = recipe;
         }
         self.scene = next;
         Ok(())

@@ -18,7 +18,6 @@ use crate::sim::{Body, Simulation};
 impl<D: Dim> Simulation<D> {
     /// Step 5 between every pair of bodies whose grids share blocks.
     pub(super) fn resolve_contacts(&mut self) {
-        let kernel = self.world.kernel;
         let sticks = self.world.contact.sticks();
         self.solids_stuck = false;
         for body in &mut self.bodies {
@@ -37,7 +36,7 @@ impl<D: Dim> Simulation<D> {
             );
             self.diagnostics.dissipated_contact += r.dissipated;
             // (a kinematic body's grid is never changed: both changed means both deform)
-            let last = |b: &Body<D>| b.stress_order(kernel) == StressOrder::Last;
+            let last = |b: &Body<D>| b.recipe.stress_order == StressOrder::Last;
             self.solids_stuck |= sticks && r.changed_a && r.changed_b && last(a) && last(b);
             a.constrained |= r.changed_a;
             b.constrained |= r.changed_b;

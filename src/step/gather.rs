@@ -41,7 +41,7 @@ impl<D: Dim> Simulation<D> {
             let state = GatherState {
                 x: &mut p.x[r.clone()],
                 v: &mut p.v[r.clone()],
-                affine: if body.transfer.apic {
+                affine: if body.recipe.apic {
                     Some(&mut p.affine[r.clone()])
                 } else {
                     None
@@ -54,7 +54,7 @@ impl<D: Dim> Simulation<D> {
                 mass: &p.mass[r.clone()],
                 plastic_strain: &mut p.plastic_strain[r.clone()],
                 viscous_pressure: &mut p.viscous_pressure[r],
-                bulk_length: body.bulk_length,
+                bulk_length: body.recipe.bulk_length,
             };
             if body.kinematic {
                 let g = advect_kinematic(state, dt, &w.walls, body.radius, w.gravity);
@@ -63,7 +63,7 @@ impl<D: Dim> Simulation<D> {
             }
             let pass = Pass {
                 grid: &body.grid,
-                transfer: body.transfer.at_constraints(body.constrained),
+                transfer: Transfer::of(&body.recipe).at_constraints(body.constrained),
                 dt,
                 inv_h: w.inv_h,
                 walls: &w.walls,
@@ -83,7 +83,7 @@ impl<D: Dim> Simulation<D> {
                     g.with_plastic_strain(after.state.plastic_strain)
                 }};
             }
-            let last = body.stress_order(w.kernel) == StressOrder::Last;
+            let last = body.recipe.stress_order == StressOrder::Last;
             let report = match (&body.model, last) {
                 (_, false) => {
                     let g = with_kernel!(w.kernel, K, S => gather::<D, K, _, S>(&pass, state, &mut StressUpdatedFirst));

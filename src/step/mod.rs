@@ -10,7 +10,8 @@
 //! | [`walls`] | at the domain's walls, on the grid | 5 |
 //! | [`gather`] | PIC/FLIP velocities (and, stress updated last, steps 2–3), particle-side walls, advection | 6, 7, 8 (2, 3) |
 //!
-//! **Where the stress update sits** ([`StressOrder`], per body) is the one departure from
+//! **Where the stress update sits** ([`StressOrder`], per body, in its
+//! [`crate::recipe::Recipe`]) is the one departure from
 //! Sec. 4.2's order. Sand, and every body with the paper's linear kernel, follow the paper:
 //! the stress is updated from the grid velocities of step 1, then its forces are scattered
 //! (update stress first). Solids (elastic, von Mises) with the C¹ kernels (GIMP, the default,
@@ -26,8 +27,8 @@
 //! granular figures past issue 16's bounds (docs/validation.md, "The order of the stress
 //! update"); its `"cell_average"` volumetric rate is computed in the stress-first pass only.
 //!
-//! [`transfer`] holds the choice of how velocities travel between particles and grid (the
-//! PIC/FLIP blend α, APIC), per body, used by the scatter and the gather.
+//! [`transfer`] holds how velocities travel between particles and grid (the PIC/FLIP blend α,
+//! APIC), as each body's recipe chooses, used by the scatter and the gather.
 //!
 //! Each pass is a loop over one body's particles or grid nodes, generic over the dimension
 //! `D` and the kernel `K` (with `S` nodes per axis). The stencil loops follow the tensor
@@ -50,9 +51,9 @@ pub mod walls;
 use crate::error::{Error, Result};
 use crate::grid::{BlockLayout, GHOST, Grid, stencil_span};
 use crate::kernel::{Kernel, KernelKind, Stencil};
-use crate::material::Model;
 use crate::math::{Dim, Real, VectorOps};
-use crate::sim::{Body, Diagnostics, PassTimings, Simulation};
+pub use crate::recipe::StressOrder;
+use crate::sim::{Diagnostics, PassTimings, Simulation};
 
 impl<D: Dim> Simulation<D> {
     /// One time step, no longer than `limit` seconds: the eight steps of Sec. 4.2.
@@ -80,34 +81,6 @@ impl<D: Dim> Simulation<D> {
         let stress: Vec<_> = self.bodies.iter().map(|b| b.stress_report).collect();
         self.finish_step(dt, &stress, &gathered)?;
         Ok(&self.diagnostics)
-    }
-}
-
-/// Where the stress update sits in the step (see the module documentation).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum StressOrder {
-    /// Sec. 4.2's order: from the grid velocities of step 1, before the forces.
-    First,
-    /// At the end of the step, from the new grid velocities, in the gather's walk.
-    Last,
-}
-
-impl StressOrder {
-    /// The order for a body of `model` with `kernel`: the linear kernel keeps the paper's
-    /// order (its weight gradient does not vanish with its weight), and so does sand, some of
-    /// whose validation figures the other order takes past their bounds (docs/validation.md).
-    pub fn for_body(kernel: KernelKind, model: &Model) -> Self {
-        match (kernel, model) {
-            (KernelKind::Linear, _) | (_, Model::DruckerPrager(_)) => StressOrder::First,
-            _ => StressOrder::Last,
-        }
-    }
-}
-
-impl<D: Dim> Body<D> {
-    /// Where this body's stress update sits in the step.
-    pub(crate) fn stress_order(&self, kernel: KernelKind) -> StressOrder {
-        StressOrder::for_body(kernel, &self.model)
     }
 }
 

@@ -73,7 +73,7 @@ impl<D: Dim> Simulation<D> {
         let p = &mut self.particles;
         for body in &mut self.bodies {
             body.stress_report = StressReport::default();
-            if body.kinematic || body.stress_order(kernel) != super::StressOrder::First {
+            if body.kinematic || body.recipe.stress_order != super::StressOrder::First {
                 continue;
             }
             let r = body.range.clone();
@@ -84,11 +84,11 @@ impl<D: Dim> Simulation<D> {
                 mass: &p.mass[r.clone()],
                 plastic_strain: &mut p.plastic_strain[r.clone()],
                 viscous_pressure: &mut p.viscous_pressure[r],
-                bulk_length: body.bulk_length,
+                bulk_length: body.recipe.bulk_length,
             };
             let lp = body.radius * inv_h;
             let grid = &mut body.grid;
-            let average = body.volumetric_rate == VolumetricRate::CellAverage;
+            let average = body.recipe.volumetric_rate == VolumetricRate::CellAverage;
             body.stress_report = with_kernel!(kernel, K, S => match &body.model {
                 Model::Elastic(m) => update_stress_first::<D, K, _, S, false>(grid, x, state, m, dt, inv_h, lp),
                 Model::VonMises(m) => update_stress_first::<D, K, _, S, false>(grid, x, state, m, dt, inv_h, lp),
@@ -604,10 +604,7 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
     }
 }
 
-/// The bulk viscosity's coefficient C: q acts over a length C h. At 0.5 the supersonic blows
-/// of the stability tests gain no energy, as at 1, and the elastic bunnies' rebound moves by
-/// under 1 % (2.9 % at 1; docs/stability.md).
-pub const BULK_VISCOSITY: Real = 0.5;
+pub use crate::recipe::BULK_VISCOSITY;
 
 /// What one constitutive call (for `LANES` particles in SIMD lanes) adds to the report.
 struct Group {
