@@ -43,6 +43,7 @@ pub mod allocate;
 pub mod contact;
 pub mod gather;
 pub mod grid_update;
+pub mod report;
 pub mod scatter;
 pub mod stress;
 pub mod transfer;
@@ -54,6 +55,7 @@ use crate::kernel::{Kernel, KernelKind, Stencil};
 use crate::math::{Dim, Real, VectorOps};
 pub use crate::recipe::StressOrder;
 use crate::sim::{Diagnostics, PassTimings, Simulation};
+pub use report::BodyStep;
 
 impl<D: Dim> Simulation<D> {
     /// One time step, no longer than `limit` seconds: the eight steps of Sec. 4.2.
@@ -67,19 +69,22 @@ impl<D: Dim> Simulation<D> {
         let dt = self.stable_dt().min(limit);
         let h = dt as Real;
         let mut t = Clock::start(self.timings.is_some());
-        t.time(Pass::Allocate, || self.allocate_grids());
-        t.time(Pass::Scatter, || self.scatter_to_grid()); // 1 (stress last: and 4's forces)
-        t.time(Pass::Grid, || self.grid_velocities()); // 1: v_i^n
-        t.time(Pass::Stress, || self.update_stress_first(h)); // 2, 3, 4 (stress first)
-        t.time(Pass::Grid, || self.grid_forces(h)); // 4
-        t.time(Pass::Contact, || self.resolve_contacts()); // 5, between bodies
-        t.time(Pass::Walls, || self.apply_walls()); // 5, walls
-        let gathered = t.time(Pass::Gather, || self.gather_and_update(h)); // 6, 7, 8 (2, 3)
+        let mut steps = vec![BodyStep::default(); self.bodies.len()];
+        let mut contacts = Vec::new();
+        t.time(Phase::Allocate, || self.allocate_grids(&mut contacts));
+        t.time(Phase::Scatter, || self.scatter_to_grid()); // 1 (stress last: and 4's forces)
+        t.time(Phase::Grid, || self.grid_velocities()); // 1: v_i^n
+        t.time(Phase::Stress, || self.update_stress_first(h, &mut steps)); // 2, 3, 4 (first)
+        t.time(Phase::Grid, || self.grid_forces(h)); // 4
+        t.time(Phase::Contact, || {
+            self.resolve_contacts(&contacts, &mut steps)
+        }); // 5, bodies
+        t.time(Phase::Walls, || self.apply_walls(&mut steps)); // 5, walls
+        let gathered = t.time(Phase::Gather, || self.gather_and_update(h, &mut steps)); // 6–8
         t.add_to(&mut self.timings);
         self.time += dt;
         self.steps += 1;
-        let stress: Vec<_> = self.bodies.iter().map(|b| b.stress_report).collect();
-        self.finish_step(dt, &stress, &gathered)?;
+        self.finish_step(dt, &steps, &gathered)?;
         Ok(&self.diagnostics)
     }
 }
@@ -108,9 +113,9 @@ macro_rules! with_kernel {
 }
 pub(crate) use with_kernel;
 
-/// The passes, as [`PassTimings`] counts them.
+/// The phases of the step, as [`PassTimings`] counts them (a pass, or the grid's two).
 #[derive(Clone, Copy)]
-enum Pass {
+enum Phase {
     Allocate,
     Scatter,
     Stress,
@@ -120,7 +125,7 @@ enum Pass {
     Gather,
 }
 
-/// Wall-clock time per pass, when asked for (native builds only: WebAssembly has no clock
+/// Wall-clock time per phase, when asked for (native builds only: WebAssembly has no clock
 /// here).
 struct Clock {
     seconds: [f64; 7],
@@ -138,17 +143,17 @@ impl Clock {
         }
     }
 
-    /// Runs `f`, adding its duration to `pass`.
+    /// Runs `f`, adding its duration to `phase`.
     #[inline(always)]
-    fn time<T>(&mut self, pass: Pass, f: impl FnOnce() -> T) -> T {
+    fn time<T>(&mut self, phase: Phase, f: impl FnOnce() -> T) -> T {
         #[cfg(not(target_arch = "wasm32"))]
         if self.on {
             let start = std::time::Instant::now();
             let out = f();
-            self.seconds[pass as usize] += start.elapsed().as_secs_f64();
+            self.seconds[phase as usize] += start.elapsed().as_secs_f64();
             return out;
         }
-        let _ = pass;
+        let _ = phase;
         f()
     }
 
@@ -156,13 +161,13 @@ impl Clock {
         if let Some(tm) = timings {
             let s = self.seconds;
             tm.steps += 1;
-            tm.allocate += s[Pass::Allocate as usize];
-            tm.scatter += s[Pass::Scatter as usize];
-            tm.stress += s[Pass::Stress as usize];
-            tm.grid += s[Pass::Grid as usize];
-            tm.contact += s[Pass::Contact as usize];
-            tm.walls += s[Pass::Walls as usize];
-            tm.gather += s[Pass::Gather as usize];
+            tm.allocate += s[Phase::Allocate as usize];
+            tm.scatter += s[Phase::Scatter as usize];
+            tm.stress += s[Phase::Stress as usize];
+            tm.grid += s[Phase::Grid as usize];
+            tm.contact += s[Phase::Contact as usize];
+            tm.walls += s[Phase::Walls as usize];
+            tm.gather += s[Phase::Gather as usize];
         }
     }
 }

@@ -66,13 +66,12 @@ use std::ops::Range;
 
 impl<D: Dim> Simulation<D> {
     /// Steps 2–4, particle side, in Sec. 4.2's order, for the bodies that take it (the
-    /// others' stress is updated in the gather).
-    pub(super) fn update_stress_first(&mut self, dt: Real) {
+    /// others' stress is updated in the gather); their reports go to `steps`.
+    pub(super) fn update_stress_first(&mut self, dt: Real, steps: &mut [super::BodyStep]) {
         let inv_h = self.world.inv_h;
         let kernel = self.world.kernel;
         let p = &mut self.particles;
-        for body in &mut self.bodies {
-            body.stress_report = StressReport::default();
+        for (body, step) in self.bodies.iter_mut().zip(steps) {
             if body.kinematic || body.recipe.stress_order != super::StressOrder::First {
                 continue;
             }
@@ -89,7 +88,7 @@ impl<D: Dim> Simulation<D> {
             let lp = body.radius * inv_h;
             let grid = &mut body.grid;
             let average = body.recipe.volumetric_rate == VolumetricRate::CellAverage;
-            body.stress_report = with_kernel!(kernel, K, S => match &body.model {
+            step.stress = with_kernel!(kernel, K, S => match &body.model {
                 Model::Elastic(m) => update_stress_first::<D, K, _, S, false>(grid, x, state, m, dt, inv_h, lp),
                 Model::VonMises(m) => update_stress_first::<D, K, _, S, false>(grid, x, state, m, dt, inv_h, lp),
                 Model::DruckerPrager(m) if average => {
