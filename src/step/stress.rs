@@ -55,8 +55,9 @@ use super::{
     third_axis_nodes, with_kernel,
 };
 use crate::grid::{Grid, Node, stencil_span};
+use crate::kernel::KernelKind;
 use crate::kernel::{Kernel, Stencil, floor_nonneg};
-use crate::material::{Constitutive, Model, VolumetricRate};
+use crate::material::{Constitutive, VolumetricRate, WithModel};
 use crate::math::{
     Batch, Dim, LANES, Lane, Lanes, Lanes2, Real, SymTensor, Vec4, VectorOps, exp_small, max,
     sum_from_first,
@@ -66,14 +67,13 @@ use std::ops::Range;
 
 impl<D: Dim> Simulation<D> {
     /// Steps 2–4, particle side, in Sec. 4.2's order, for the bodies that take it (the
-    /// others' stress is updated in the gather).
-    pub(super) fn update_stress_first(&mut self, dt: Real) {
+    /// others' stress is updated in the gather); their reports go to `steps`.
+    pub(super) fn update_stress_first(&mut self, dt: Real, steps: &mut [super::BodyStep]) {
         let inv_h = self.world.inv_h;
         let kernel = self.world.kernel;
         let p = &mut self.particles;
-        for body in &mut self.bodies {
-            body.stress_report = StressReport::default();
-            if body.kinematic || body.stress_order(kernel) != super::StressOrder::First {
+        for (body, step) in self.bodies.iter_mut().zip(steps) {
+            if body.kinematic || body.recipe.stress_order != super::StressOrder::First {
                 continue;
             }
             let r = body.range.clone();
@@ -84,21 +84,58 @@ impl<D: Dim> Simulation<D> {
                 mass: &p.mass[r.clone()],
                 plastic_strain: &mut p.plastic_strain[r.clone()],
                 viscous_pressure: &mut p.viscous_pressure[r],
-                bulk_length: body.bulk_length,
+                bulk_length: body.recipe.bulk_length,
             };
             let lp = body.radius * inv_h;
             let grid = &mut body.grid;
-            let average = body.volumetric_rate == VolumetricRate::CellAverage;
-            body.stress_report = with_kernel!(kernel, K, S => match &body.model {
-                Model::Elastic(m) => update_stress_first::<D, K, _, S, false>(grid, x, state, m, dt, inv_h, lp),
-                Model::VonMises(m) => update_stress_first::<D, K, _, S, false>(grid, x, state, m, dt, inv_h, lp),
-                Model::DruckerPrager(m) if average => {
-                    sum_cell_dilatation::<D, K, S>(grid, x, state.volume, inv_h, lp);
-                    update_stress_first::<D, K, _, S, true>(grid, x, state, m, dt, inv_h, lp)
-                }
-                Model::DruckerPrager(m) => update_stress_first::<D, K, _, S, false>(grid, x, state, m, dt, inv_h, lp),
+            let average = body.recipe.volumetric_rate == VolumetricRate::CellAverage;
+            step.stress = body.model.with(First {
+                kernel,
+                grid,
+                x,
+                state,
+                dt,
+                inv_h,
+                lp,
+                average,
             });
         }
+    }
+}
+
+/// Steps 2–4 of one body whose stress is updated first, run with its model
+/// ([`crate::material::Model::with`]): [`update_stress_first`] for the kernel, after [`sum_cell_dilatation`]
+/// when the body's recipe takes the cell-averaged volumetric rate.
+struct First<'a, D: Dim> {
+    kernel: KernelKind,
+    grid: &'a mut Grid<D>,
+    x: &'a [D::Vector],
+    state: StressState<'a, D>,
+    dt: Real,
+    inv_h: Real,
+    lp: Real,
+    average: bool,
+}
+
+impl<D: Dim> WithModel for First<'_, D> {
+    type Output = StressReport;
+    fn run<M: Constitutive>(self, m: &M) -> StressReport {
+        let First {
+            kernel,
+            grid,
+            x,
+            state,
+            dt,
+            inv_h,
+            lp,
+            average,
+        } = self;
+        with_kernel!(kernel, K, S => if average {
+            sum_cell_dilatation::<D, K, S>(grid, x, state.volume, inv_h, lp);
+            update_stress_first::<D, K, _, S, true>(grid, x, state, m, dt, inv_h, lp)
+        } else {
+            update_stress_first::<D, K, _, S, false>(grid, x, state, m, dt, inv_h, lp)
+        })
     }
 }
 
@@ -604,10 +641,7 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
     }
 }
 
-/// The bulk viscosity's coefficient C: q acts over a length C h. At 0.5 the supersonic blows
-/// of the stability tests gain no energy, as at 1, and the elastic bunnies' rebound moves by
-/// under 1 % (2.9 % at 1; docs/stability.md).
-pub const BULK_VISCOSITY: Real = 0.5;
+pub use crate::recipe::BULK_VISCOSITY;
 
 /// What one constitutive call (for `LANES` particles in SIMD lanes) adds to the report.
 struct Group {
@@ -1109,21 +1143,17 @@ mod tests {
             Material::elastic(1e6, 0.3, 1000.0),
             Material::von_mises(1e6, 0.3, 1000.0, 3e3),
             Material::drucker_prager(1e6, 0.3, 2000.0, 30.0, 5.0, 0.0),
+            Material::mohr_coulomb(1e6, 0.3, 2000.0, 30.0, 5.0, 100.0),
         ] {
-            match material.model() {
-                Model::Elastic(m) => {
-                    lanes_match_the_reference::<D2, _>(&m);
-                    lanes_match_the_reference::<D3, _>(&m);
-                }
-                Model::VonMises(m) => {
-                    lanes_match_the_reference::<D2, _>(&m);
-                    lanes_match_the_reference::<D3, _>(&m);
-                }
-                Model::DruckerPrager(m) => {
-                    lanes_match_the_reference::<D2, _>(&m);
-                    lanes_match_the_reference::<D3, _>(&m);
+            struct Check;
+            impl WithModel for Check {
+                type Output = ();
+                fn run<M: Constitutive>(self, m: &M) {
+                    lanes_match_the_reference::<D2, _>(m);
+                    lanes_match_the_reference::<D3, _>(m);
                 }
             }
+            material.model().with(Check);
         }
     }
 
