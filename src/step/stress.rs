@@ -58,7 +58,7 @@ use crate::grid::{Grid, Node, stencil_span};
 use crate::kernel::{Kernel, Stencil, floor_nonneg};
 use crate::material::{Constitutive, Model, VolumetricRate};
 use crate::math::{
-    Batch, Dim, LANES, Lane, Lanes, Lanes2, Real, SymTensor, Vec4, VectorOps, exp_small, max,
+    Batch, Dim, LANES, Number, Real, Real4, Real4x2, SymTensor, Vec4, VectorOps, exp_small, max,
     sum_from_first,
 };
 use crate::sim::Simulation;
@@ -467,9 +467,9 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
     let viscous = ps.bulk_length > 0.0;
     let mass = (viscous || model.max_specific_volume().is_some()).then(|| {
         let lanes = |m: &[Real]| {
-            Lanes2(
-                Lanes::from_slice(&m[..LANES]),
-                Lanes::from_slice(&m[LANES..]),
+            Real4x2(
+                Real4::from_slice(&m[..LANES]),
+                Real4::from_slice(&m[LANES..]),
             )
         };
         if len == CHUNK {
@@ -505,18 +505,18 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
     // The particles' accumulated plastic strains in lanes (zero for models that do not yield,
     // and in a short chunk's padding).
     let history = if !M::PLASTIC {
-        Lanes2(Lanes::ZERO, Lanes::ZERO)
+        Real4x2(Real4::ZERO, Real4::ZERO)
     } else if len == CHUNK {
-        Lanes2(
-            Lanes::from_slice(&ps.plastic_strain[..LANES]),
-            Lanes::from_slice(&ps.plastic_strain[LANES..]),
+        Real4x2(
+            Real4::from_slice(&ps.plastic_strain[..LANES]),
+            Real4::from_slice(&ps.plastic_strain[LANES..]),
         )
     } else {
         let mut e = [0.0; CHUNK];
         e[..len].copy_from_slice(ps.plastic_strain);
-        Lanes2(
-            Lanes::from_slice(&e[..LANES]),
-            Lanes::from_slice(&e[LANES..]),
+        Real4x2(
+            Real4::from_slice(&e[..LANES]),
+            Real4::from_slice(&e[LANES..]),
         )
     };
     let mut plastic = [0.0; CHUNK];
@@ -529,13 +529,13 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
             D::Sym::pack(&group(&stress[..])),
             D::Sym::pack(&group(&rates.rate)),
             D::Sym::pack_spin(&spins),
-            Lanes::from_slice(&volume[g..g + LANES]),
+            Real4::from_slice(&volume[g..g + LANES]),
         )
     };
     let ((s0, r0, w0, v0), (s1, r1, w1, v1)) = (pack(0), pack(LANES));
     let mut lanes = D::Sym::zip(s0, s1);
-    let mut v = Lanes2(v0, v1);
-    let mut q = Lanes2(Lanes::ZERO, Lanes::ZERO);
+    let mut v = Real4x2(v0, v1);
+    let mut q = Real4x2(Real4::ZERO, Real4::ZERO);
     let (ep, u) = update_group(
         model,
         &mut lanes,
