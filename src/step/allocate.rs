@@ -4,7 +4,8 @@
 //! touch the same nodes and the transfers stay in cache. Then the pairs of bodies whose grids
 //! share blocks are found, for the contact of step 5.
 
-use super::{grid_coords, with_kernel};
+use super::walk::grid_coords;
+use super::with_kernel;
 use crate::grid::GridIndex;
 use crate::kernel::Kernel;
 use crate::math::Dim;

@@ -50,17 +50,12 @@
 //! update is a long dependency chain, and in lanes four chains advance at once), with the
 //! energies and the finiteness test per group of four. A test checks that they agree.
 
-use super::{
-    Stencils, first_axis_nodes, first_node, grid_coords, layout, second_axis_nodes, third_axis,
-    third_axis_nodes, with_kernel,
-};
-use crate::grid::{Grid, Node, stencil_span};
-use crate::kernel::{Kernel, Stencil, floor_nonneg};
+use super::walk::{self, At, Share, Walker};
+use super::with_kernel;
+use crate::grid::Grid;
+use crate::kernel::{Kernel, Stencil};
 use crate::material::{Constitutive, Model, VolumetricRate};
-use crate::math::{
-    Batch, Dim, LANES, Number, Real, Real4, Real4x2, SymTensor, Vec4, VectorOps, exp_small, max,
-    sum_from_first,
-};
+use crate::math::{Batch, Dim, LANES, Number, Real, Real4, Real4x2, SymTensor, exp_small, max};
 use crate::sim::Simulation;
 use std::ops::Range;
 
@@ -189,7 +184,6 @@ pub fn update_stress_first<
     inv_h: Real,
     lp: Real,
 ) -> StressReport {
-    let (p, span) = layout::<D, S>(grid);
     let Grid {
         layout,
         nodes,
@@ -198,24 +192,20 @@ pub fn update_stress_first<
         ..
     } = &mut *grid;
     let mut report = StressReport::default();
-    let mut st = [Stencil::<S>::at([0; 3]); CHUNK];
-    let mut origin = [0usize; CHUNK];
+    let mut at = [At {
+        st: Stencil::<S>::at([0; 3]),
+        origin: 0,
+    }; CHUNK];
     let mut rates = Rates::<D>::zero();
-    let mut stencils = Stencils::<D, K, S>::new(inv_h, lp);
+    let mut walker = Walker::<D, K, S>::new(layout, particle_node, inv_h, lp);
     for first in (0..x.len()).step_by(CHUNK) {
         let chunk = first..x.len().min(first + CHUNK);
         for (i, q) in chunk.clone().enumerate() {
-            st[i] = stencils.at(x, q);
-            origin[i] = first_node(layout, particle_node[q], &st[i]);
-            let cell = &nodes[origin[i]..origin[i] + span];
-            let mut grad = if D::DIM == 2 {
-                velocity_gradient_2d_packed::<D, K, S>(cell, p, &st[i])
-            } else {
-                velocity_gradient::<D, K, S>(cell, p, &st[i])
-            };
+            at[i] = walker.at(x, q);
+            // ∇v_p = Σ_i v_i^n ⊗ ∇w_ip.
+            let mut grad = walk::gradient::<D, K, S>(nodes, &at[i], |n| n.vel());
             if CELL_AVERAGE {
-                let [sum, volume] =
-                    cell_dilatation[cell_node::<D, S>(x[q], inv_h, &st[i], origin[i], p)];
+                let [sum, volume] = cell_dilatation[walk::cell_node::<D, S>(x[q], inv_h, &at[i])];
                 grad = with_volumetric_rate::<D>(grad, sum / volume);
             }
             rates.set(i, grad);
@@ -239,12 +229,13 @@ pub fn update_stress_first<
             if report.bad > bad && !(sigma.is_finite() && v.is_finite() && v > 0.0) {
                 continue;
             }
-            let cell = &mut nodes[origin[i]..origin[i] + span];
-            if D::DIM == 2 {
-                scatter_force_2d_packed::<D, K, S>(cell, p, &st[i], sigma * -v);
-            } else {
-                scatter_force::<D, K, S>(cell, p, &st[i], sigma * -v);
-            }
+            // f_i += −V_p (σ_p − q_p I) ∇w_ip.
+            let share = Share {
+                mass: None,
+                affine: None,
+                force: Some(sigma * -v),
+            };
+            walk::scatter::<D, K, S>(nodes, None, &at[i], share);
         }
     }
     grid.reduce_nodes(|o, h| o.new_vel += h.new_vel);
@@ -264,7 +255,6 @@ pub fn sum_cell_dilatation<D: Dim, K: Kernel<S>, const S: usize>(
     inv_h: Real,
     lp: Real,
 ) {
-    let (p, span) = layout::<D, S>(grid);
     let Grid {
         index,
         layout,
@@ -275,18 +265,12 @@ pub fn sum_cell_dilatation<D: Dim, K: Kernel<S>, const S: usize>(
     } = &mut *grid;
     sums.clear();
     sums.resize(nodes.len(), [0.0; 2]);
-    let mut stencils = Stencils::<D, K, S>::new(inv_h, lp);
+    let mut walker = Walker::<D, K, S>::new(layout, particle_node, inv_h, lp);
     for q in 0..x.len() {
-        let st = stencils.at(x, q);
-        let origin = first_node(layout, particle_node[q], &st);
-        let cell = &nodes[origin..origin + span];
-        let grad = if D::DIM == 2 {
-            velocity_gradient_2d_packed::<D, K, S>(cell, p, &st)
-        } else {
-            velocity_gradient::<D, K, S>(cell, p, &st)
-        };
+        let at = walker.at(x, q);
+        let grad = walk::gradient::<D, K, S>(nodes, &at, |n| n.vel());
         let v = volume[q];
-        let s = &mut sums[cell_node::<D, S>(x[q], inv_h, &st, origin, p)];
+        let s = &mut sums[walk::cell_node::<D, S>(x[q], inv_h, &at)];
         s[0] += v * divergence::<D>(&grad);
         s[1] += v;
     }
@@ -295,28 +279,6 @@ pub fn sum_cell_dilatation<D: Dim, K: Kernel<S>, const S: usize>(
         o[1] += h[1];
     });
     layout.fill_halo(index, sums, |h, o| *h = *o);
-}
-
-/// The storage index of the lowest node of the cell holding a particle at `x`, in the block
-/// that handles the particle (its stencil starts at `origin`; rows are `p` nodes long). The
-/// cell's nodes all carry weight, so that node is stencil node 0 or 1 along each axis.
-#[inline(always)]
-pub fn cell_node<D: Dim, const S: usize>(
-    x: D::Vector,
-    inv_h: Real,
-    st: &Stencil<S>,
-    origin: usize,
-    p: usize,
-) -> usize {
-    let xg = grid_coords::<D>(x, inv_h);
-    let (mut n, mut stride) = (origin, 1);
-    for (a, c) in xg.iter().enumerate().take(D::DIM) {
-        let k = floor_nonneg(*c) - st.base[a];
-        debug_assert!((0..S as i32 - 1).contains(&k), "cell outside the stencil");
-        n += k as usize * stride;
-        stride *= p;
-    }
-    n
 }
 
 /// tr ∇v = ∇·v.
@@ -668,119 +630,11 @@ fn update_group<S: SymTensor, M: Constitutive>(
     (u.plastic_strain, group)
 }
 
-/// Step 2 for one particle: ∇v_p = Σ_i v_i ⊗ ∇w_ip from the nodes' `vel`. `nodes` starts at
-/// the stencil's first node (node (i, j, k) at `i + j p + k p²`).
-#[inline(always)]
-pub fn velocity_gradient<D: Dim, K: Kernel<S>, const S: usize>(
-    nodes: &[Node<D::Vector>],
-    p: usize,
-    st: &Stencil<S>,
-) -> D::Grad {
-    let nodes = &nodes[..stencil_span(D::DIM, p, S)];
-    let mut c = [D::Vector::ZERO; 3];
-    for k in 0..third_axis_nodes::<D, K, S>(st) {
-        let (wk, dwk) = third_axis::<D, S>(st, k);
-        for j in 0..second_axis_nodes::<D, K, S>(st) {
-            let base = j * p + k * p * p;
-            let row = &nodes[base..base + S];
-            // Σ_i v_i ∂w_i and Σ_i v_i w_i along the row, then the row's weights.
-            let (mut a, mut b) = (D::Vector::ZERO, D::Vector::ZERO);
-            for i in 0..first_axis_nodes::<D, K, S>(st) {
-                a += row[i].vel() * st.dw[i][0];
-                b += row[i].vel() * st.w[i][0];
-            }
-            c[0] += a * (st.w[j][1] * wk);
-            c[1] += b * (st.dw[j][1] * wk);
-            if D::DIM == 3 {
-                c[2] += b * (st.w[j][1] * dwk);
-            }
-        }
-    }
-    D::from_columns(c)
-}
-
-/// [`velocity_gradient`] in 2D, packing specialisation: both columns in one `Vec4`,
-/// (L_xx, L_yx, L_xy, L_yy) = Σ_i (v_i, v_i) ∘ (∂_x w_i ×2, ∂_y w_i ×2).
-#[inline(always)]
-pub fn velocity_gradient_2d_packed<D: Dim, K: Kernel<S>, const S: usize>(
-    nodes: &[Node<D::Vector>],
-    p: usize,
-    st: &Stencil<S>,
-) -> D::Grad {
-    debug_assert_eq!(D::DIM, 2);
-    let nodes = &nodes[..stencil_span(2, p, S)];
-    let l = sum_from_first(second_axis_nodes::<D, K, S>(st), |j| {
-        let row = &nodes[j * p..j * p + S];
-        let wj = Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
-        sum_from_first(first_axis_nodes::<D, K, S>(st), |i| {
-            let g = Vec4::new(st.dw[i][0], st.dw[i][0], st.w[i][0], st.w[i][0]) * wj;
-            let v = row[i].vel();
-            Vec4::new(v[0], v[1], v[0], v[1]) * g
-        })
-    });
-    D::from_columns([
-        D::vector([l.x, l.y, 0.0]),
-        D::vector([l.z, l.w, 0.0]),
-        D::Vector::ZERO,
-    ])
-}
-
-/// Step 4 for one particle: f_i += A ∇w_ip for the symmetric A = −V_p σ_p, into the nodes'
-/// `new_vel`.
-#[inline(always)]
-pub fn scatter_force<D: Dim, K: Kernel<S>, const S: usize>(
-    nodes: &mut [Node<D::Vector>],
-    p: usize,
-    st: &Stencil<S>,
-    a: D::Sym,
-) {
-    let nodes = &mut nodes[..stencil_span(D::DIM, p, S)];
-    let [a0, a1, a2] = D::sym_columns(a);
-    for k in 0..third_axis_nodes::<D, K, S>(st) {
-        let (wk, dwk) = third_axis::<D, S>(st, k);
-        for j in 0..second_axis_nodes::<D, K, S>(st) {
-            let base = j * p + k * p * p;
-            // A ∇w = A e_x ∂_x w + A e_y ∂_y w (+ A e_z ∂_z w): the row's factors first.
-            let pjk = a0 * (st.w[j][1] * wk);
-            let mut qjk = a1 * (st.dw[j][1] * wk);
-            if D::DIM == 3 {
-                qjk += a2 * (st.w[j][1] * dwk);
-            }
-            let row = &mut nodes[base..base + S];
-            for i in 0..first_axis_nodes::<D, K, S>(st) {
-                row[i].new_vel += pjk * st.dw[i][0] + qjk * st.w[i][0];
-            }
-        }
-    }
-}
-
-/// [`scatter_force`] in 2D, packing specialisation: a node's force from both columns of A in
-/// one `Vec4`, (a_xx, a_xy) ∂_x w_i and (a_xy, a_yy) ∂_y w_i side by side.
-#[inline(always)]
-pub fn scatter_force_2d_packed<D: Dim, K: Kernel<S>, const S: usize>(
-    nodes: &mut [Node<D::Vector>],
-    p: usize,
-    st: &Stencil<S>,
-    a: D::Sym,
-) {
-    debug_assert_eq!(D::DIM, 2);
-    let nodes = &mut nodes[..stencil_span(2, p, S)];
-    let [c0, c1, _] = D::sym_columns(a);
-    let a = Vec4::new(c0[0], c0[1], c1[0], c1[1]);
-    for j in 0..second_axis_nodes::<D, K, S>(st) {
-        let wj = a * Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
-        let row = &mut nodes[j * p..j * p + S];
-        for i in 0..first_axis_nodes::<D, K, S>(st) {
-            let t = wj * Vec4::new(st.dw[i][0], st.dw[i][0], st.w[i][0], st.w[i][0]);
-            row[i].new_vel += D::vector([t.x + t.z, t.y + t.w, 0.0]);
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::material::{Material, Model};
+    use crate::math::VectorOps;
     use crate::math::{D2, D3, Mat2, Sym2, Vec2};
     use crate::step::test_util::noise;
 
@@ -890,7 +744,7 @@ mod tests {
             .collect();
         let mut grid = Grid::<D>::default();
         grid.rebuild(count, S, |q| {
-            K::base(super::super::grid_coords::<D>(x[q], inv_h), D::DIM, lp)
+            K::base(super::walk::grid_coords::<D>(x[q], inv_h), D::DIM, lp)
         });
         for slot in 0..grid.index.block_count() {
             let (layout, index, nodes) = (&grid.layout, &grid.index, &mut grid.nodes);
