@@ -1,6 +1,7 @@
 //! The walls of the domain box: grid-node constraints (step 5) and the particle-side
 //! projection (step 7), with Coulomb friction proportional to the normal velocity removed,
-//! which is friction proportional to the contact pressure (the paper's Sec. 5).
+//! which is friction proportional to the contact pressure (the paper's Sec. 5); and the rule
+//! between bodies in contact ([`ContactRule`], applied by `crate::step::contact`).
 //!
 //! The walls lie on grid nodes; nodes on or beyond a wall take the wall rule. On the particle
 //! side a particle is treated as the cube of material it stands for (half-width: half the
@@ -142,6 +143,39 @@ impl<D: Dim> Walls<D> {
     pub fn clamp(&self, x: D::Vector, radius: Real) -> D::Vector {
         let r = D::Vector::splat(radius);
         x.max(r).min(self.size - r)
+    }
+}
+
+/// How approaching bodies interact at shared nodes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ContactRule {
+    /// The paper's Eq. 21: both take the centre-of-mass velocity (perfectly inelastic, no slip).
+    Stick,
+    /// Bardenhagen et al. (2001): remove the approaching normal velocity; the tangential slip is
+    /// resisted by Coulomb friction with coefficient μ.
+    Friction(Real),
+}
+
+/// The largest CFL number of a step in which two solids that update their stress last
+/// (elastic and von Mises bodies with the C¹ kernels, [`crate::recipe::StressOrder`]) share grid
+/// nodes under a contact rule that sticks ([`ContactRule::sticks`]). Such a solid takes its
+/// strain from grid velocities the contact has just set to the pair's common velocity; at the
+/// paper's 0.4 that pumped energy into bodies held together in three of 40 long random
+/// sweeps (a replayed case gained 54 times its energy scale), at 0.3 into one of four
+/// replays, at 0.2 into none (docs/stability.md, "Energy rises between bodies in contact").
+pub const STICKING_CFL: f64 = 0.2;
+
+impl ContactRule {
+    /// Whether the rule can hold two bodies together tangentially: the paper's rule, or
+    /// Coulomb friction with μ > 0 ([`STICKING_CFL`] applies under such a rule). In replays of
+    /// four random scenes whose energy rose under the paper's rule at CFL 0.4, frictionless
+    /// contact kept the energy in all four; Coulomb friction did not in one at μ = 0.5 and
+    /// 0.86, and in the others from μ = 2 or 5 on (docs/stability.md).
+    pub fn sticks(self) -> bool {
+        match self {
+            ContactRule::Stick => true,
+            ContactRule::Friction(mu) => mu > 0.0,
+        }
     }
 }
 

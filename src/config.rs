@@ -102,7 +102,7 @@ pub struct BodyConfig {
     /// Transfer velocities with APIC (Jiang et al. 2015; the paper's Sec. 6 names it as future
     /// work): each particle carries an affine velocity field, which keeps the angular momentum
     /// and the detail that PIC smears, without FLIP's noise. `flip` still blends in FLIP.
-    /// Absent: the material's default ([`BodyConfig::uses_apic`]: APIC for Drucker–Prager
+    /// Absent: the material's default ([`crate::recipe::Recipe`]: APIC for Drucker–Prager
     /// sand with the `gimp` and `quadratic_bspline` kernels, PIC for solids). `true` needs the
     /// `gimp` or `quadratic_bspline` kernel.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -180,19 +180,6 @@ impl BodyConfig {
         self.apic = Some(false);
         self
     }
-    /// Whether the body's velocities travel with APIC under `kernel`: its `apic` if given,
-    /// else the material's default. Drucker–Prager sand takes APIC with the C¹ kernels: the
-    /// PIC part of the paper's blend damps a granular flow so much that plane columns ran out
-    /// 40–56 % short of Lube et al. (2005), and APIC removes that damping while keeping the
-    /// α slider's meaning (docs/validation.md). Solids keep PIC: APIC does not damp the
-    /// ringing of an elastic body released stress-free, which PIC does. The linear kernel
-    /// keeps PIC for every body: its APIC inertia D_p vanishes when a particle sits on a
-    /// node, and the multilinear form that avoids it was unstable for stiff bodies.
-    pub fn uses_apic(&self, kernel: KernelKind) -> bool {
-        self.apic.unwrap_or(
-            kernel != KernelKind::Linear && matches!(self.material, Material::DruckerPrager(_)),
-        )
-    }
     /// Makes the body kinematic: it moves at its initial velocity whatever acts on it.
     pub fn kinematic(mut self) -> Self {
         self.kinematic = true;
@@ -217,11 +204,6 @@ impl BodyConfig {
         self.flip = Some(alpha);
         self
     }
-    /// The PIC/FLIP ratio in effect.
-    pub fn flip_ratio(&self) -> f64 {
-        self.flip.unwrap_or_else(|| self.material.default_flip())
-    }
-
     /// Checks the body against a world of dimension `dim` and extent `domain`; `path` names
     /// it (e.g. `bodies[2]`).
     pub fn validate(&self, path: &str, dim: usize, domain: &[f64]) -> Result<()> {
@@ -500,7 +482,7 @@ mod tests {
               "velocity": [0, 0, 0], "particles_per_cell": 2, "flip": 0.05 } ] }"#;
         let s = SceneConfig::from_json(text).unwrap();
         s.validate().unwrap();
-        assert_eq!(s.bodies[0].flip_ratio(), 0.05);
+        assert_eq!(s.bodies[0].flip, Some(0.05));
     }
 
     #[test]

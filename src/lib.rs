@@ -38,6 +38,7 @@ pub mod math;
 pub mod measure;
 pub mod params;
 pub mod playground;
+pub mod recipe;
 pub mod sim;
 pub mod step;
 #[cfg(target_arch = "wasm32")]

@@ -17,6 +17,7 @@
 use crate::config::{BodyConfig, SceneConfig};
 use crate::error::{Error, Result, not_one_of};
 use crate::material::Material;
+use crate::recipe::Recipe;
 use serde::Serialize;
 
 /// How a slider maps its travel to values.
@@ -437,7 +438,7 @@ impl Param {
     pub fn material_value(&self, material: &Material, flip: Option<f64>) -> Option<f64> {
         match self.field.access {
             Access::World { .. } => None,
-            Access::Flip => Some(flip.unwrap_or_else(|| material.default_flip())),
+            Access::Flip => Some(flip.unwrap_or_else(|| Recipe::default_flip(material))),
             Access::Material(f) => f(&mut material.clone()).map(|v| *v),
         }
     }

@@ -72,6 +72,17 @@ pub trait Constitutive: Copy + Send + Sync + 'static {
     }
 }
 
+/// How a material deforms, as far as the step's recipe ([`crate::recipe::Recipe`]) cares.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Behaviour {
+    /// Elastic or plastic solids: PIC, the stress updated last with the C¹ kernels, a bulk
+    /// viscosity.
+    Solid,
+    /// Frictional, flowing materials (sand): APIC with the C¹ kernels, the paper's α = 0.05,
+    /// the stress updated first, no bulk viscosity.
+    Granular,
+}
+
 /// The material of a body, as written in scene files:
 /// `{"elastic": {...}}`, `{"von_mises": {...}}` or `{"drucker_prager": {...}}`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -161,11 +172,12 @@ impl Material {
         }
     }
 
-    /// The default PIC/FLIP ratio α of the paper: 0.05 for sand, 0 for solids.
-    pub fn default_flip(&self) -> f64 {
+    /// Whether the material flows like sand or deforms like a solid: what decides how the
+    /// step treats its bodies ([`crate::recipe::Recipe`]).
+    pub fn behaviour(&self) -> Behaviour {
         match self {
-            Material::DruckerPrager(_) => 0.05,
-            _ => 0.0,
+            Material::DruckerPrager(_) => Behaviour::Granular,
+            _ => Behaviour::Solid,
         }
     }
 

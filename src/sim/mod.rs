@@ -4,19 +4,16 @@ mod particles;
 mod stats;
 
 pub use particles::Particles;
-pub use stats::{BodyStats, Diagnostics};
+pub use stats::{BodyStats, Diagnostics, Measure};
 
-use crate::boundary::{WallRule, Walls};
+use crate::boundary::{ContactRule, STICKING_CFL, WallRule, Walls};
 use crate::config::{BodyConfig, MAX_PARTICLES, SceneConfig};
 use crate::error::{Error, Result};
 use crate::grid::Grid;
 use crate::kernel::KernelKind;
-use crate::material::{Model, VolumetricRate};
+use crate::material::Model;
 use crate::math::{D2, D3, Dim, Real, VectorOps};
-use crate::step::contact::{ContactPair, ContactRule};
-use crate::step::gather::GatherReport;
-use crate::step::stress::{BULK_VISCOSITY, Bad, StressReport};
-use crate::step::transfer::Transfer;
+use crate::recipe::{BULK_VISCOSITY, Recipe};
 use std::ops::Range;
 
 /// Runtime constants derived from the scene's world settings.
@@ -57,10 +54,9 @@ impl<D: Dim> World<D> {
 #[derive(Clone, Debug)]
 pub struct Body<D: Dim> {
     pub(crate) model: Model,
-    /// Which volumetric strain rate its stress update takes (sand's option).
-    pub(crate) volumetric_rate: VolumetricRate,
-    /// How velocities travel between particles and grid (PIC/FLIP α, APIC).
-    pub(crate) transfer: Transfer,
+    /// How the step treats it: transfer, FLIP share, stress order, volumetric rate, bulk
+    /// viscosity.
+    pub(crate) recipe: Recipe,
     pub(crate) range: Range<usize>,
     pub(crate) grid: Grid<D>,
     pub(crate) stats: BodyStats,
@@ -72,15 +68,9 @@ pub struct Body<D: Dim> {
     pub(crate) radius: Real,
     /// Moves at its initial velocity whatever acts on it (see [`BodyConfig::kinematic`]).
     pub(crate) kinematic: bool,
-    /// Momentum received through contact in the current step.
-    pub(crate) contact_impulse: [f64; 3],
-    /// Whether a wall or a contact changed a velocity of this body's grid in the current step
-    /// (the gather then caps its FLIP share, [`Transfer::at_constraints`]).
-    pub(crate) constrained: bool,
-    /// What the stress update of the current step measured.
-    pub(crate) stress_report: StressReport,
-    /// The length C h of its artificial bulk viscosity ([`Body::bulk_length_for`]).
-    pub(crate) bulk_length: Real,
+    /// The fastest compression |tr ε̇| of the latest stress update (for the bulk viscosity's
+    /// share of the signal speed).
+    pub(crate) max_compression: Real,
 }
 
 impl<D: Dim> Body<D> {
@@ -113,20 +103,14 @@ impl<D: Dim> Body<D> {
     pub fn signal_speed(&self) -> f64 {
         let c = self.wave_speed();
         // the fastest compression of the latest stress update
-        let fastest = self.stress_report.max_compression;
-        let q = (BULK_VISCOSITY * self.bulk_length * fastest) as f64;
+        let fastest = self.max_compression;
+        let q = (BULK_VISCOSITY * self.recipe.bulk_length * fastest) as f64;
         q + (q * q + c * c).sqrt()
     }
 
-    /// The length C h of the artificial bulk viscosity of a body of `model` on a grid of cell
-    /// `h`: solids only. Sand has none (its flows are dissipative already, and a viscosity is
-    /// what docs/validation.md finds too much of), nor has a kinematic body (no stress).
-    pub(crate) fn bulk_length_for(model: &Model, kinematic: bool, h: Real) -> Real {
-        match model {
-            Model::DruckerPrager(_) => 0.0,
-            _ if kinematic => 0.0,
-            _ => BULK_VISCOSITY * h,
-        }
+    /// How the step treats this body.
+    pub fn recipe(&self) -> &Recipe {
+        &self.recipe
     }
 }
 
@@ -153,7 +137,6 @@ pub struct Simulation<D: Dim> {
     pub(crate) world: World<D>,
     pub(crate) particles: Particles<D>,
     pub(crate) bodies: Vec<Body<D>>,
-    pub(crate) contacts: Vec<ContactPair>,
     /// Whether the latest contact pass held two solids that update their stress last
     /// together (see [`Simulation::step_cfl`]).
     pub(crate) solids_stuck: bool,
@@ -212,7 +195,6 @@ impl<D: Dim> Simulation<D> {
             to_come: Vec::new(),
             particles: Particles::default(),
             bodies: Vec::new(),
-            contacts: Vec::new(),
             solids_stuck: false,
             time: 0.0,
             steps: 0,
@@ -311,8 +293,8 @@ impl<D: Dim> Simulation<D> {
             .velocity
             .as_deref()
             .map_or(D::Vector::ZERO, |v| D::Vector::from_fn(|a| v[a] as Real));
-        let apic = config.uses_apic(self.scene.kernel);
-        if apic {
+        let recipe = Recipe::new(config, self.scene.kernel, self.scene.cell_size);
+        if recipe.apic {
             self.particles.enable_affine();
         }
         let start = self.particles.len();
@@ -329,11 +311,7 @@ impl<D: Dim> Simulation<D> {
         }
         self.bodies.push(Body {
             model: config.material.model(),
-            volumetric_rate: config.material.volumetric_rate(),
-            transfer: Transfer {
-                flip: config.flip_ratio() as Real,
-                apic,
-            },
+            recipe,
             range: start..self.particles.len(),
             grid: Grid::default(),
             stats: BodyStats::default(),
@@ -341,14 +319,7 @@ impl<D: Dim> Simulation<D> {
             min_mass: mass,
             radius,
             kinematic: config.kinematic,
-            contact_impulse: [0.0; 3],
-            constrained: false,
-            stress_report: StressReport::default(),
-            bulk_length: Body::<D>::bulk_length_for(
-                &config.material.model(),
-                config.kinematic,
-                self.world.h,
-            ),
+            max_compression: 0.0,
         });
         self.refresh_diagnostics();
     }
@@ -418,7 +389,6 @@ impl<D: Dim> Simulation<D> {
         self.particles.clear();
         self.bodies.clear();
         self.scene.bodies.clear();
-        self.contacts.clear();
         self.solids_stuck = false;
         self.failed = None;
         self.refresh_diagnostics();
@@ -473,27 +443,25 @@ impl<D: Dim> Simulation<D> {
         }
         next.validate()?;
         self.world = World::new(&next);
-        if next.bodies.iter().any(|b| b.uses_apic(next.kernel)) {
+        let recipes: Vec<Recipe> = next
+            .bodies
+            .iter()
+            .map(|b| Recipe::new(b, next.kernel, next.cell_size))
+            .collect();
+        if recipes.iter().any(|r| r.apic) {
             self.particles.enable_affine();
         }
-        for (body, cfg) in self.bodies.iter_mut().zip(&next.bodies) {
+        for ((body, cfg), recipe) in self.bodies.iter_mut().zip(&next.bodies).zip(recipes) {
             body.model = cfg.material.model();
-            body.volumetric_rate = cfg.material.volumetric_rate();
-            body.bulk_length =
-                Body::<D>::bulk_length_for(&body.model, body.kinematic, self.world.h);
-            if body.bulk_length == 0.0 {
+            if recipe.bulk_length == 0.0 {
                 // no viscous pressure left for a body that turned to sand to meet again
                 self.particles.viscous_pressure[body.range.clone()].fill(0.0);
             }
-            let apic = cfg.uses_apic(next.kernel);
-            if apic && !body.transfer.apic {
+            if recipe.apic && !body.recipe.apic {
                 // a body that turns to APIC starts from a zero affine velocity
                 self.particles.affine[body.range.clone()].fill(D::GRAD_ZERO);
             }
-            body.transfer = Transfer {
-                flip: cfg.flip_ratio() as Real,
-                apic,
-            };
+            body.recipe = recipe;
         }
         self.scene = next;
         Ok(())
@@ -563,12 +531,12 @@ impl<D: Dim> Simulation<D> {
     }
 
     /// The CFL number of the next step: the scene's, or at most
-    /// [`crate::step::contact::STICKING_CFL`] after a step in which a contact rule that
+    /// [`STICKING_CFL`] after a step in which a contact rule that
     /// sticks ([`ContactRule::sticks`]) changed the grid velocities of two solids that update
     /// their stress last.
     pub fn step_cfl(&self) -> f64 {
         if self.solids_stuck {
-            self.world.cfl.min(crate::step::contact::STICKING_CFL)
+            self.world.cfl.min(STICKING_CFL)
         } else {
             self.world.cfl
         }
@@ -612,41 +580,31 @@ impl<D: Dim> Simulation<D> {
         Ok(&self.diagnostics)
     }
 
-    /// Sums the reports into the diagnostics; fails on the first non-finite particle.
-    pub(crate) fn finish_step(
+    /// Sets the diagnostics of the particle state, and each body's figures, from the bodies'
+    /// `measures` and stored `elastic` energies: time, counts, energies, momentum, the largest
+    /// speed, and the CFL number of a step of `dt` at the signal speed `c`.
+    pub(crate) fn record_measures(
         &mut self,
         dt: f64,
-        stress: &[StressReport],
-        gathered: &[GatherReport<D>],
-    ) -> Result<()> {
-        let c = self.max_wave_speed();
+        c: f64,
+        measures: &[Measure<D>],
+        elastic: &[f64],
+    ) {
         let d = &mut self.diagnostics;
         d.time = self.time;
         d.step = self.steps;
         d.dt = dt;
         d.particles = self.particles.len();
-        d.nonfinite = stress.iter().map(|s| s.bad).sum::<usize>()
-            + gathered.iter().map(|g| g.bad).sum::<usize>();
         d.grid_blocks = self.bodies.iter().map(|b| b.grid.index.block_count()).sum();
-        let (mut kinetic, mut grav, mut elastic, mut momentum, mut max_speed) =
+        let (mut kinetic, mut grav, mut stored, mut momentum, mut max_speed) =
             (0.0, 0.0, 0.0, [0.0; 3], 0.0f64);
         for (i, body) in self.bodies.iter_mut().enumerate() {
-            let (s, g) = (&stress[i], &gathered[i]);
-            if s.bad == 0 && s.max_volume > 0.0 {
-                body.max_volume = s.max_volume; // a kinematic body's report has none
-            }
-            d.dissipated_plastic += s.dissipated;
-            d.dissipated_viscous += s.viscous;
-            d.dissipated_boundary += g.dissipated_walls;
-            body.stats.dissipated_plastic += s.dissipated;
-            body.stats.elastic = s.elastic;
-            set_body_stats::<D>(&mut body.stats, g, body.range.len());
-            body.stats.contact_force = body
-                .contact_impulse
-                .map(|j| if dt > 0.0 { j / dt } else { 0.0 });
+            let g = &measures[i];
+            body.stats.elastic = elastic[i];
+            g.write(&mut body.stats, body.range.len());
             kinetic += g.kinetic;
             grav += g.gravitational;
-            elastic += s.elastic;
+            stored += elastic[i];
             max_speed = max_speed.max(g.max_speed as f64);
             for a in 0..3 {
                 momentum[a] += g.momentum[a];
@@ -654,104 +612,42 @@ impl<D: Dim> Simulation<D> {
         }
         d.kinetic = kinetic;
         d.gravitational = grav;
-        d.elastic = elastic;
+        d.elastic = stored;
         d.momentum = momentum;
         d.max_speed = max_speed;
         d.cfl = dt * (c + max_speed) / self.world.h as f64;
-        for i in 0..self.bodies.len() {
-            let bad = stress[i].first_bad.or_else(|| {
-                gathered[i]
-                    .first_bad
-                    .map(|p| (p, Bad::NonFinite("velocity or position")))
-            });
-            if let Some((particle, bad)) = bad {
-                let body = self.scene.bodies[i].name.clone();
-                let step = self.steps;
-                let e = match bad {
-                    Bad::Crushed => Error::Crushed {
-                        body,
-                        particle,
-                        step,
-                    },
-                    Bad::NonFinite(quantity) => Error::NonFinite {
-                        body,
-                        particle,
-                        quantity,
-                        step,
-                    },
-                };
-                self.failed = Some(e.clone());
-                return Err(e);
-            }
-        }
-        Ok(())
     }
 
     /// Recomputes the diagnostics and per-body figures from the particle state, without
-    /// stepping (after bodies are added or removed, or particle state is edited directly).
+    /// stepping (after bodies are added or removed, or particle state is edited directly):
+    /// the energies, momentum, bounds and speeds as they stand, and each body's lowest density
+    /// (for the time step). The cumulative dissipation and the latest step's contact forces
+    /// stay as the latest step left them.
     pub fn refresh_diagnostics(&mut self) {
-        let w = self.world;
+        let gravity = self.world.gravity;
         let p = &self.particles;
-        let mut stress = Vec::new();
-        let mut gathered = Vec::new();
+        let mut measures = Vec::with_capacity(self.bodies.len());
+        let mut elastic = Vec::with_capacity(self.bodies.len());
         for body in &mut self.bodies {
-            let r = body.range.clone();
-            let elastic = *body.model.elastic();
-            let mut s = StressReport::default();
-            let mut acc = GatherReport::<D>::empty();
+            let law = *body.model.elastic();
+            let mut m = Measure::<D>::empty();
+            let (mut stored, mut max_volume): (f64, Real) = (0.0, 0.0);
             body.min_mass = Real::INFINITY;
-            for i in r {
-                s.elastic += (elastic.energy_density(p.stress[i]) * p.volume[i]) as f64;
-                s.max_volume = s.max_volume.max(p.volume[i]);
+            for i in body.range.clone() {
+                stored += (law.energy_density(p.stress[i]) * p.volume[i]) as f64;
+                max_volume = max_volume.max(p.volume[i]);
                 body.min_mass = body.min_mass.min(p.mass[i]);
-                acc.record(p.mass[i], p.x[i], p.v[i]);
+                m.record(p.mass[i], p.x[i], p.v[i]);
             }
-            acc = acc.with_plastic_strain(&p.plastic_strain[body.range.clone()]);
-            acc.finish(w.gravity);
-            body.max_volume = s.max_volume;
-            stress.push(s);
-            gathered.push(acc);
+            m = m.with_plastic_strain(&p.plastic_strain[body.range.clone()]);
+            m.finish(gravity);
+            body.max_volume = max_volume;
+            measures.push(m);
+            elastic.push(stored);
         }
-        let (kept_plastic, kept_viscous, kept_boundary, kept_contact) = (
-            self.diagnostics.dissipated_plastic,
-            self.diagnostics.dissipated_viscous,
-            self.diagnostics.dissipated_boundary,
-            self.diagnostics.dissipated_contact,
-        );
-        let dt = self.diagnostics.dt;
-        // finish_step adds this step's dissipation; a measurement adds none.
-        let _ = self.finish_step(dt, &stress, &gathered);
-        self.diagnostics.dissipated_plastic = kept_plastic;
-        self.diagnostics.dissipated_viscous = kept_viscous;
-        self.diagnostics.dissipated_boundary = kept_boundary;
-        self.diagnostics.dissipated_contact = kept_contact;
-    }
-}
-
-fn set_body_stats<D: Dim>(stats: &mut BodyStats, g: &GatherReport<D>, particles: usize) {
-    stats.particles = particles;
-    stats.mass = g.mass;
-    stats.kinetic = g.kinetic;
-    stats.gravitational = g.gravitational;
-    stats.momentum = g.momentum;
-    stats.max_speed = g.max_speed as f64;
-    stats.max_plastic_strain = g.max_plastic_strain as f64;
-    for a in 0..3 {
-        stats.center_of_mass[a] = if g.mass > 0.0 {
-            g.first_moment[a] / g.mass
-        } else {
-            0.0
-        };
-        stats.bbox_min[a] = if a < D::DIM && particles > 0 {
-            g.min[a] as f64
-        } else {
-            0.0
-        };
-        stats.bbox_max[a] = if a < D::DIM && particles > 0 {
-            g.max[a] as f64
-        } else {
-            0.0
-        };
+        let c = self.max_wave_speed();
+        self.record_measures(self.diagnostics.dt, c, &measures, &elastic);
+        self.diagnostics.nonfinite = 0;
     }
 }
 

@@ -1,5 +1,6 @@
 //! What the solver reports after every step.
 
+use crate::math::{Dim, Real, VectorOps, max};
 use serde::Serialize;
 
 /// Whole-simulation diagnostics after the latest step. Energies in J (J/m in 2D),
@@ -67,4 +68,112 @@ pub struct BodyStats {
     pub contact_force: [f64; 3],
     /// Cumulative plastic dissipation of this body.
     pub dissipated_plastic: f64,
+}
+
+/// The figures of one body's particle state, summed particle by particle: mass, kinetic and
+/// gravitational energy, momentum, first moment, bounds, the largest speed and plastic
+/// strain. The gather records each particle after it moved; [`super::Simulation::refresh_diagnostics`]
+/// records them as they stand.
+#[derive(Clone, Copy, Debug)]
+pub struct Measure<D: Dim> {
+    pub mass: f64,
+    pub kinetic: f64,
+    pub gravitational: f64,
+    pub momentum: [f64; 3],
+    /// Σ m x.
+    pub first_moment: [f64; 3],
+    pub min: D::Vector,
+    pub max: D::Vector,
+    pub max_speed: Real,
+    pub max_plastic_strain: Real,
+    /// Σ m, Σ ½ m v², Σ m v and Σ m x while recording, side by side so that the f64 sums go
+    /// through SIMD registers two at a time ([`Self::finish`] hands them out).
+    sums: [f64; 8],
+}
+
+impl<D: Dim> Measure<D> {
+    /// Nothing recorded yet.
+    pub fn empty() -> Self {
+        Measure {
+            mass: 0.0,
+            kinetic: 0.0,
+            gravitational: 0.0,
+            momentum: [0.0; 3],
+            first_moment: [0.0; 3],
+            min: D::Vector::splat(Real::INFINITY),
+            max: D::Vector::splat(Real::NEG_INFINITY),
+            max_speed: 0.0,
+            max_plastic_strain: 0.0,
+            sums: [0.0; 8],
+        }
+    }
+
+    /// After the last particle: the speed from its square, and the gravitational energy
+    /// −Σ m g·x = −g·Σ m x from the first moment (one accumulator fewer per particle).
+    #[inline(always)]
+    pub fn finish(&mut self, gravity: D::Vector) {
+        let (s, d) = (self.sums, D::DIM);
+        (self.mass, self.kinetic) = (s[0], s[1]);
+        for a in 0..d {
+            (self.momentum[a], self.first_moment[a]) = (s[2 + a], s[2 + d + a]);
+        }
+        self.max_speed = self.max_speed.sqrt();
+        self.gravitational = -(0..D::DIM)
+            .map(|a| gravity[a] as f64 * self.first_moment[a])
+            .sum::<f64>();
+    }
+
+    /// Adds one particle (`max_speed` holds the squared speed until [`Self::finish`]).
+    #[inline(always)]
+    pub fn record(&mut self, m: Real, x: D::Vector, v: D::Vector) {
+        let (md, v2) = (m as f64, v.length_squared());
+        // m · (1, ½ v², v, x); ½ m v² as md (½ v²) is (½ md) v² exactly (a power of two).
+        let d = D::DIM;
+        let mut per_mass = [1.0, 0.5 * v2 as f64, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+        for a in 0..d {
+            (per_mass[2 + a], per_mass[2 + d + a]) = (v[a] as f64, x[a] as f64);
+        }
+        for i in 0..2 + 2 * d {
+            self.sums[i] += md * per_mass[i];
+        }
+        self.min = self.min.min(x);
+        self.max = self.max.max(x);
+        self.max_speed = max(self.max_speed, v2);
+    }
+
+    /// With the largest plastic strain of the particles.
+    pub fn with_plastic_strain(mut self, plastic_strain: &[Real]) -> Self {
+        for &e in plastic_strain {
+            self.max_plastic_strain = max(self.max_plastic_strain, e);
+        }
+        self
+    }
+
+    /// Writes the figures of a body of `particles` particles into its `stats`.
+    pub fn write(&self, stats: &mut BodyStats, particles: usize) {
+        stats.particles = particles;
+        stats.mass = self.mass;
+        stats.kinetic = self.kinetic;
+        stats.gravitational = self.gravitational;
+        stats.momentum = self.momentum;
+        stats.max_speed = self.max_speed as f64;
+        stats.max_plastic_strain = self.max_plastic_strain as f64;
+        for a in 0..3 {
+            stats.center_of_mass[a] = if self.mass > 0.0 {
+                self.first_moment[a] / self.mass
+            } else {
+                0.0
+            };
+            stats.bbox_min[a] = if a < D::DIM && particles > 0 {
+                self.min[a] as f64
+            } else {
+                0.0
+            };
+            stats.bbox_max[a] = if a < D::DIM && particles > 0 {
+                self.max[a] as f64
+            } else {
+                0.0
+            };
+        }
+    }
 }

@@ -4,6 +4,7 @@
 //! touch the same nodes and the transfers stay in cache. Then the pairs of bodies whose grids
 //! share blocks are found, for the contact of step 5.
 
+use super::contact::ContactPair;
 use super::walk::grid_coords;
 use super::with_kernel;
 use crate::grid::GridIndex;
@@ -13,8 +14,8 @@ use crate::sim::Simulation;
 
 impl<D: Dim> Simulation<D> {
     /// Allocates each body's grid blocks where its particles are, reorders particles by block
-    /// now and then, and finds the bodies whose grids overlap.
-    pub(super) fn allocate_grids(&mut self) {
+    /// now and then, and finds the bodies whose grids overlap (into `contacts`).
+    pub(super) fn allocate_grids(&mut self, contacts: &mut Vec<ContactPair>) {
         let (kernel, inv_h) = (self.world.kernel, self.world.inv_h);
         let sort = self.sort_interval > 0 && self.steps.is_multiple_of(self.sort_interval);
         for body in &mut self.bodies {
@@ -36,8 +37,8 @@ impl<D: Dim> Simulation<D> {
             }
         }
         let indices: Vec<&GridIndex<D>> = self.bodies.iter().map(|b| &b.grid.index).collect();
-        super::contact::find_pairs(&indices, &mut self.contacts);
-        for pair in &self.contacts {
+        super::contact::find_pairs(&indices, contacts);
+        for pair in contacts.iter() {
             for i in [pair.a, pair.b] {
                 if self.bodies[i].grid.mass_grad.is_empty() {
                     self.bodies[i].grid.enable_mass_gradient();

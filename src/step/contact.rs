@@ -10,22 +10,19 @@
 //! Only pairs of bodies whose block sets overlap are visited, and only their shared blocks:
 //! one body, or bodies apart, cost nothing.
 
-use super::{StressOrder, constraint_dissipation};
+use super::{BodyStep, StressOrder, constraint_dissipation};
+pub use crate::boundary::{ContactRule, STICKING_CFL};
 use crate::grid::{Grid, GridIndex};
-use crate::math::{Dim, Real, VectorOps, min};
+use crate::math::{Dim, VectorOps, min};
 use crate::sim::{Body, Simulation};
 
 impl<D: Dim> Simulation<D> {
-    /// Step 5 between every pair of bodies whose grids share blocks.
-    pub(super) fn resolve_contacts(&mut self) {
-        let kernel = self.world.kernel;
+    /// Step 5 between every pair of bodies whose grids share blocks (`contacts`), recording
+    /// in `steps` which bodies it changed and the momentum each received.
+    pub(super) fn resolve_contacts(&mut self, contacts: &[ContactPair], steps: &mut [BodyStep]) {
         let sticks = self.world.contact.sticks();
         self.solids_stuck = false;
-        for body in &mut self.bodies {
-            body.contact_impulse = [0.0; 3];
-            body.constrained = false; // set again by the contacts and the walls of this step
-        }
-        for pair in &self.contacts {
+        for pair in contacts {
             let (left, right) = self.bodies.split_at_mut(pair.b);
             let (a, b) = (&mut left[pair.a], &mut right[0]);
             let r = resolve(
@@ -37,13 +34,13 @@ impl<D: Dim> Simulation<D> {
             );
             self.diagnostics.dissipated_contact += r.dissipated;
             // (a kinematic body's grid is never changed: both changed means both deform)
-            let last = |b: &Body<D>| b.stress_order(kernel) == StressOrder::Last;
+            let last = |b: &Body<D>| b.recipe.stress_order == StressOrder::Last;
             self.solids_stuck |= sticks && r.changed_a && r.changed_b && last(a) && last(b);
-            a.constrained |= r.changed_a;
-            b.constrained |= r.changed_b;
+            steps[pair.a].constrained |= r.changed_a;
+            steps[pair.b].constrained |= r.changed_b;
             for k in 0..3 {
-                a.contact_impulse[k] += r.impulse_on_a[k];
-                b.contact_impulse[k] -= r.impulse_on_a[k];
+                steps[pair.a].contact_impulse[k] += r.impulse_on_a[k];
+                steps[pair.b].contact_impulse[k] -= r.impulse_on_a[k];
             }
         }
     }
@@ -55,39 +52,6 @@ pub struct ContactPair {
     pub a: usize,
     pub b: usize,
     pub blocks: Vec<(u32, u32)>,
-}
-
-/// How approaching bodies interact at shared nodes.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ContactRule {
-    /// The paper's Eq. 21: both take the centre-of-mass velocity (perfectly inelastic, no slip).
-    Stick,
-    /// Bardenhagen et al. (2001): remove the approaching normal velocity; the tangential slip is
-    /// resisted by Coulomb friction with coefficient μ.
-    Friction(Real),
-}
-
-/// The largest CFL number of a step in which two solids that update their stress last
-/// (elastic and von Mises bodies with the C¹ kernels, [`super::StressOrder`]) share grid
-/// nodes under a contact rule that sticks ([`ContactRule::sticks`]). Such a solid takes its
-/// strain from grid velocities the contact has just set to the pair's common velocity; at the
-/// paper's 0.4 that pumped energy into bodies held together in three of 40 long random
-/// sweeps (a replayed case gained 54 times its energy scale), at 0.3 into one of four
-/// replays, at 0.2 into none (docs/stability.md, "Energy rises between bodies in contact").
-pub const STICKING_CFL: f64 = 0.2;
-
-impl ContactRule {
-    /// Whether the rule can hold two bodies together tangentially: the paper's rule, or
-    /// Coulomb friction with μ > 0 ([`STICKING_CFL`] applies under such a rule). In replays of
-    /// four random scenes whose energy rose under the paper's rule at CFL 0.4, frictionless
-    /// contact kept the energy in all four; Coulomb friction did not in one at μ = 0.5 and
-    /// 0.86, and in the others from μ = 2 or 5 on (docs/stability.md).
-    pub fn sticks(self) -> bool {
-        match self {
-            ContactRule::Stick => true,
-            ContactRule::Friction(mu) => mu > 0.0,
-        }
-    }
 }
 
 /// Finds the pairs of grids that share allocated blocks.

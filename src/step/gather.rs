@@ -14,32 +14,36 @@
 //!
 //! The pass also sums what the diagnostics report (mass, momentum, energies, bounds).
 
-use super::StressOrder;
 use super::stress::{
     AfterGather, CHUNK, Rates, StressReport, StressState, StressUpdatedFirst, UpdateStressLast,
 };
 use super::transfer::Transfer;
 use super::walk::{self, Walker};
-use super::{constraint_dissipation, with_kernel};
+use super::{BodyStep, StressOrder, constraint_dissipation, with_kernel};
 use crate::boundary::Walls;
 use crate::grid::{Grid, Node};
 use crate::kernel::Kernel;
 use crate::material::Model;
-use crate::math::{Dim, Real, VectorOps, max};
-use crate::sim::Simulation;
+use crate::math::{Dim, Real, VectorOps};
+use crate::sim::{Measure, Simulation};
 
 impl<D: Dim> Simulation<D> {
-    /// Steps 6–8 (and 2–3 when the stress is updated last) for every body.
-    pub(super) fn gather_and_update(&mut self, dt: Real) -> Vec<GatherReport<D>> {
+    /// Steps 6–8 (and 2–3 when the stress is updated last) for every body; `steps` says
+    /// which bodies walls or contacts constrained, and takes the stress reports.
+    pub(super) fn gather_and_update(
+        &mut self,
+        dt: Real,
+        steps: &mut [BodyStep],
+    ) -> Vec<GatherReport<D>> {
         let w = self.world;
         let p = &mut self.particles;
         let mut reports = Vec::with_capacity(self.bodies.len());
-        for body in &mut self.bodies {
+        for (body, step) in self.bodies.iter_mut().zip(steps) {
             let r = body.range.clone();
             let state = GatherState {
                 x: &mut p.x[r.clone()],
                 v: &mut p.v[r.clone()],
-                affine: if body.transfer.apic {
+                affine: if body.recipe.apic {
                     Some(&mut p.affine[r.clone()])
                 } else {
                     None
@@ -52,7 +56,7 @@ impl<D: Dim> Simulation<D> {
                 mass: &p.mass[r.clone()],
                 plastic_strain: &mut p.plastic_strain[r.clone()],
                 viscous_pressure: &mut p.viscous_pressure[r],
-                bulk_length: body.bulk_length,
+                bulk_length: body.recipe.bulk_length,
             };
             if body.kinematic {
                 let g = advect_kinematic(state, dt, &w.walls, body.radius, w.gravity);
@@ -61,7 +65,7 @@ impl<D: Dim> Simulation<D> {
             }
             let pass = Pass {
                 grid: &body.grid,
-                transfer: body.transfer.at_constraints(body.constrained),
+                transfer: Transfer::of(&body.recipe).at_constraints(step.constrained),
                 dt,
                 inv_h: w.inv_h,
                 walls: &w.walls,
@@ -77,11 +81,11 @@ impl<D: Dim> Simulation<D> {
                         report: StressReport::default(),
                     };
                     let g = with_kernel!(w.kernel, K, S => gather::<D, K, _, S>(&pass, state, &mut after));
-                    body.stress_report = after.report;
+                    step.stress = after.report;
                     g.with_plastic_strain(after.state.plastic_strain)
                 }};
             }
-            let last = body.stress_order(w.kernel) == StressOrder::Last;
+            let last = body.recipe.stress_order == StressOrder::Last;
             let report = match (&body.model, last) {
                 (_, false) => {
                     let g = with_kernel!(w.kernel, K, S => gather::<D, K, _, S>(&pass, state, &mut StressUpdatedFirst));
@@ -245,86 +249,44 @@ pub fn advect_kinematic<D: Dim>(
     r
 }
 
-/// What the gather pass measured (after the step).
+/// What the gather pass measured (after the step): the figures of the particle state it
+/// recorded ([`Measure`], which it dereferences to) and what it did itself.
 #[derive(Clone, Copy, Debug)]
 pub struct GatherReport<D: Dim> {
-    pub mass: f64,
-    pub kinetic: f64,
-    pub gravitational: f64,
-    pub momentum: [f64; 3],
-    /// Σ m x.
-    pub first_moment: [f64; 3],
-    pub min: D::Vector,
-    pub max: D::Vector,
-    pub max_speed: Real,
-    pub max_plastic_strain: Real,
+    pub measure: Measure<D>,
     /// Kinetic energy removed by the particle-side wall projection.
     pub dissipated_walls: f64,
     pub bad: usize,
     pub first_bad: Option<usize>,
-    /// Σ m, Σ ½ m v², Σ m v and Σ m x while recording, side by side so that the f64 sums go
-    /// through SIMD registers two at a time ([`Self::finish`] hands them out).
-    sums: [f64; 8],
 }
 
 impl<D: Dim> GatherReport<D> {
     /// Nothing recorded yet.
     pub fn empty() -> Self {
         GatherReport {
-            mass: 0.0,
-            kinetic: 0.0,
-            gravitational: 0.0,
-            momentum: [0.0; 3],
-            first_moment: [0.0; 3],
-            min: D::Vector::splat(Real::INFINITY),
-            max: D::Vector::splat(Real::NEG_INFINITY),
-            max_speed: 0.0,
-            max_plastic_strain: 0.0,
+            measure: Measure::empty(),
             dissipated_walls: 0.0,
             bad: 0,
             first_bad: None,
-            sums: [0.0; 8],
         }
-    }
-
-    /// After the last particle: the speed from its square, and the gravitational energy
-    /// −Σ m g·x = −g·Σ m x from the first moment (one accumulator fewer per particle).
-    #[inline(always)]
-    pub fn finish(&mut self, gravity: D::Vector) {
-        let (s, d) = (self.sums, D::DIM);
-        (self.mass, self.kinetic) = (s[0], s[1]);
-        for a in 0..d {
-            (self.momentum[a], self.first_moment[a]) = (s[2 + a], s[2 + d + a]);
-        }
-        self.max_speed = self.max_speed.sqrt();
-        self.gravitational = -(0..D::DIM)
-            .map(|a| gravity[a] as f64 * self.first_moment[a])
-            .sum::<f64>();
-    }
-
-    /// Adds one particle (`max_speed` holds the squared speed until [`Self::finish`]).
-    #[inline(always)]
-    pub fn record(&mut self, m: Real, x: D::Vector, v: D::Vector) {
-        let (md, v2) = (m as f64, v.length_squared());
-        // m · (1, ½ v², v, x); ½ m v² as md (½ v²) is (½ md) v² exactly (a power of two).
-        let d = D::DIM;
-        let mut per_mass = [1.0, 0.5 * v2 as f64, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
-        for a in 0..d {
-            (per_mass[2 + a], per_mass[2 + d + a]) = (v[a] as f64, x[a] as f64);
-        }
-        for i in 0..2 + 2 * d {
-            self.sums[i] += md * per_mass[i];
-        }
-        self.min = self.min.min(x);
-        self.max = self.max.max(x);
-        self.max_speed = max(self.max_speed, v2);
     }
 
     /// With the largest plastic strain of the particles.
     pub fn with_plastic_strain(mut self, plastic_strain: &[Real]) -> Self {
-        for &e in plastic_strain {
-            self.max_plastic_strain = max(self.max_plastic_strain, e);
-        }
+        self.measure = self.measure.with_plastic_strain(plastic_strain);
         self
+    }
+}
+
+impl<D: Dim> std::ops::Deref for GatherReport<D> {
+    type Target = Measure<D>;
+    fn deref(&self) -> &Measure<D> {
+        &self.measure
+    }
+}
+
+impl<D: Dim> std::ops::DerefMut for GatherReport<D> {
+    fn deref_mut(&mut self) -> &mut Measure<D> {
+        &mut self.measure
     }
 }

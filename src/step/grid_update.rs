@@ -17,7 +17,7 @@ impl<D: Dim> Simulation<D> {
     pub(super) fn grid_velocities(&mut self) {
         for body in &mut self.bodies {
             grid_velocities(&mut body.grid);
-            if body.stress_order(self.world.kernel) == StressOrder::First {
+            if body.recipe.stress_order == StressOrder::First {
                 body.grid.fill_nodes(|h, o| h.vm = o.vm);
             }
         }

@@ -10,7 +10,8 @@
 //! | [`walls`] | at the domain's walls, on the grid | 5 |
 //! | [`gather`] | PIC/FLIP velocities (and, stress updated last, steps 2–3), particle-side walls, advection | 6, 7, 8 (2, 3) |
 //!
-//! **Where the stress update sits** ([`StressOrder`], per body) is the one departure from
+//! **Where the stress update sits** ([`StressOrder`], per body, in its
+//! [`crate::recipe::Recipe`]) is the one departure from
 //! Sec. 4.2's order. Sand, and every body with the paper's linear kernel, follow the paper:
 //! the stress is updated from the grid velocities of step 1, then its forces are scattered
 //! (update stress first). Solids (elastic, von Mises) with the C¹ kernels (GIMP, the default,
@@ -26,8 +27,8 @@
 //! granular figures past issue 16's bounds (docs/validation.md, "The order of the stress
 //! update"); its `"cell_average"` volumetric rate is computed in the stress-first pass only.
 //!
-//! [`transfer`] holds the choice of how velocities travel between particles and grid (the
-//! PIC/FLIP blend α, APIC), per body, used by the scatter and the gather.
+//! [`transfer`] holds how velocities travel between particles and grid (the PIC/FLIP blend α,
+//! APIC), as each body's recipe chooses, used by the scatter and the gather.
 //!
 //! Each pass is a loop over one body's particles or grid nodes, generic over the dimension
 //! `D` and the kernel `K` (with `S` nodes per axis). The stencil loops follow the tensor
@@ -42,6 +43,7 @@ pub mod allocate;
 pub mod contact;
 pub mod gather;
 pub mod grid_update;
+pub mod report;
 pub mod scatter;
 pub mod stress;
 pub mod transfer;
@@ -49,10 +51,10 @@ pub mod walk;
 pub mod walls;
 
 use crate::error::{Error, Result};
-use crate::kernel::KernelKind;
-use crate::material::Model;
 use crate::math::{Dim, Real, VectorOps};
-use crate::sim::{Body, Diagnostics, PassTimings, Simulation};
+pub use crate::recipe::StressOrder;
+use crate::sim::{Diagnostics, PassTimings, Simulation};
+pub use report::BodyStep;
 
 impl<D: Dim> Simulation<D> {
     /// One time step, no longer than `limit` seconds: the eight steps of Sec. 4.2.
@@ -66,48 +68,23 @@ impl<D: Dim> Simulation<D> {
         let dt = self.stable_dt().min(limit);
         let h = dt as Real;
         let mut t = Clock::start(self.timings.is_some());
-        t.time(Pass::Allocate, || self.allocate_grids());
-        t.time(Pass::Scatter, || self.scatter_to_grid()); // 1 (stress last: and 4's forces)
-        t.time(Pass::Grid, || self.grid_velocities()); // 1: v_i^n
-        t.time(Pass::Stress, || self.update_stress_first(h)); // 2, 3, 4 (stress first)
-        t.time(Pass::Grid, || self.grid_forces(h)); // 4
-        t.time(Pass::Contact, || self.resolve_contacts()); // 5, between bodies
-        t.time(Pass::Walls, || self.apply_walls()); // 5, walls
-        let gathered = t.time(Pass::Gather, || self.gather_and_update(h)); // 6, 7, 8 (2, 3)
+        let mut steps = vec![BodyStep::default(); self.bodies.len()];
+        let mut contacts = Vec::new();
+        t.time(Phase::Allocate, || self.allocate_grids(&mut contacts));
+        t.time(Phase::Scatter, || self.scatter_to_grid()); // 1 (stress last: and 4's forces)
+        t.time(Phase::Grid, || self.grid_velocities()); // 1: v_i^n
+        t.time(Phase::Stress, || self.update_stress_first(h, &mut steps)); // 2, 3, 4 (first)
+        t.time(Phase::Grid, || self.grid_forces(h)); // 4
+        t.time(Phase::Contact, || {
+            self.resolve_contacts(&contacts, &mut steps)
+        }); // 5, bodies
+        t.time(Phase::Walls, || self.apply_walls(&mut steps)); // 5, walls
+        let gathered = t.time(Phase::Gather, || self.gather_and_update(h, &mut steps)); // 6–8
         t.add_to(&mut self.timings);
         self.time += dt;
         self.steps += 1;
-        let stress: Vec<_> = self.bodies.iter().map(|b| b.stress_report).collect();
-        self.finish_step(dt, &stress, &gathered)?;
+        self.finish_step(dt, &steps, &gathered)?;
         Ok(&self.diagnostics)
-    }
-}
-
-/// Where the stress update sits in the step (see the module documentation).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum StressOrder {
-    /// Sec. 4.2's order: from the grid velocities of step 1, before the forces.
-    First,
-    /// At the end of the step, from the new grid velocities, in the gather's walk.
-    Last,
-}
-
-impl StressOrder {
-    /// The order for a body of `model` with `kernel`: the linear kernel keeps the paper's
-    /// order (its weight gradient does not vanish with its weight), and so does sand, some of
-    /// whose validation figures the other order takes past their bounds (docs/validation.md).
-    pub fn for_body(kernel: KernelKind, model: &Model) -> Self {
-        match (kernel, model) {
-            (KernelKind::Linear, _) | (_, Model::DruckerPrager(_)) => StressOrder::First,
-            _ => StressOrder::Last,
-        }
-    }
-}
-
-impl<D: Dim> Body<D> {
-    /// Where this body's stress update sits in the step.
-    pub(crate) fn stress_order(&self, kernel: KernelKind) -> StressOrder {
-        StressOrder::for_body(kernel, &self.model)
     }
 }
 
@@ -135,9 +112,9 @@ macro_rules! with_kernel {
 }
 pub(crate) use with_kernel;
 
-/// The passes, as [`PassTimings`] counts them.
+/// The phases of the step, as [`PassTimings`] counts them (a pass, or the grid's two).
 #[derive(Clone, Copy)]
-enum Pass {
+enum Phase {
     Allocate,
     Scatter,
     Stress,
@@ -147,7 +124,7 @@ enum Pass {
     Gather,
 }
 
-/// Wall-clock time per pass, when asked for (native builds only: WebAssembly has no clock
+/// Wall-clock time per phase, when asked for (native builds only: WebAssembly has no clock
 /// here).
 struct Clock {
     seconds: [f64; 7],
@@ -165,17 +142,17 @@ impl Clock {
         }
     }
 
-    /// Runs `f`, adding its duration to `pass`.
+    /// Runs `f`, adding its duration to `phase`.
     #[inline(always)]
-    fn time<T>(&mut self, pass: Pass, f: impl FnOnce() -> T) -> T {
+    fn time<T>(&mut self, phase: Phase, f: impl FnOnce() -> T) -> T {
         #[cfg(not(target_arch = "wasm32"))]
         if self.on {
             let start = std::time::Instant::now();
             let out = f();
-            self.seconds[pass as usize] += start.elapsed().as_secs_f64();
+            self.seconds[phase as usize] += start.elapsed().as_secs_f64();
             return out;
         }
-        let _ = pass;
+        let _ = phase;
         f()
     }
 
@@ -183,13 +160,13 @@ impl Clock {
         if let Some(tm) = timings {
             let s = self.seconds;
             tm.steps += 1;
-            tm.allocate += s[Pass::Allocate as usize];
-            tm.scatter += s[Pass::Scatter as usize];
-            tm.stress += s[Pass::Stress as usize];
-            tm.grid += s[Pass::Grid as usize];
-            tm.contact += s[Pass::Contact as usize];
-            tm.walls += s[Pass::Walls as usize];
-            tm.gather += s[Pass::Gather as usize];
+            tm.allocate += s[Phase::Allocate as usize];
+            tm.scatter += s[Phase::Scatter as usize];
+            tm.stress += s[Phase::Stress as usize];
+            tm.grid += s[Phase::Grid as usize];
+            tm.contact += s[Phase::Contact as usize];
+            tm.walls += s[Phase::Walls as usize];
+            tm.gather += s[Phase::Gather as usize];
         }
     }
 }

@@ -23,7 +23,7 @@ impl<D: Dim> Simulation<D> {
         let p = &self.particles;
         let inv_h = self.world.inv_h;
         for body in &mut self.bodies {
-            let last = body.stress_order(self.world.kernel) == super::StressOrder::Last;
+            let last = body.recipe.stress_order == super::StressOrder::Last;
             let r = body.range.clone();
             let state = ScatterState {
                 x: &p.x[r.clone()],
@@ -37,7 +37,7 @@ impl<D: Dim> Simulation<D> {
                         &p.viscous_pressure[r.clone()],
                     )
                 }),
-                affine: body.transfer.apic.then(|| &p.affine[r]),
+                affine: body.recipe.apic.then(|| &p.affine[r]),
             };
             let lp = body.radius * inv_h;
             with_kernel!(self.world.kernel, K, S => scatter::<D, K, S>(&mut body.grid, state, inv_h, lp));

@@ -61,14 +61,13 @@ use std::ops::Range;
 
 impl<D: Dim> Simulation<D> {
     /// Steps 2–4, particle side, in Sec. 4.2's order, for the bodies that take it (the
-    /// others' stress is updated in the gather).
-    pub(super) fn update_stress_first(&mut self, dt: Real) {
+    /// others' stress is updated in the gather); their reports go to `steps`.
+    pub(super) fn update_stress_first(&mut self, dt: Real, steps: &mut [super::BodyStep]) {
         let inv_h = self.world.inv_h;
         let kernel = self.world.kernel;
         let p = &mut self.particles;
-        for body in &mut self.bodies {
-            body.stress_report = StressReport::default();
-            if body.kinematic || body.stress_order(kernel) != super::StressOrder::First {
+        for (body, step) in self.bodies.iter_mut().zip(steps) {
+            if body.kinematic || body.recipe.stress_order != super::StressOrder::First {
                 continue;
             }
             let r = body.range.clone();
@@ -79,12 +78,12 @@ impl<D: Dim> Simulation<D> {
                 mass: &p.mass[r.clone()],
                 plastic_strain: &mut p.plastic_strain[r.clone()],
                 viscous_pressure: &mut p.viscous_pressure[r],
-                bulk_length: body.bulk_length,
+                bulk_length: body.recipe.bulk_length,
             };
             let lp = body.radius * inv_h;
             let grid = &mut body.grid;
-            let average = body.volumetric_rate == VolumetricRate::CellAverage;
-            body.stress_report = with_kernel!(kernel, K, S => match &body.model {
+            let average = body.recipe.volumetric_rate == VolumetricRate::CellAverage;
+            step.stress = with_kernel!(kernel, K, S => match &body.model {
                 Model::Elastic(m) => update_stress_first::<D, K, _, S, false>(grid, x, state, m, dt, inv_h, lp),
                 Model::VonMises(m) => update_stress_first::<D, K, _, S, false>(grid, x, state, m, dt, inv_h, lp),
                 Model::DruckerPrager(m) if average => {
@@ -566,10 +565,7 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
     }
 }
 
-/// The bulk viscosity's coefficient C: q acts over a length C h. At 0.5 the supersonic blows
-/// of the stability tests gain no energy, as at 1, and the elastic bunnies' rebound moves by
-/// under 1 % (2.9 % at 1; docs/stability.md).
-pub const BULK_VISCOSITY: Real = 0.5;
+pub use crate::recipe::BULK_VISCOSITY;
 
 /// What one constitutive call (for `LANES` particles in SIMD lanes) adds to the report.
 struct Group {

@@ -10,7 +10,7 @@
 //!   the angular momentum and the detail PIC smears. The blend above still applies to v_p,
 //!   with v_i^n the scattered grid velocity (affine part included): APIC is the base, FLIP
 //!   blends on top. Drucker–Prager sand takes APIC by default, solids PIC
-//!   ([`crate::BodyConfig::uses_apic`]).
+//!   ([`crate::recipe::Recipe`]).
 //! - **FLIP at constraints**: in a step where a wall or a contact changed a velocity of a
 //!   body's grid, that body's α is capped at [`FLIP_AT_CONSTRAINTS`]. The FLIP increment
 //!   v_i^{n+1} − v_i^n at a constrained node carries the impact's whole velocity jump, and
@@ -23,6 +23,7 @@
 
 use crate::kernel::Stencil;
 use crate::math::{Dim, Real, VectorOps};
+use crate::recipe::Recipe;
 
 /// One body's transfer scheme.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -37,6 +38,15 @@ pub struct Transfer {
 pub const FLIP_AT_CONSTRAINTS: Real = 0.7;
 
 impl Transfer {
+    /// The transfer a body's recipe chooses.
+    #[inline]
+    pub fn of(recipe: &Recipe) -> Self {
+        Transfer {
+            flip: recipe.flip,
+            apic: recipe.apic,
+        }
+    }
+
     /// The transfer of a step in which walls or contacts changed the body's grid
     /// (`constrained`) or not: α capped at [`FLIP_AT_CONSTRAINTS`] in the first case.
     #[inline]

@@ -3,20 +3,21 @@
 //! with friction the tangential speed reduced by μ|v_n|, Coulomb friction proportional to the
 //! pressure). Then the halo nodes take their owners' values, for the gather.
 
-use super::constraint_dissipation;
+use super::{BodyStep, constraint_dissipation};
 use crate::boundary::Walls;
 use crate::grid::Grid;
 use crate::math::Dim;
 use crate::sim::Simulation;
 
 impl<D: Dim> Simulation<D> {
-    /// Step 5 at the walls for every body; then the halos take their owners' values.
-    pub(super) fn apply_walls(&mut self) {
-        for body in &mut self.bodies {
+    /// Step 5 at the walls for every body (noting in `steps` which ones they changed); then
+    /// the halos take their owners' values.
+    pub(super) fn apply_walls(&mut self, steps: &mut [BodyStep]) {
+        for (body, step) in self.bodies.iter_mut().zip(steps) {
             if !body.kinematic {
                 let w = grid_walls(&mut body.grid, &self.world.walls);
                 self.diagnostics.dissipated_boundary += w.dissipated;
-                body.constrained |= w.changed;
+                step.constrained |= w.changed;
             }
             body.grid.fill_nodes(|h, o| *h = *o);
         }

@@ -432,7 +432,7 @@ fn report<D: Dim>(sim: &Simulation<D>, sampling: f64) -> Result<(), Failure> {
             b.range().len(),
             b.stats().mass,
             b.wave_speed(),
-            cfg.flip_ratio()
+            b.recipe().flip
         );
     }
     let present = sim.bodies().len();
