@@ -14,11 +14,9 @@
 //!
 //! The pass also sums what the diagnostics report (mass, momentum, energies, bounds).
 
-use super::stress::{
-    AfterGather, CHUNK, Rates, StressReport, StressState, StressUpdatedFirst, UpdateStressLast,
-};
+use super::stress::{AfterGather, StressReport, StressState, StressUpdatedFirst, UpdateStressLast};
 use super::transfer::Transfer;
-use super::walk::{self, Walker};
+use super::walk::{self, CHUNK, Rates, Walker};
 use super::{BodyStep, StressOrder, constraint_dissipation, with_kernel};
 use crate::boundary::Walls;
 use crate::grid::{Grid, Node};

@@ -50,12 +50,12 @@
 //! update is a long dependency chain, and in lanes four chains advance at once), with the
 //! energies and the finiteness test per group of four. A test checks that they agree.
 
-use super::walk::{self, At, Share, Walker};
+use super::walk::{self, At, CHUNK, Chunk, Rates, Share, Walker};
 use super::with_kernel;
 use crate::grid::Grid;
 use crate::kernel::{Kernel, Stencil};
 use crate::material::{Constitutive, Model, VolumetricRate};
-use crate::math::{Batch, Dim, LANES, Number, Real, Real4, Real4x2, SymTensor, exp_small, max};
+use crate::math::{Dim, Number, Real, SymTensor, exp_small, max};
 use crate::sim::Simulation;
 use std::ops::Range;
 
@@ -95,9 +95,6 @@ impl<D: Dim> Simulation<D> {
         }
     }
 }
-
-/// Particles per chunk of the gather between two stress updates (a multiple of `LANES`).
-pub const CHUNK: usize = 2 * LANES;
 
 /// The particle state the stress update reads and writes.
 pub struct StressState<'a, D: Dim> {
@@ -351,28 +348,8 @@ impl<D: Dim> StressState<'_, D> {
     }
 }
 
-/// The strain rates and spins of one chunk of particles.
-pub struct Rates<D: Dim> {
-    pub rate: [D::Sym; CHUNK],
-    pub spin: [<D::Sym as SymTensor>::Spin; CHUNK],
-}
-
-impl<D: Dim> Rates<D> {
-    pub fn zero() -> Self {
-        Rates {
-            rate: [D::Sym::ZERO; CHUNK],
-            spin: [Default::default(); CHUNK],
-        }
-    }
-    /// Sets particle `i`'s rate and spin from its velocity gradient.
-    #[inline(always)]
-    pub fn set(&mut self, i: usize, grad: D::Grad) {
-        (self.rate[i], self.spin[i]) = D::rate_and_spin(grad);
-    }
-}
-
-/// Steps 2–3 for one particle (`q`: its index, for the report): the reference version of
-/// [`update_chunk`].
+/// Steps 2–3 for one particle (`q`: its index, for the report): [`update_group`] for one,
+/// the reference that a test compares [`update_chunk`] with.
 #[allow(clippy::too_many_arguments)]
 pub fn update_one<D: Dim, M: Constitutive>(
     model: &M,
@@ -386,32 +363,34 @@ pub fn update_one<D: Dim, M: Constitutive>(
     q: usize,
     report: &mut StressReport,
 ) {
-    let u = model.update(stress, rate, spin, *plastic_strain, dt);
-    let before = *volume;
-    let mut v = before * exp_small(rate.trace() * dt);
-    if let Some(s) = model.max_specific_volume() {
-        // no growth past the bound (a particle already beyond it is not shrunk by it)
-        v = v.min(before.max(mass * s));
-    }
-    *volume = v;
+    let cap = model.max_specific_volume().map(|s| mass * s);
+    let (ep, u) = update_group(
+        model,
+        stress,
+        rate,
+        spin,
+        *plastic_strain,
+        volume,
+        cap,
+        None,
+        dt,
+    );
     if M::PLASTIC {
-        *plastic_strain += u.plastic_strain;
+        *plastic_strain += ep;
     }
-    if !(stress.is_finite() && v.is_finite() && v > 0.0) {
-        report.bad(q, stress.is_finite(), v);
+    if !u.finite {
+        report.bad(q, stress.is_finite(), *volume);
         return;
     }
-    report.elastic += (u.energy * v) as f64;
-    report.dissipated += (u.dissipation * before) as f64;
-    report.max_volume = max(report.max_volume, v);
+    report.elastic += u.elastic;
+    report.dissipated += u.dissipated;
+    report.max_volume = max(report.max_volume, u.max_volume);
 }
 
 /// Steps 2–3 for the particles of `ps` (at most [`CHUNK`], the first of them particle
-/// `first`), whose rates and spins are the first entries of `rates` — SIMD specialisation of
-/// [`update_one`]: four particles per model call. A full chunk is updated where it is stored;
-/// a short one is copied and padded with zero stress and rate and a real particle's volume,
-/// whose update adds nothing. (Copying every chunk cost four `memcpy` calls per chunk, and
-/// the SIMD registers they clobber.)
+/// `first`), whose rates and spins are the first entries of `rates`: [`update_group`] for
+/// eight particles at once in SIMD lanes ([`walk::update_in_lanes`]), a specialisation of
+/// [`update_one`].
 #[inline(always)]
 pub fn update_chunk<D: Dim, M: Constitutive>(
     model: &M,
@@ -421,165 +400,68 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
     dt: Real,
     report: &mut StressReport,
 ) {
-    let len = ps.stress.len();
-    // The particles' masses in lanes (a short chunk padded with a real particle's mass), for
-    // the volume bound m_p times the model's largest specific volume and the bulk viscosity's
-    // m_p (C h)².
-    let viscous = ps.bulk_length > 0.0;
-    let mass = (viscous || model.max_specific_volume().is_some()).then(|| {
-        let lanes = |m: &[Real]| {
-            Real4x2(
-                Real4::from_slice(&m[..LANES]),
-                Real4::from_slice(&m[LANES..]),
-            )
-        };
-        if len == CHUNK {
-            lanes(ps.mass)
-        } else {
-            let mut mass = [ps.mass[0]; CHUNK];
-            mass[..len].copy_from_slice(ps.mass);
-            lanes(&mass)
-        }
+    let StressState {
+        stress,
+        volume,
+        mass,
+        plastic_strain,
+        viscous_pressure,
+        bulk_length: length,
+    } = ps;
+    let largest = model.max_specific_volume();
+    // The masses: for the volume bound m_p times the model's largest specific volume, and the
+    // bulk viscosity's m_p (C h)².
+    let with_mass = length > 0.0 || largest.is_some();
+    let lanes = Chunk {
+        stress: &mut *stress,
+        volume: &mut *volume,
+        mass,
+        plastic_strain: M::PLASTIC.then_some(plastic_strain),
+        viscous_pressure: (length > 0.0).then_some(viscous_pressure),
+    };
+    let u = walk::update_in_lanes(rates, lanes, with_mass, |l| {
+        let cap = largest.zip(l.mass).map(|(s, m)| m * s);
+        let bulk = l
+            .mass
+            .filter(|_| length > 0.0)
+            .map(|m| m * (length * length));
+        let q = bulk.map(|b| (b, l.viscous_pressure));
+        update_group(
+            model, l.stress, l.rate, l.spin, l.history, l.volume, cap, q, dt,
+        )
     });
-    let cap = model.max_specific_volume().zip(mass).map(|(s, m)| m * s);
-    let bulk = mass
-        .filter(|_| viscous)
-        .map(|m| m * (ps.bulk_length * ps.bulk_length));
-    // Set only for a short chunk (zeroing them for every chunk cost 4 instructions a particle).
-    let (mut pad_stress, mut pad_volume);
-    let (stress, volume, short): (&mut [D::Sym; CHUNK], &mut [Real; CHUNK], _) = if len == CHUNK {
-        let stress = ps.stress.try_into().expect("a full chunk");
-        let volume = ps.volume.try_into().expect("a full chunk");
-        (stress, volume, None)
-    } else {
-        (pad_stress, pad_volume) = ([D::Sym::ZERO; CHUNK], [ps.volume[0]; CHUNK]);
-        pad_stress[..len].copy_from_slice(ps.stress);
-        pad_volume[..len].copy_from_slice(ps.volume);
-        rates.rate[len..].fill(D::Sym::ZERO);
-        rates.spin[len..].fill(Default::default());
-        (
-            &mut pad_stress,
-            &mut pad_volume,
-            Some((ps.stress, ps.volume)),
-        )
-    };
-    // The particles' accumulated plastic strains in lanes (zero for models that do not yield,
-    // and in a short chunk's padding).
-    let history = if !M::PLASTIC {
-        Real4x2(Real4::ZERO, Real4::ZERO)
-    } else if len == CHUNK {
-        Real4x2(
-            Real4::from_slice(&ps.plastic_strain[..LANES]),
-            Real4::from_slice(&ps.plastic_strain[LANES..]),
-        )
-    } else {
-        let mut e = [0.0; CHUNK];
-        e[..len].copy_from_slice(ps.plastic_strain);
-        Real4x2(
-            Real4::from_slice(&e[..LANES]),
-            Real4::from_slice(&e[LANES..]),
-        )
-    };
-    let mut plastic = [0.0; CHUNK];
-    // The eight particles in two groups of four lanes, updated in one call: the two groups'
-    // dependency chains interleave.
-    let pack = |g: usize| {
-        let group = |a: &[D::Sym]| -> [D::Sym; LANES] { a[g..g + LANES].try_into().unwrap() };
-        let spins: [_; LANES] = rates.spin[g..g + LANES].try_into().unwrap();
-        (
-            D::Sym::pack(&group(&stress[..])),
-            D::Sym::pack(&group(&rates.rate)),
-            D::Sym::pack_spin(&spins),
-            Real4::from_slice(&volume[g..g + LANES]),
-        )
-    };
-    let ((s0, r0, w0, v0), (s1, r1, w1, v1)) = (pack(0), pack(LANES));
-    let mut lanes = D::Sym::zip(s0, s1);
-    let mut v = Real4x2(v0, v1);
-    let mut q = Real4x2(Real4::ZERO, Real4::ZERO);
-    let (ep, u) = update_group(
-        model,
-        &mut lanes,
-        D::Sym::zip(r0, r1),
-        D::Sym::zip_spin(w0, w1),
-        history,
-        &mut v,
-        cap,
-        bulk.map(|b| (b, &mut q)),
-        dt,
-    );
-    if viscous {
-        match <&mut [Real; CHUNK]>::try_from(&mut *ps.viscous_pressure) {
-            Ok(out) => {
-                q.0.write_to_slice(&mut out[..LANES]);
-                q.1.write_to_slice(&mut out[LANES..]);
-            }
-            Err(_) => {
-                let mut all = [0.0; CHUNK];
-                q.0.write_to_slice(&mut all[..LANES]);
-                q.1.write_to_slice(&mut all[LANES..]);
-                ps.viscous_pressure.copy_from_slice(&all[..len]);
-            }
-        }
-    }
-    let (s0, s1) = D::Sym::unzip(lanes);
-    stress[..LANES].copy_from_slice(&D::Sym::unpack(s0));
-    stress[LANES..].copy_from_slice(&D::Sym::unpack(s1));
-    v.0.write_to_slice(&mut volume[..LANES]);
-    v.1.write_to_slice(&mut volume[LANES..]);
-    ep.0.write_to_slice(&mut plastic[..LANES]);
-    ep.1.write_to_slice(&mut plastic[LANES..]);
-    let finite = u.finite;
-    if finite {
+    if u.finite {
         report.elastic += u.elastic;
         report.dissipated += u.dissipated;
         report.max_volume = max(report.max_volume, u.max_volume);
         report.viscous += u.viscous;
         report.max_compression = max(report.max_compression, u.max_compression);
-    }
-    if M::PLASTIC {
-        // A full chunk adds its plastic strains in lanes (one by one they cost 7 instructions
-        // a particle); a short one adds them one by one.
-        match <&mut [Real; CHUNK]>::try_from(&mut *ps.plastic_strain) {
-            Ok(e) => {
-                (history.0 + ep.0).write_to_slice(&mut e[..LANES]);
-                (history.1 + ep.1).write_to_slice(&mut e[LANES..]);
-            }
-            Err(_) => {
-                for (e, de) in ps.plastic_strain.iter_mut().zip(plastic) {
-                    *e += de;
-                }
-            }
-        }
-    }
-    for i in 0..len {
+    } else {
         // Only a chunk that was not all finite is looked at particle by particle.
-        let ok = finite || stress[i].is_finite() && volume[i].is_finite() && volume[i] > 0.0;
-        if !ok {
-            report.bad(first + i, stress[i].is_finite(), volume[i]);
+        for (i, (s, &v)) in stress.iter().zip(volume.iter()).enumerate() {
+            if !(s.is_finite() && v.is_finite() && v > 0.0) {
+                report.bad(first + i, s.is_finite(), v);
+            }
         }
-    }
-    if let Some((to_stress, to_volume)) = short {
-        to_stress.copy_from_slice(&stress[..len]);
-        to_volume.copy_from_slice(&volume[..len]);
     }
 }
 
 pub use crate::recipe::BULK_VISCOSITY;
 
-/// What one constitutive call (for `LANES` particles in SIMD lanes) adds to the report.
+/// What one constitutive call (for one particle, or for several in SIMD lanes) adds to the
+/// report.
 struct Group {
     /// Σ V W(σ) after the update, and Σ V D (energy the plastic correction removed).
-    elastic: f64,
-    dissipated: f64,
-    max_volume: Real,
+    pub elastic: f64,
+    pub dissipated: f64,
+    pub max_volume: Real,
     /// The bulk viscosity's work Σ q V |tr ε̇| Δt and the fastest compression |tr ε̇|.
-    viscous: f64,
-    max_compression: Real,
-    finite: bool,
+    pub viscous: f64,
+    pub max_compression: Real,
+    pub finite: bool,
 }
 
-/// Steps 2–3 for one group of particles in lanes: the stress by the model (returning their
+/// Steps 2–3 for one particle, or for a group of particles in lanes: the stress by the model (returning their
 /// plastic strain increments) and the volume; with `bulk` = (m (C h)², q), the bulk
 /// viscosity q = ρ (C h tr ε̇)² = m (C h)² (tr ε̇)²/V of the compressing particles, whose work
 /// q V |tr ε̇| Δt = m (C h)² |tr ε̇|³ Δt needs no division.

@@ -24,10 +24,16 @@
 //! [`gradient_packed_2d`] are packing specialisations of the row walks [`scatter_rows`] and
 //! [`gather_rows`], chosen by [`scatter`], [`gather`] and [`gradient`]; the tests below
 //! compare each with the plain per-node sums.
+//!
+//! **Lanes.** The stress update advances eight particles at once in SIMD lanes;
+//! [`update_in_lanes`] puts a chunk of particles into lanes, pads a short one, and takes the
+//! results back out.
 
 use crate::grid::{BlockLayout, GHOST, Grid, Node, stencil_span};
 use crate::kernel::{Kernel, KernelKind, Stencil, floor_nonneg};
-use crate::math::{Dim, Real, SymTensor, Vec2, Vec4, VectorOps, sum_from_first};
+use crate::math::{
+    Batch, Dim, LANES, Real, Real4, Real4x2, SymTensor, Vec2, Vec4, VectorOps, sum_from_first,
+};
 use std::marker::PhantomData;
 
 /// Grid coordinates of a position: x/h plus the ghost nodes before the domain.
@@ -598,6 +604,183 @@ pub fn cell_node<D: Dim, const S: usize>(x: D::Vector, inv_h: Real, at: &At<S>) 
         stride *= row_length::<D, S>();
     }
     n
+}
+
+/// Particles per chunk of the gather between two stress updates (a multiple of `LANES`).
+pub const CHUNK: usize = 2 * LANES;
+
+/// The strain rates and spins of one chunk of particles.
+pub struct Rates<D: Dim> {
+    pub rate: [D::Sym; CHUNK],
+    pub spin: [<D::Sym as SymTensor>::Spin; CHUNK],
+}
+
+impl<D: Dim> Rates<D> {
+    pub fn zero() -> Self {
+        Rates {
+            rate: [D::Sym::ZERO; CHUNK],
+            spin: [Default::default(); CHUNK],
+        }
+    }
+    /// Sets particle `i`'s rate and spin from its velocity gradient.
+    #[inline(always)]
+    pub fn set(&mut self, i: usize, grad: D::Grad) {
+        (self.rate[i], self.spin[i]) = D::rate_and_spin(grad);
+    }
+}
+
+/// The particle state of a chunk of at most [`CHUNK`] particles that a stress update reads
+/// and writes: the plastic strains when the update makes them, and the bulk viscosity's
+/// pressures when it computes them.
+pub struct Chunk<'a, D: Dim> {
+    pub stress: &'a mut [D::Sym],
+    pub volume: &'a mut [Real],
+    pub mass: &'a [Real],
+    pub plastic_strain: Option<&'a mut [Real]>,
+    pub viscous_pressure: Option<&'a mut [Real]>,
+}
+
+/// One chunk's stress-update state in SIMD lanes: eight particles as two groups of four, side
+/// by side ([`Real4x2`]), for [`update_in_lanes`]' `update`.
+pub struct InLanes<'a, D: Dim> {
+    pub stress: &'a mut <D::Sym as Batch>::Packed2,
+    pub rate: <D::Sym as Batch>::Packed2,
+    pub spin: <<D::Sym as Batch>::Packed2 as SymTensor>::Spin,
+    /// The accumulated plastic strains (zero when the chunk has none).
+    pub history: Real4x2,
+    pub volume: &'a mut Real4x2,
+    /// The masses, when asked for.
+    pub mass: Option<Real4x2>,
+    /// Where `update` leaves the bulk viscosity's pressures (zero to start with).
+    pub viscous_pressure: &'a mut Real4x2,
+}
+
+/// Runs the stress update `update` on the particles of `ps`, whose rates and spins are the
+/// first entries of `rates`, in SIMD lanes, eight at a time: the two groups' dependency
+/// chains interleave. `update` returns the plastic strain increments (added to the chunk's)
+/// and what the report gains, which this returns; `with_mass` puts the masses in lanes too.
+///
+/// A full chunk is updated where it is stored; a short one is copied and padded with zero
+/// stress, rate and plastic strain and a real particle's volume and mass, whose update adds
+/// nothing. (Copying every chunk cost four `memcpy` calls per chunk, and the SIMD registers
+/// they clobber.)
+#[inline(always)]
+pub fn update_in_lanes<D: Dim, G>(
+    rates: &mut Rates<D>,
+    ps: Chunk<'_, D>,
+    with_mass: bool,
+    update: impl FnOnce(InLanes<'_, D>) -> (Real4x2, G),
+) -> G {
+    let len = ps.stress.len();
+    let lanes = |m: &[Real]| {
+        Real4x2(
+            Real4::from_slice(&m[..LANES]),
+            Real4::from_slice(&m[LANES..]),
+        )
+    };
+    let mass = with_mass.then(|| {
+        if len == CHUNK {
+            lanes(ps.mass)
+        } else {
+            let mut mass = [ps.mass[0]; CHUNK];
+            mass[..len].copy_from_slice(ps.mass);
+            lanes(&mass)
+        }
+    });
+    // Set only for a short chunk (zeroing them for every chunk cost 4 instructions a particle).
+    let (mut pad_stress, mut pad_volume);
+    let (stress, volume, short): (&mut [D::Sym; CHUNK], &mut [Real; CHUNK], _) = if len == CHUNK {
+        let stress = ps.stress.try_into().expect("a full chunk");
+        let volume = ps.volume.try_into().expect("a full chunk");
+        (stress, volume, None)
+    } else {
+        (pad_stress, pad_volume) = ([D::Sym::ZERO; CHUNK], [ps.volume[0]; CHUNK]);
+        pad_stress[..len].copy_from_slice(ps.stress);
+        pad_volume[..len].copy_from_slice(ps.volume);
+        rates.rate[len..].fill(D::Sym::ZERO);
+        rates.spin[len..].fill(Default::default());
+        (
+            &mut pad_stress,
+            &mut pad_volume,
+            Some((ps.stress, ps.volume)),
+        )
+    };
+    let plastic_strain = ps.plastic_strain;
+    let history = match plastic_strain.as_deref() {
+        None => Real4x2(Real4::ZERO, Real4::ZERO),
+        Some(e) if len == CHUNK => lanes(e),
+        Some(e) => {
+            let mut padded = [0.0; CHUNK];
+            padded[..len].copy_from_slice(e);
+            lanes(&padded)
+        }
+    };
+    let mut increments = [0.0; CHUNK];
+    // Four tensors into lanes at a time ([`Batch`]), then the two groups side by side.
+    let pack = |g: usize| {
+        let group = |a: &[D::Sym]| -> [D::Sym; LANES] { a[g..g + LANES].try_into().unwrap() };
+        let spins: [_; LANES] = rates.spin[g..g + LANES].try_into().unwrap();
+        (
+            D::Sym::pack(&group(&stress[..])),
+            D::Sym::pack(&group(&rates.rate)),
+            D::Sym::pack_spin(&spins),
+            Real4::from_slice(&volume[g..g + LANES]),
+        )
+    };
+    let ((s0, r0, w0, v0), (s1, r1, w1, v1)) = (pack(0), pack(LANES));
+    let mut s = D::Sym::zip(s0, s1);
+    let mut v = Real4x2(v0, v1);
+    let mut q = Real4x2(Real4::ZERO, Real4::ZERO);
+    let (ep, u) = update(InLanes {
+        stress: &mut s,
+        rate: D::Sym::zip(r0, r1),
+        spin: D::Sym::zip_spin(w0, w1),
+        history,
+        volume: &mut v,
+        mass,
+        viscous_pressure: &mut q,
+    });
+    if let Some(pressure) = ps.viscous_pressure {
+        match <&mut [Real; CHUNK]>::try_from(&mut *pressure) {
+            Ok(out) => {
+                q.0.write_to_slice(&mut out[..LANES]);
+                q.1.write_to_slice(&mut out[LANES..]);
+            }
+            Err(_) => {
+                let mut all = [0.0; CHUNK];
+                q.0.write_to_slice(&mut all[..LANES]);
+                q.1.write_to_slice(&mut all[LANES..]);
+                pressure.copy_from_slice(&all[..len]);
+            }
+        }
+    }
+    let (s0, s1) = D::Sym::unzip(s);
+    stress[..LANES].copy_from_slice(&D::Sym::unpack(s0));
+    stress[LANES..].copy_from_slice(&D::Sym::unpack(s1));
+    v.0.write_to_slice(&mut volume[..LANES]);
+    v.1.write_to_slice(&mut volume[LANES..]);
+    ep.0.write_to_slice(&mut increments[..LANES]);
+    ep.1.write_to_slice(&mut increments[LANES..]);
+    if let Some(e) = plastic_strain {
+        // A full chunk adds its plastic strains in lanes (one by one they cost 7 instructions
+        // a particle); a short one adds them one by one.
+        match <&mut [Real; CHUNK]>::try_from(&mut *e) {
+            Ok(e) => {
+                (history.0 + ep.0).write_to_slice(&mut e[..LANES]);
+                (history.1 + ep.1).write_to_slice(&mut e[LANES..]);
+            }
+            Err(_) => {
+                for (e, de) in e.iter_mut().zip(increments) {
+                    *e += de;
+                }
+            }
+        }
+    }
+    if let Some((to_stress, to_volume)) = short {
+        to_stress.copy_from_slice(&stress[..len]);
+        to_volume.copy_from_slice(&volume[..len]);
+    }
+    u
 }
 
 /// Plain per-node forms: each node's weight and gradient as the products they are, for the
