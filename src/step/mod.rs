@@ -31,13 +31,14 @@
 //! APIC), as each body's recipe chooses, used by the scatter and the gather.
 //!
 //! Each pass is a loop over one body's particles or grid nodes, generic over the dimension
-//! `D` and the kernel `K` (with `S` nodes per axis). The stencil loops follow the tensor
-//! product of the weights, w_ijk = w_i w_j w_k, so that each node costs a few multiply-adds;
-//! 2D uses the same loops with the third axis's weight 1 (LLVM folds it away). They stop at
-//! the last node with weight along each axis ([`Stencil::reach`]): a GIMP stencil has two
-//! along an axis where the particle's domain does not cross a node, three elsewhere. The
-//! passes take the stencils from [`Stencils`], which in native 2D builds evaluates GIMP's for
-//! two particles at once.
+//! `D` and the kernel `K` (with `S` nodes per axis). The passes walk no stencil themselves:
+//! [`walk`] alone knows how a stencil lies on the grid (rows, reach, the folded third axis in
+//! 2D, the packed 2D forms) and how the stress update's particles go into SIMD lanes. A pass
+//! states its sums as terms handed to a walk — the scatter a particle's share
+//! ([`walk::Share`]: m_p, m_p v_p, APIC's A_p, a force F_p), the gather and the stress pass
+//! the node fields they sum against w_ip, ∇w_ip and w_ip d_i ([`walk::Sums`]) — and the
+//! stress pass its constitutive step once (`stress::update_group`), run for one particle
+//! or eight in lanes ([`walk::update_in_lanes`]).
 
 pub mod allocate;
 pub mod contact;

@@ -45,10 +45,12 @@
 //! material point methods*, CMAME 333) do with a cell-averaged dilatation. It costs one more
 //! walk over the particles ([`sum_cell_dilatation`]) and an array laid out like the nodes.
 //!
-//! [`update_one`] updates one particle and is the reference; [`update_chunk`], the one the
-//! gather runs, is its SIMD specialisation: four particles per model call in SIMD lanes (the
-//! update is a long dependency chain, and in lanes four chains advance at once), with the
-//! energies and the finiteness test per group of four. A test checks that they agree.
+//! The update is written once, generic over the number type (`update_group`): [`update_one`]
+//! runs it for one particle and is the reference; [`update_chunk`], the one the passes run,
+//! is its SIMD specialisation: eight particles per model call in SIMD lanes
+//! ([`super::walk::update_in_lanes`]; the update is a long dependency chain, and in lanes
+//! eight chains advance at once), with the energies and the finiteness test per chunk. A test
+//! checks that they agree bit for bit.
 
 use super::walk::{self, At, CHUNK, Chunk, Rates, Share, Walker};
 use super::with_kernel;

@@ -13,11 +13,11 @@
 //! w_j w'_k. A node then costs a few multiply-adds.
 //!
 //! **Axis folding.** 2D runs the same loops with the third axis's weight 1 and derivative 0
-//! and one `k` ([`third_axis`]); LLVM folds them away.
+//! and one `k` (`third_axis`); LLVM folds them away.
 //!
 //! **Reach.** The loops stop at the last node with weight along each axis
 //! ([`Stencil::reach`]): a GIMP stencil has two along an axis where the particle's domain does
-//! not cross a node, three elsewhere ([`nodes_along`]).
+//! not cross a node, three elsewhere (`nodes_along`).
 //!
 //! **2D packing.** In 2D two vectors fit one `Vec4`, so the 2D walks keep two sums side by
 //! side: [`scatter_packed_2d`], [`gather_rows_packed_2d`], [`gather_values_packed_2d`] and
