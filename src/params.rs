@@ -6,19 +6,23 @@
 //!
 //! Values are validated where scene files are validated ([`SceneConfig::validate`] and the
 //! materials' own checks): the slider ranges here are what the sliders offer, not what is
-//! allowed. Adding a parameter is one entry here (a [`Field`], listed in [`WORLD`] or in its
-//! models' [`ModelInfo::fields`]) and its line in the tests below.
+//! allowed. Adding a parameter is one entry here (a [`Field`], listed in [`WORLD`] or in
+//! [`MATERIAL_FIELDS`] and named by its models' [`crate::material::Kind::FIELDS`]) and its
+//! line in the tests below.
 //!
 //! Names: `gravity`, `wall_friction`, `cfl` (the world); `<model>.<field>` for every body of a
 //! material model and the preset that new bodies of that model are made of, where `<model>` is
-//! the scene-file name (`elastic`, `von_mises`, `drucker_prager`); `bodies[<i>].<model>.<field>`
-//! for body `i` alone.
+//! the scene-file name (`elastic`, `von_mises`, `drucker_prager`, `mohr_coulomb`);
+//! `bodies[<i>].<model>.<field>` for body `i` alone. The models and the fields each shows come
+//! from their registration ([`crate::material::KINDS`]); a field is described here once
+//! ([`MATERIAL_FIELDS`]) for every model that has it.
 
 use crate::config::{BodyConfig, SceneConfig};
 use crate::error::{Error, Result, not_one_of};
-use crate::material::Material;
+use crate::material::{KINDS, Material};
 use crate::recipe::Recipe;
 use serde::Serialize;
+use std::sync::LazyLock;
 
 /// How a slider maps its travel to values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -63,8 +67,8 @@ enum Access {
         get: fn(&SceneConfig) -> f64,
         set: fn(&mut SceneConfig, f64),
     },
-    /// A field of a body's material (`None` for a model without it).
-    Material(fn(&mut Material) -> Option<&mut f64>),
+    /// The field of a body's material of the same name ([`Material::field_mut`]).
+    Material,
     /// A body's PIC/FLIP ratio.
     Flip,
 }
@@ -97,16 +101,17 @@ pub struct Field {
     access: Access,
 }
 
-/// A material model as the front ends show it.
+/// A material model as the front ends show it (from its registration,
+/// [`crate::material::KINDS`]).
 #[derive(Debug, Serialize)]
 pub struct ModelInfo {
     /// The scene-file name.
     pub id: &'static str,
     pub label: &'static str,
     pub hint: &'static str,
-    /// Its live parameters, in the order they are shown.
+    /// Its live parameters, in the order they are shown: the model's own, then the FLIP ratio.
     #[serde(skip)]
-    pub fields: &'static [&'static Field],
+    pub fields: Vec<&'static Field>,
     /// The material of new bodies until a scene or a parameter says otherwise.
     #[serde(skip)]
     preset: fn() -> Material,
@@ -116,15 +121,6 @@ impl ModelInfo {
     /// The material that new bodies of this model are made of by default.
     pub fn preset(&self) -> Material {
         (self.preset)()
-    }
-}
-
-/// E, ν and ρ of any material.
-fn elastic_fields(m: &mut Material) -> [&mut f64; 3] {
-    match m {
-        Material::Elastic(p) => [&mut p.youngs_modulus, &mut p.poisson_ratio, &mut p.density],
-        Material::VonMises(p) => [&mut p.youngs_modulus, &mut p.poisson_ratio, &mut p.density],
-        Material::DruckerPrager(p) => [&mut p.youngs_modulus, &mut p.poisson_ratio, &mut p.density],
     }
 }
 
@@ -199,10 +195,7 @@ pub const YOUNGS_MODULUS: Field = Field {
     scale: Scale::Log,
     key: Some('e'),
     nudge: Nudge::Times(1.25),
-    access: Access::Material(|m| {
-        let [e, _, _] = elastic_fields(m);
-        Some(e)
-    }),
+    access: Access::Material,
     ..BLANK
 };
 pub const POISSON_RATIO: Field = Field {
@@ -213,10 +206,7 @@ pub const POISSON_RATIO: Field = Field {
     max: 0.49,
     key: Some('n'),
     nudge: Nudge::Plus(0.02),
-    access: Access::Material(|m| {
-        let [_, nu, _] = elastic_fields(m);
-        Some(nu)
-    }),
+    access: Access::Material,
     ..BLANK
 };
 pub const DENSITY: Field = Field {
@@ -228,10 +218,7 @@ pub const DENSITY: Field = Field {
     min: 100.0,
     max: 8000.0,
     scale: Scale::Log,
-    access: Access::Material(|m| {
-        let [_, _, rho] = elastic_fields(m);
-        Some(rho)
-    }),
+    access: Access::Material,
     ..BLANK
 };
 pub const YIELD_STRESS: Field = Field {
@@ -245,10 +232,7 @@ pub const YIELD_STRESS: Field = Field {
     scale: Scale::Log,
     key: Some('y'),
     nudge: Nudge::Times(1.25),
-    access: Access::Material(|m| match m {
-        Material::VonMises(p) => Some(&mut p.yield_stress),
-        _ => None,
-    }),
+    access: Access::Material,
     ..BLANK
 };
 pub const FRICTION_ANGLE: Field = Field {
@@ -261,10 +245,7 @@ pub const FRICTION_ANGLE: Field = Field {
     step: 0.5,
     key: Some('f'),
     nudge: Nudge::Plus(2.0),
-    access: Access::Material(|m| match m {
-        Material::DruckerPrager(p) => Some(&mut p.friction_angle),
-        _ => None,
-    }),
+    access: Access::Material,
     ..BLANK
 };
 pub const DILATANCY_ANGLE: Field = Field {
@@ -278,10 +259,7 @@ pub const DILATANCY_ANGLE: Field = Field {
     at_most: Some("friction_angle"),
     key: Some('d'),
     nudge: Nudge::Plus(2.0),
-    access: Access::Material(|m| match m {
-        Material::DruckerPrager(p) => Some(&mut p.dilatancy_angle),
-        _ => None,
-    }),
+    access: Access::Material,
     ..BLANK
 };
 pub const COHESION: Field = Field {
@@ -297,10 +275,7 @@ pub const COHESION: Field = Field {
         factor: 1.5,
         floor: 10.0,
     },
-    access: Access::Material(|m| match m {
-        Material::DruckerPrager(p) => Some(&mut p.cohesion),
-        _ => None,
-    }),
+    access: Access::Material,
     ..BLANK
 };
 pub const FLIP: Field = Field {
@@ -317,44 +292,42 @@ pub const FLIP: Field = Field {
 /// The world parameters, in the order they are shown.
 pub static WORLD: [&Field; 3] = [&GRAVITY, &WALL_FRICTION, &CFL];
 
-/// The material models, in the order the page lists them.
-pub static MODELS: [ModelInfo; 3] = [
-    ModelInfo {
-        id: "elastic",
-        label: "Elastic",
-        hint: "jelly: bounces back",
-        fields: &[&YOUNGS_MODULUS, &POISSON_RATIO, &DENSITY, &FLIP],
-        preset: || Material::elastic(1.0e5, 0.3, 1000.0),
-    },
-    ModelInfo {
-        id: "von_mises",
-        label: "Plastic",
-        hint: "clay/metal: von Mises",
-        fields: &[
-            &YIELD_STRESS,
-            &YOUNGS_MODULUS,
-            &POISSON_RATIO,
-            &DENSITY,
-            &FLIP,
-        ],
-        preset: || Material::von_mises(1.0e5, 0.3, 1000.0, 5.0e3),
-    },
-    ModelInfo {
-        id: "drucker_prager",
-        label: "Sand",
-        hint: "granular: Drucker–Prager",
-        fields: &[
-            &FRICTION_ANGLE,
-            &DILATANCY_ANGLE,
-            &COHESION,
-            &YOUNGS_MODULUS,
-            &POISSON_RATIO,
-            &DENSITY,
-            &FLIP,
-        ],
-        preset: || Material::drucker_prager(3.5e5, 0.3, 2200.0, 35.0, 0.0, 0.0),
-    },
+/// The fields a material model may name in its live parameters ([`crate::material::Kind::FIELDS`]).
+pub static MATERIAL_FIELDS: [&Field; 7] = [
+    &YOUNGS_MODULUS,
+    &POISSON_RATIO,
+    &DENSITY,
+    &YIELD_STRESS,
+    &FRICTION_ANGLE,
+    &DILATANCY_ANGLE,
+    &COHESION,
 ];
+
+/// The material models, in the order the page lists them, with their live parameters.
+pub static MODELS: LazyLock<Vec<ModelInfo>> = LazyLock::new(|| {
+    KINDS
+        .iter()
+        .map(|k| ModelInfo {
+            id: k.name,
+            label: k.label,
+            hint: k.hint,
+            fields: k
+                .fields
+                .iter()
+                .map(|name| {
+                    *MATERIAL_FIELDS
+                        .iter()
+                        .find(|f| f.field == *name)
+                        .unwrap_or_else(|| {
+                            panic!("{}.{name} has no entry in MATERIAL_FIELDS", k.name)
+                        })
+                })
+                .chain([&FLIP])
+                .collect(),
+            preset: k.preset,
+        })
+        .collect()
+});
 
 /// The index in [`MODELS`] of the model with scene-file name `id`.
 pub fn model_index(id: &str) -> Result<usize> {
@@ -439,7 +412,7 @@ impl Param {
         match self.field.access {
             Access::World { .. } => None,
             Access::Flip => Some(flip.unwrap_or_else(|| Recipe::default_flip(material))),
-            Access::Material(f) => f(&mut material.clone()).map(|v| *v),
+            Access::Material => material.clone().field_mut(self.field.field).map(|v| *v),
         }
     }
 
@@ -452,7 +425,10 @@ impl Param {
                 *flip = Some(v);
                 true
             }
-            Access::Material(f) => f(material).map(|x| *x = v).is_some(),
+            Access::Material => material
+                .field_mut(self.field.field)
+                .map(|x| *x = v)
+                .is_some(),
         }
     }
 
@@ -467,7 +443,7 @@ impl Param {
         match self.field.access {
             Access::World { .. } => Ok(()),
             Access::Flip => flip.map_or(Ok(()), |a| crate::config::check_flip(name, a)),
-            Access::Material(_) => material.validate("material"),
+            Access::Material => material.validate("material"),
         }
     }
 
@@ -632,7 +608,7 @@ mod tests {
     fn scene() -> SceneConfig {
         let mut s = SceneConfig::new(2, &[1.0, 1.0], 0.05);
         for (i, m) in MODELS.iter().enumerate() {
-            let x = 0.1 + 0.3 * i as f64;
+            let x = 0.02 + 0.24 * i as f64;
             s.bodies.push(BodyConfig::new(
                 m.id,
                 Shape::cuboid(&[x, 0.0], &[x + 0.2, 0.2]),
@@ -669,6 +645,13 @@ mod tests {
                 "drucker_prager.poisson_ratio",
                 "drucker_prager.density",
                 "drucker_prager.flip",
+                "mohr_coulomb.friction_angle",
+                "mohr_coulomb.dilatancy_angle",
+                "mohr_coulomb.cohesion",
+                "mohr_coulomb.youngs_modulus",
+                "mohr_coulomb.poisson_ratio",
+                "mohr_coulomb.density",
+                "mohr_coulomb.flip",
             ]
         );
         let defaults: Vec<f64> = Param::all().map(|p| p.default_value()).collect();
@@ -677,6 +660,7 @@ mod tests {
             9.81, 0.0, 0.4,
             1e5, 0.3, 1000.0, 0.0,
             5e3, 1e5, 0.3, 1000.0, 0.0,
+            35.0, 0.0, 0.0, 3.5e5, 0.3, 2200.0, 0.05,
             35.0, 0.0, 0.0, 3.5e5, 0.3, 2200.0, 0.05,
         ]);
         for p in Param::all() {

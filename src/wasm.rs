@@ -74,7 +74,7 @@ fn parse_assets(assets_json: Option<String>) -> Result<HashMap<String, String>, 
 pub fn parameter_table() -> String {
     json(&serde_json::json!({
         "params": crate::params::table(),
-        "models": crate::params::MODELS,
+        "models": &*crate::params::MODELS,
         "objects": crate::playground::OBJECTS,
     }))
 }
@@ -229,7 +229,7 @@ impl Playground {
     }
 
     /// Adds an object (`bunny`, `ball`, `box`) of a preset material (`elastic`, `von_mises`,
-    /// `drucker_prager`), `size` m tall, centred at `center`, moving at `velocity`.
+    /// `drucker_prager`, `mohr_coulomb`), `size` m tall, centred at `center`, moving at `velocity`.
     #[wasm_bindgen(js_name = addObject)]
     pub fn add_object(
         &mut self,

@@ -206,3 +206,48 @@ fn sampling_is_deterministic_and_jitter_follows_the_seed() {
     let c = Snapshot::of(&AnySimulation::new(scene).unwrap());
     assert_ne!(a.position, c.position);
 }
+
+/// A plane heap of cohesionless Mohr–Coulomb sand, φ = 35°, written as a scene file, with
+/// flanks at `slope` degrees on a floor as rough as the sand: after `seconds` of gravity,
+/// how far its base spread (m) and how fast its fastest particle still moves (m/s).
+fn mohr_coulomb_heap(slope: f64, seconds: f64) -> (f64, f64) {
+    let (height, top) = (0.1f64, 0.05);
+    let run = height / slope.to_radians().tan();
+    let (l, r) = (0.6 - top - run, 0.6 + top + run);
+    let text = format!(
+        r#"{{"dim": 2, "domain": {{"size": [1.2, 0.4]}}, "cell_size": 0.01,
+            "boundary": {{"friction": 0.7}},
+            "bodies": [{{"name": "heap",
+                "shape": {{"polygon": {{"points": [[{l}, 0], [{r}, 0], [{}, {height}], [{}, {height}]]}}}},
+                "material": {{"mohr_coulomb": {{"youngs_modulus": 3.5e5, "poisson_ratio": 0.3,
+                    "density": 2200, "friction_angle": 35, "dilatancy_angle": 0,
+                    "cohesion": 0}}}}}}]}}"#,
+        0.6 + top,
+        0.6 - top
+    );
+    let scene = SceneConfig::from_json(&text).unwrap();
+    scene.validate().unwrap();
+    assert_eq!(scene.bodies[0].material.kind(), "mohr_coulomb");
+    let mut sim = AnySimulation::new(scene).unwrap();
+    let width = |sim: &AnySimulation| {
+        let b = &sim.body_stats()[0];
+        b.bbox_max[0] - b.bbox_min[0]
+    };
+    let w0 = width(&sim);
+    sim.advance(seconds).unwrap();
+    (width(&sim) - w0, sim.diagnostics().max_speed)
+}
+
+/// A Mohr–Coulomb heap loads from a scene file and stands with its flanks at 25°, below its
+/// friction angle of 35° (its base spreads by less than a cell, nothing moves faster than
+/// 2 cm/s after a second); at 50°, steeper than the friction angle, the same heap slumps.
+#[test]
+fn a_mohr_coulomb_heap_loads_and_stands_below_its_friction_angle() {
+    let (spread, speed) = mohr_coulomb_heap(25.0, 1.0);
+    assert!(
+        spread < 0.01 && speed < 0.02,
+        "25°: spread {spread} m, {speed} m/s"
+    );
+    let (spread, _) = mohr_coulomb_heap(50.0, 1.0);
+    assert!(spread > 0.03, "50°: spread {spread} m");
+}

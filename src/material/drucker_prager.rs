@@ -389,6 +389,7 @@ impl DruckerPrager {
             } else {
                 f64::NEG_INFINITY
             },
+            lower: None,
         }
     }
     /// f(I1, J2) of Eq. 11.
@@ -480,6 +481,67 @@ impl Constitutive for DruckerPrager {
     }
     fn max_specific_volume(&self) -> Option<Real> {
         Some(self.max_specific_volume)
+    }
+}
+
+impl super::Kind for DruckerPragerParams {
+    const NAME: &'static str = "drucker_prager";
+    const LABEL: &'static str = "Sand";
+    const HINT: &'static str = "granular: Drucker–Prager";
+    const FIELDS: &'static [&'static str] = &[
+        "friction_angle",
+        "dilatancy_angle",
+        "cohesion",
+        "youngs_modulus",
+        "poisson_ratio",
+        "density",
+    ];
+    const BEHAVIOUR: super::Behaviour = super::Behaviour::Granular;
+    type Model = DruckerPrager;
+    fn preset() -> Self {
+        DruckerPragerParams {
+            youngs_modulus: 3.5e5,
+            poisson_ratio: 0.3,
+            density: 2200.0,
+            friction_angle: 35.0,
+            dilatancy_angle: 0.0,
+            cohesion: 0.0,
+            mu_i: None,
+            volumetric_rate: VolumetricRate::Particle,
+            friction_match: FrictionMatch::default(),
+        }
+    }
+    fn elastic_params(&self) -> ElasticParams {
+        self.elastic()
+    }
+    fn check(&self, path: &str) -> Result<()> {
+        self.validate(path)
+    }
+    fn runtime(&self) -> DruckerPrager {
+        self.model()
+    }
+    /// The cone of the runtime model, formed once ([`DruckerPrager::pq_surface`]).
+    fn surface(&self) -> impl Fn(f64) -> super::PqSurface + 'static {
+        let m = self.model();
+        move |plastic_strain| m.pq_surface(plastic_strain)
+    }
+    fn field_mut(&mut self, name: &str) -> Option<&mut f64> {
+        match name {
+            "friction_angle" => Some(&mut self.friction_angle),
+            "dilatancy_angle" => Some(&mut self.dilatancy_angle),
+            "cohesion" => Some(&mut self.cohesion),
+            _ => super::elastic_field(
+                name,
+                [
+                    &mut self.youngs_modulus,
+                    &mut self.poisson_ratio,
+                    &mut self.density,
+                ],
+            ),
+        }
+    }
+    fn volumetric_rate(&self) -> VolumetricRate {
+        self.volumetric_rate
     }
 }
 

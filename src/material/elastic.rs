@@ -123,6 +123,45 @@ impl Constitutive for Elastic {
     }
 }
 
+impl super::Kind for ElasticParams {
+    const NAME: &'static str = "elastic";
+    const LABEL: &'static str = "Elastic";
+    const HINT: &'static str = "jelly: bounces back";
+    const FIELDS: &'static [&'static str] = &["youngs_modulus", "poisson_ratio", "density"];
+    const BEHAVIOUR: super::Behaviour = super::Behaviour::Solid;
+    type Model = Elastic;
+    fn preset() -> Self {
+        ElasticParams {
+            youngs_modulus: 1.0e5,
+            poisson_ratio: 0.3,
+            density: 1000.0,
+        }
+    }
+    fn elastic_params(&self) -> ElasticParams {
+        *self
+    }
+    fn check(&self, path: &str) -> Result<()> {
+        self.validate(path)
+    }
+    fn runtime(&self) -> Elastic {
+        self.model()
+    }
+    fn surface(&self) -> impl Fn(f64) -> super::PqSurface + 'static {
+        let s = self.pq_surface();
+        move |_| s
+    }
+    fn field_mut(&mut self, name: &str) -> Option<&mut f64> {
+        super::elastic_field(
+            name,
+            [
+                &mut self.youngs_modulus,
+                &mut self.poisson_ratio,
+                &mut self.density,
+            ],
+        )
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,17 +1,22 @@
 //! Constitutive models behind one small interface, [`Constitutive`], one model per file:
-//! hypoelastic with the Jaumann rate ([`elastic`]), von Mises plasticity ([`von_mises`]) and
-//! non-associated Drucker–Prager ([`drucker_prager`]).
+//! hypoelastic with the Jaumann rate ([`elastic`]), von Mises plasticity ([`von_mises`]),
+//! non-associated Drucker–Prager ([`drucker_prager`]) and non-associated Mohr–Coulomb
+//! ([`mohr_coulomb`]).
 //!
 //! [`Material`] holds the user-facing parameters (serde, SI units, validated); it builds the
-//! runtime model with the derived constants.
+//! runtime model with the derived constants. Each file's parameters type says what the rest
+//! of the crate asks of a material ([`Kind`]: names, live parameters, preset, checks, yield
+//! surface, behaviour); adding a model is its file and its line in the `materials!` registration below.
 
 pub mod drucker_prager;
 pub mod elastic;
+pub mod mohr_coulomb;
 pub mod mu_i;
 pub mod von_mises;
 
 pub use drucker_prager::{DruckerPrager, DruckerPragerParams, FrictionMatch, VolumetricRate};
 pub use elastic::{Elastic, ElasticParams};
+pub use mohr_coulomb::{MohrCoulomb, MohrCoulombParams};
 pub use von_mises::{VonMises, VonMisesParams};
 
 use crate::error::Result;
@@ -83,14 +88,159 @@ pub enum Behaviour {
     Granular,
 }
 
-/// The material of a body, as written in scene files:
-/// `{"elastic": {...}}`, `{"von_mises": {...}}` or `{"drucker_prager": {...}}`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Material {
+/// What each material model provides, in its own file (its parameters type implements
+/// it); the `materials!` registration lists it. The rest of the crate asks a material only this, through
+/// [`Material`] and [`Model`].
+pub trait Kind: Sized {
+    /// The scene-file name (`{"<NAME>": {...}}`), the page's label and its hint.
+    const NAME: &'static str;
+    const LABEL: &'static str;
+    const HINT: &'static str;
+    /// Its live parameters, by their scene-file names, in the order the front ends show them
+    /// (each described in [`crate::params`]).
+    const FIELDS: &'static [&'static str];
+    /// How the step treats its bodies ([`crate::recipe::Recipe`]).
+    const BEHAVIOUR: Behaviour;
+    /// The runtime model.
+    type Model: Constitutive + std::fmt::Debug + PartialEq;
+    /// The material of new bodies on the page until a scene or a parameter says otherwise.
+    fn preset() -> Self;
+    /// E, ν and density.
+    fn elastic_params(&self) -> ElasticParams;
+    /// Checks every parameter; `path` names the material in error messages.
+    fn check(&self, path: &str) -> Result<()>;
+    /// The runtime model with its derived constants (valid parameters assumed).
+    fn runtime(&self) -> Self::Model;
+    /// The yield surface in p–q space ([`PqSurface`]) as a function of a particle's
+    /// accumulated plastic strain (formed once, asked per particle).
+    fn surface(&self) -> impl Fn(f64) -> PqSurface + 'static;
+    /// The live parameter called `name` (one of [`Kind::FIELDS`]).
+    fn field_mut(&mut self, name: &str) -> Option<&mut f64>;
+    /// Which volumetric strain rate its stress update takes ([`VolumetricRate`]).
+    fn volumetric_rate(&self) -> VolumetricRate {
+        VolumetricRate::Particle
+    }
+}
+
+/// E, ν or ρ, the live parameters every material has, by name.
+pub(crate) fn elastic_field<'a>(name: &str, [e, nu, rho]: [&'a mut f64; 3]) -> Option<&'a mut f64> {
+    match name {
+        "youngs_modulus" => Some(e),
+        "poisson_ratio" => Some(nu),
+        "density" => Some(rho),
+        _ => None,
+    }
+}
+
+/// Code generic over the constitutive model, run with a body's model ([`Model::with`]).
+pub trait WithModel {
+    type Output;
+    fn run<M: Constitutive>(self, model: &M) -> Self::Output;
+}
+
+/// A registered model as the front ends list it.
+#[derive(Clone, Copy, Debug)]
+pub struct KindInfo {
+    pub name: &'static str,
+    pub label: &'static str,
+    pub hint: &'static str,
+    pub fields: &'static [&'static str],
+    pub preset: fn() -> Material,
+}
+
+/// Registers the material models: `Variant(Params)`, the variant's snake-case name being the
+/// scene-file name. Makes [`Material`], [`Model`] and [`KINDS`], and dispatches to [`Kind`].
+macro_rules! materials {
+    ($($variant:ident($params:ty)),* $(,)?) => {
+        /// The material of a body, as written in scene files: `{"<name>": {...}}` with the
+        /// name of a registered model ([`KINDS`]).
+        #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+        #[serde(rename_all = "snake_case")]
+        pub enum Material {
+            $($variant($params),)*
+        }
+
+        /// The runtime form of a [`Material`], with derived constants.
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        pub enum Model {
+            $($variant(<$params as Kind>::Model),)*
+        }
+
+        /// The registered models, in the order the page lists them.
+        pub const KINDS: &[KindInfo] = &[$(KindInfo {
+            name: <$params as Kind>::NAME,
+            label: <$params as Kind>::LABEL,
+            hint: <$params as Kind>::HINT,
+            fields: <$params as Kind>::FIELDS,
+            preset: || Material::$variant(<$params as Kind>::preset()),
+        },)*];
+
+        impl Material {
+            /// The scene-file name of the model.
+            pub fn kind(&self) -> &'static str {
+                match self { $(Material::$variant(_) => <$params as Kind>::NAME,)* }
+            }
+            /// The elastic part of the parameters.
+            pub fn elastic_params(&self) -> ElasticParams {
+                match self { $(Material::$variant(m) => Kind::elastic_params(m),)* }
+            }
+            /// Checks every parameter; `path` names this material in error messages
+            /// (e.g. `bodies[1].material`).
+            pub fn validate(&self, path: &str) -> Result<()> {
+                match self {
+                    $(Material::$variant(m) => {
+                        Kind::check(m, &format!("{path}.{}", <$params as Kind>::NAME))
+                    })*
+                }
+            }
+            /// Whether the material flows like sand or deforms like a solid: what decides
+            /// how the step treats its bodies ([`crate::recipe::Recipe`]).
+            pub fn behaviour(&self) -> Behaviour {
+                match self { $(Material::$variant(_) => <$params as Kind>::BEHAVIOUR,)* }
+            }
+            /// Where the yield surface of a particle with the accumulated plastic strain
+            /// `plastic_strain` lies in p–q space (see [`PqSurface`]; only sand's start–stop
+            /// cone depends on it).
+            pub fn pq_surface(&self, plastic_strain: f64) -> PqSurface {
+                self.pq_surfaces()(plastic_strain)
+            }
+            /// [`Material::pq_surface`] as a function of the plastic strain, for many
+            /// particles.
+            pub fn pq_surfaces(&self) -> Box<dyn Fn(f64) -> PqSurface> {
+                match self { $(Material::$variant(m) => Box::new(Kind::surface(m)),)* }
+            }
+            /// Which volumetric strain rate the stress update takes ([`VolumetricRate`]).
+            pub fn volumetric_rate(&self) -> VolumetricRate {
+                match self { $(Material::$variant(m) => Kind::volumetric_rate(m),)* }
+            }
+            /// The live parameter called `name` (a scene-file field name), if the model has it.
+            pub fn field_mut(&mut self, name: &str) -> Option<&mut f64> {
+                match self { $(Material::$variant(m) => Kind::field_mut(m, name),)* }
+            }
+            /// Builds the runtime model (valid parameters assumed).
+            pub fn model(&self) -> Model {
+                match self { $(Material::$variant(m) => Model::$variant(Kind::runtime(m)),)* }
+            }
+        }
+
+        impl Model {
+            /// Runs `f` with the model.
+            #[inline(always)]
+            pub fn with<W: WithModel>(&self, f: W) -> W::Output {
+                match self { $(Model::$variant(m) => f.run(m),)* }
+            }
+            pub fn elastic(&self) -> &Elastic {
+                match self { $(Model::$variant(m) => Constitutive::elastic(m),)* }
+            }
+        }
+    };
+}
+
+materials! {
     Elastic(ElasticParams),
     VonMises(VonMisesParams),
     DruckerPrager(DruckerPragerParams),
+    MohrCoulomb(MohrCoulombParams),
 }
 
 impl Material {
@@ -138,23 +288,24 @@ impl Material {
             friction_match: FrictionMatch::default(),
         })
     }
-
-    /// The scene-file name of the model.
-    pub fn kind(&self) -> &'static str {
-        match self {
-            Material::Elastic(_) => "elastic",
-            Material::VonMises(_) => "von_mises",
-            Material::DruckerPrager(_) => "drucker_prager",
-        }
-    }
-
-    /// The elastic part of the parameters.
-    pub fn elastic_params(&self) -> ElasticParams {
-        match self {
-            Material::Elastic(e) => *e,
-            Material::VonMises(m) => m.elastic(),
-            Material::DruckerPrager(m) => m.elastic(),
-        }
+    /// Mohr–Coulomb with friction angle φ and dilatancy angle ψ (degrees) and cohesion c
+    /// (Pa), the Drucker–Prager sand's parameters.
+    pub fn mohr_coulomb(
+        youngs_modulus: f64,
+        poisson_ratio: f64,
+        density: f64,
+        friction_angle: f64,
+        dilatancy_angle: f64,
+        cohesion: f64,
+    ) -> Self {
+        Material::MohrCoulomb(MohrCoulombParams {
+            youngs_modulus,
+            poisson_ratio,
+            density,
+            friction_angle,
+            dilatancy_angle,
+            cohesion,
+        })
     }
 
     /// Density in kg/m³.
@@ -162,57 +313,9 @@ impl Material {
         self.elastic_params().density
     }
 
-    /// Checks every parameter; `path` names this material in error messages
-    /// (e.g. `bodies[1].material`).
-    pub fn validate(&self, path: &str) -> Result<()> {
-        match self {
-            Material::Elastic(m) => m.validate(&format!("{path}.elastic")),
-            Material::VonMises(m) => m.validate(&format!("{path}.von_mises")),
-            Material::DruckerPrager(m) => m.validate(&format!("{path}.drucker_prager")),
-        }
-    }
-
-    /// Whether the material flows like sand or deforms like a solid: what decides how the
-    /// step treats its bodies ([`crate::recipe::Recipe`]).
-    pub fn behaviour(&self) -> Behaviour {
-        match self {
-            Material::DruckerPrager(_) => Behaviour::Granular,
-            _ => Behaviour::Solid,
-        }
-    }
-
     /// The dilatational wave speed √((K + 4G/3)/ρ) at the reference density, in m/s.
     pub fn wave_speed(&self) -> f64 {
         self.elastic_params().wave_speed()
-    }
-
-    /// Where the yield surface of a particle with the accumulated plastic strain
-    /// `plastic_strain` lies in p–q space (see [`PqSurface`]; only sand's start–stop cone
-    /// depends on it).
-    pub fn pq_surface(&self, plastic_strain: f64) -> PqSurface {
-        match self {
-            Material::Elastic(m) => m.pq_surface(),
-            Material::VonMises(m) => m.pq_surface(),
-            Material::DruckerPrager(m) => m.pq_surface(plastic_strain),
-        }
-    }
-
-    /// Which volumetric strain rate the stress update takes ([`VolumetricRate`]; an option of
-    /// sand only).
-    pub fn volumetric_rate(&self) -> VolumetricRate {
-        match self {
-            Material::DruckerPrager(m) => m.volumetric_rate,
-            _ => VolumetricRate::Particle,
-        }
-    }
-
-    /// Builds the runtime model (valid parameters assumed).
-    pub fn model(&self) -> Model {
-        match self {
-            Material::Elastic(m) => Model::Elastic(m.model()),
-            Material::VonMises(m) => Model::VonMises(m.model()),
-            Material::DruckerPrager(m) => Model::DruckerPrager(m.model()),
-        }
     }
 }
 
@@ -222,7 +325,9 @@ impl Material {
 /// q = slope · p + intercept for p ≥ `apex_p`; an elastic model has none.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct PqSurface {
-    /// `none`, `von_mises` (a cylinder about the hydrostatic axis) or `drucker_prager` (a cone).
+    /// `none`, `von_mises` (a cylinder about the hydrostatic axis), `drucker_prager` (a cone) or
+    /// `mohr_coulomb` (a hexagonal pyramid: the line is its triaxial compression meridian,
+    /// `lower` its extension meridian).
     pub kind: &'static str,
     /// How a plot labels it.
     pub label: &'static str,
@@ -231,6 +336,10 @@ pub struct PqSurface {
     /// The apex's pressure (Pa): where the cone closes; very negative when there is none.
     #[serde(serialize_with = "finite_or_lowest")]
     pub apex_p: f64,
+    /// A surface whose meridian depends on the Lode angle: its inner meridian
+    /// (slope, intercept), below the line above; stresses at yield lie between the two.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lower: Option<(f64, f64)>,
 }
 
 fn finite_or_lowest<S: serde::Serializer>(x: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
@@ -245,15 +354,17 @@ impl PqSurface {
         slope: 0.0,
         intercept: 0.0,
         apex_p: f64::NEG_INFINITY,
+        lower: None,
     };
 
-    /// Whether a stress state (p, q) lies on the surface (within 2 % of it) or beyond it, or
-    /// past the apex. False without a surface.
+    /// Whether a stress state (p, q) lies on the surface (within 2 % of it; of its inner
+    /// meridian if it has one) or beyond it, or past the apex. False without a surface.
     pub fn reached(&self, p: f64, q: f64) -> bool {
         if self.kind == PqSurface::NONE.kind {
             return false;
         }
-        let limit = self.slope * p + self.intercept;
+        let (slope, intercept) = self.lower.unwrap_or((self.slope, self.intercept));
+        let limit = slope * p + intercept;
         let scale = limit.abs().max(1e-3 * (q + p.abs())).max(1e-9);
         q >= limit - 0.02 * scale || p <= self.apex_p
     }
@@ -265,29 +376,6 @@ pub fn pq<S: SymTensor<Scalar = Real>>(stress: S) -> (f64, f64) {
         -stress.trace() as f64 / 3.0,
         (3.0 * stress.j2() as f64).sqrt(),
     )
-}
-
-/// The runtime form of a [`Material`], with derived constants.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Model {
-    Elastic(Elastic),
-    VonMises(VonMises),
-    DruckerPrager(DruckerPrager),
-}
-
-impl Model {
-    pub fn elastic(&self) -> &Elastic {
-        match self {
-            Model::Elastic(m) => m,
-            Model::VonMises(m) => &m.elastic,
-            Model::DruckerPrager(m) => &m.elastic,
-        }
-    }
-    /// The elastic moduli (G, K) in Pa.
-    pub fn moduli(&self) -> (Real, Real) {
-        let e = self.elastic();
-        (e.g, e.k)
-    }
 }
 
 #[cfg(test)]
@@ -490,6 +578,11 @@ mod tests {
                 unreachable!()
             };
             check_lanes(&m);
+            let Model::MohrCoulomb(mc) = Material::mohr_coulomb(e, nu, rho, 30.0, 10.0, c).model()
+            else {
+                unreachable!()
+            };
+            check_lanes(&mc);
             // with the rate-dependent friction μ(I)
             let mut with = Material::drucker_prager(e, nu, rho, 30.0, 10.0, c);
             if let Material::DruckerPrager(p) = &mut with {
@@ -588,6 +681,24 @@ mod tests {
         assert!(!PqSurface::NONE.reached(1e9, 1e9));
     }
 
+    /// Every registered model's scene-file name is the one its material is written under, a
+    /// preset reads back as itself and validates, and each live parameter it lists exists.
+    #[test]
+    fn every_registered_model_reads_and_writes_under_its_name() {
+        for k in KINDS {
+            let mut m = (k.preset)();
+            assert_eq!(m.kind(), k.name);
+            let text = serde_json::to_value(&m).unwrap();
+            assert!(text.get(k.name).is_some(), "{text}");
+            assert_eq!(serde_json::from_value::<Material>(text).unwrap(), m);
+            m.validate("material").unwrap();
+            for f in k.fields {
+                assert!(m.field_mut(f).is_some(), "{}.{f}", k.name);
+            }
+            assert!(m.field_mut("colour").is_none());
+        }
+    }
+
     #[test]
     fn every_model_reports_the_energy_of_the_stress_it_returns() {
         let (e, nu, rho) = (1.0e6, 0.3, 1000.0);
@@ -599,6 +710,11 @@ mod tests {
         for c in [0.0, 500.0] {
             let Model::DruckerPrager(m) =
                 Material::drucker_prager(e, nu, rho, 30.0, 10.0, c).model()
+            else {
+                unreachable!()
+            };
+            check_energy(&m, 300);
+            let Model::MohrCoulomb(m) = Material::mohr_coulomb(e, nu, rho, 30.0, 10.0, c).model()
             else {
                 unreachable!()
             };

@@ -43,6 +43,7 @@ impl VonMisesParams {
             slope: 0.0,
             intercept: self.yield_stress,
             apex_p: f64::NEG_INFINITY,
+            lower: None,
         }
     }
     pub fn model(&self) -> VonMises {
@@ -96,6 +97,50 @@ impl Constitutive for VonMises {
     }
     fn elastic(&self) -> &Elastic {
         &self.elastic
+    }
+}
+
+impl super::Kind for VonMisesParams {
+    const NAME: &'static str = "von_mises";
+    const LABEL: &'static str = "Plastic";
+    const HINT: &'static str = "clay/metal: von Mises";
+    const FIELDS: &'static [&'static str] =
+        &["yield_stress", "youngs_modulus", "poisson_ratio", "density"];
+    const BEHAVIOUR: super::Behaviour = super::Behaviour::Solid;
+    type Model = VonMises;
+    fn preset() -> Self {
+        VonMisesParams {
+            youngs_modulus: 1.0e5,
+            poisson_ratio: 0.3,
+            density: 1000.0,
+            yield_stress: 5.0e3,
+        }
+    }
+    fn elastic_params(&self) -> ElasticParams {
+        self.elastic()
+    }
+    fn check(&self, path: &str) -> Result<()> {
+        self.validate(path)
+    }
+    fn runtime(&self) -> VonMises {
+        self.model()
+    }
+    fn surface(&self) -> impl Fn(f64) -> super::PqSurface + 'static {
+        let s = self.pq_surface();
+        move |_| s
+    }
+    fn field_mut(&mut self, name: &str) -> Option<&mut f64> {
+        match name {
+            "yield_stress" => Some(&mut self.yield_stress),
+            _ => super::elastic_field(
+                name,
+                [
+                    &mut self.youngs_modulus,
+                    &mut self.poisson_ratio,
+                    &mut self.density,
+                ],
+            ),
+        }
     }
 }
 

@@ -2,7 +2,7 @@
 //! state, with the range a colour map should span.
 
 use crate::error::{Result, not_one_of};
-use crate::material::{Material, pq};
+use crate::material::pq;
 use crate::math::{Dim, Real};
 use crate::sim::Simulation;
 
@@ -115,15 +115,11 @@ fn fill<D: Dim>(
             }
             for (body, config) in s.bodies().iter().zip(&s.scene().bodies) {
                 // sand's cone depends on each particle's plastic strain (the start–stop match)
-                let sand = match &config.material {
-                    Material::DruckerPrager(m) => Some(m.model()),
-                    _ => None,
-                };
-                let fixed = config.material.pq_surface(0.0);
+                let surfaces = config.material.pq_surfaces();
                 for i in body.range() {
                     let id = p.id[i] as usize;
                     let ep = p.plastic_strain[i];
-                    let surface = sand.map_or(fixed, |m| m.pq_surface(ep as f64));
+                    let surface = surfaces(ep as f64);
                     let before = previous_plastic[id];
                     previous_plastic[id] = ep;
                     let (pressure, q) = pq(p.stress[i]);

@@ -13,7 +13,7 @@ pub struct DroppedBody {
     pub t: f64,
     /// `bunny`, `ball` or `box`.
     pub object: String,
-    /// The preset material's model (`elastic`, `von_mises`, `drucker_prager`).
+    /// The preset material's model (a scene-file name of [`crate::material::KINDS`]).
     pub material: String,
     /// Height (m).
     pub size: f64,

@@ -453,7 +453,7 @@ impl Playground {
     }
 
     /// Adds a body of kind `object` (`bunny`, `ball`, `box`) made of the preset material
-    /// `model` (`elastic`, `von_mises`, `drucker_prager`), `size` metres tall, centred at
+    /// `model` (`elastic`, `von_mises`, `drucker_prager`, `mohr_coulomb`), `size` metres tall, centred at
     /// `center` (moved inside the domain if it pokes out), moving at `velocity`. Returns the
     /// new body's index. Not recorded in the session (see [`Self::drop_at`]); its `appear_at`
     /// is the drop clock's time, for [`Self::saved_scene`].

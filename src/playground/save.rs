@@ -146,7 +146,7 @@ mod tests {
                     match &b.material {
                         Material::DruckerPrager(p) => assert_eq!(p.friction_angle, 25.0),
                         Material::VonMises(p) => assert_eq!(p.yield_stress, 2000.0),
-                        Material::Elastic(_) => {}
+                        _ => {}
                     }
                 }
 

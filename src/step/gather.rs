@@ -20,8 +20,8 @@ use super::walk::{self, CHUNK, Rates, Walker};
 use super::{BodyStep, StressOrder, constraint_dissipation, with_kernel};
 use crate::boundary::Walls;
 use crate::grid::{Grid, Node};
-use crate::kernel::Kernel;
-use crate::material::Model;
+use crate::kernel::{Kernel, KernelKind};
+use crate::material::{Constitutive, WithModel};
 use crate::math::{Dim, Real, VectorOps};
 use crate::sim::{Measure, Simulation};
 
@@ -70,32 +70,49 @@ impl<D: Dim> Simulation<D> {
                 radius: body.radius,
                 gravity: w.gravity,
             };
-            macro_rules! last {
-                ($m:expr) => {{
-                    let mut after = UpdateStressLast {
-                        model: $m,
-                        state: stress,
-                        dt,
-                        report: StressReport::default(),
-                    };
-                    let g = with_kernel!(w.kernel, K, S => gather::<D, K, _, S>(&pass, state, &mut after));
-                    step.stress = after.report;
-                    g.with_plastic_strain(after.state.plastic_strain)
-                }};
-            }
-            let last = body.recipe.stress_order == StressOrder::Last;
-            let report = match (&body.model, last) {
-                (_, false) => {
-                    let g = with_kernel!(w.kernel, K, S => gather::<D, K, _, S>(&pass, state, &mut StressUpdatedFirst));
-                    g.with_plastic_strain(stress.plastic_strain)
-                }
-                (Model::Elastic(m), true) => last!(m),
-                (Model::VonMises(m), true) => last!(m),
-                (Model::DruckerPrager(m), true) => last!(m),
+            let report = if body.recipe.stress_order == StressOrder::Last {
+                let (g, stress) = body.model.with(Last {
+                    kernel: w.kernel,
+                    pass: &pass,
+                    state,
+                    stress,
+                });
+                step.stress = stress;
+                g
+            } else {
+                let g = with_kernel!(w.kernel, K, S => gather::<D, K, _, S>(&pass, state, &mut StressUpdatedFirst));
+                g.with_plastic_strain(stress.plastic_strain)
             };
             reports.push(report);
         }
         reports
+    }
+}
+
+/// The gather of one body whose stress is updated last, run with its model
+/// ([`crate::material::Model::with`]): [`gather`] for the kernel, updating the stress chunk by chunk
+/// ([`UpdateStressLast`]).
+struct Last<'a, D: Dim> {
+    kernel: KernelKind,
+    pass: &'a Pass<'a, D>,
+    state: GatherState<'a, D>,
+    stress: StressState<'a, D>,
+}
+
+impl<D: Dim> WithModel for Last<'_, D> {
+    type Output = (GatherReport<D>, StressReport);
+    fn run<M: Constitutive>(self, m: &M) -> Self::Output {
+        let mut after = UpdateStressLast {
+            model: m,
+            state: self.stress,
+            dt: self.pass.dt,
+            report: StressReport::default(),
+        };
+        let g = with_kernel!(self.kernel, K, S => gather::<D, K, _, S>(self.pass, self.state, &mut after));
+        (
+            g.with_plastic_strain(after.state.plastic_strain),
+            after.report,
+        )
     }
 }
 

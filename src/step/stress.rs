@@ -55,8 +55,8 @@
 use super::walk::{self, At, CHUNK, Chunk, Rates, Share, Walker};
 use super::with_kernel;
 use crate::grid::Grid;
-use crate::kernel::{Kernel, Stencil};
-use crate::material::{Constitutive, Model, VolumetricRate};
+use crate::kernel::{Kernel, KernelKind, Stencil};
+use crate::material::{Constitutive, VolumetricRate, WithModel};
 use crate::math::{Dim, Number, Real, SymTensor, exp_small, max};
 use crate::sim::Simulation;
 use std::ops::Range;
@@ -85,16 +85,53 @@ impl<D: Dim> Simulation<D> {
             let lp = body.radius * inv_h;
             let grid = &mut body.grid;
             let average = body.recipe.volumetric_rate == VolumetricRate::CellAverage;
-            step.stress = with_kernel!(kernel, K, S => match &body.model {
-                Model::Elastic(m) => update_stress_first::<D, K, _, S, false>(grid, x, state, m, dt, inv_h, lp),
-                Model::VonMises(m) => update_stress_first::<D, K, _, S, false>(grid, x, state, m, dt, inv_h, lp),
-                Model::DruckerPrager(m) if average => {
-                    sum_cell_dilatation::<D, K, S>(grid, x, state.volume, inv_h, lp);
-                    update_stress_first::<D, K, _, S, true>(grid, x, state, m, dt, inv_h, lp)
-                }
-                Model::DruckerPrager(m) => update_stress_first::<D, K, _, S, false>(grid, x, state, m, dt, inv_h, lp),
+            step.stress = body.model.with(First {
+                kernel,
+                grid,
+                x,
+                state,
+                dt,
+                inv_h,
+                lp,
+                average,
             });
         }
+    }
+}
+
+/// Steps 2–4 of one body whose stress is updated first, run with its model
+/// ([`crate::material::Model::with`]): [`update_stress_first`] for the kernel, after [`sum_cell_dilatation`]
+/// when the body's recipe takes the cell-averaged volumetric rate.
+struct First<'a, D: Dim> {
+    kernel: KernelKind,
+    grid: &'a mut Grid<D>,
+    x: &'a [D::Vector],
+    state: StressState<'a, D>,
+    dt: Real,
+    inv_h: Real,
+    lp: Real,
+    average: bool,
+}
+
+impl<D: Dim> WithModel for First<'_, D> {
+    type Output = StressReport;
+    fn run<M: Constitutive>(self, m: &M) -> StressReport {
+        let First {
+            kernel,
+            grid,
+            x,
+            state,
+            dt,
+            inv_h,
+            lp,
+            average,
+        } = self;
+        with_kernel!(kernel, K, S => if average {
+            sum_cell_dilatation::<D, K, S>(grid, x, state.volume, inv_h, lp);
+            update_stress_first::<D, K, _, S, true>(grid, x, state, m, dt, inv_h, lp)
+        } else {
+            update_stress_first::<D, K, _, S, false>(grid, x, state, m, dt, inv_h, lp)
+        })
     }
 }
 
@@ -843,21 +880,17 @@ mod tests {
             Material::elastic(1e6, 0.3, 1000.0),
             Material::von_mises(1e6, 0.3, 1000.0, 3e3),
             Material::drucker_prager(1e6, 0.3, 2000.0, 30.0, 5.0, 0.0),
+            Material::mohr_coulomb(1e6, 0.3, 2000.0, 30.0, 5.0, 100.0),
         ] {
-            match material.model() {
-                Model::Elastic(m) => {
-                    lanes_match_the_reference::<D2, _>(&m);
-                    lanes_match_the_reference::<D3, _>(&m);
-                }
-                Model::VonMises(m) => {
-                    lanes_match_the_reference::<D2, _>(&m);
-                    lanes_match_the_reference::<D3, _>(&m);
-                }
-                Model::DruckerPrager(m) => {
-                    lanes_match_the_reference::<D2, _>(&m);
-                    lanes_match_the_reference::<D3, _>(&m);
+            struct Check;
+            impl WithModel for Check {
+                type Output = ();
+                fn run<M: Constitutive>(self, m: &M) {
+                    lanes_match_the_reference::<D2, _>(m);
+                    lanes_match_the_reference::<D3, _>(m);
                 }
             }
+            material.model().with(Check);
         }
     }
 

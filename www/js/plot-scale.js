@@ -34,7 +34,7 @@ export function pqWindow(path, surface) {
   let pMax = 0, qMax = 0, pMin = 0;
   for (const [p, q] of path) { pMax = Math.max(pMax, p * k); pMin = Math.min(pMin, p * k); qMax = Math.max(qMax, q * k); }
   if (surface.kind !== 'none') qMax = Math.max(qMax, (surface.slope * pMax + surface.intercept * k));
-  if (surface.kind === 'drucker_prager') pMin = Math.min(pMin, Math.max(surface.apex_p * k, -0.25 * (pMax || 1)));
+  if (hasApex(surface)) pMin = Math.min(pMin, Math.max(surface.apex_p * k, -0.25 * (pMax || 1)));
   return {
     k,
     unit: big ? 'kPa' : 'Pa',
@@ -44,11 +44,17 @@ export function pqWindow(path, surface) {
   };
 }
 
+/// Whether a surface closes at an apex (a cone or pyramid; `apex_p` is −1e300 without one).
+const hasApex = (surface) => surface.kind !== 'none' && surface.apex_p > -1e299;
+
 /// The drawn part of the yield surface in window `w` (scaled units): from the apex (or the
 /// window's left edge) to its right edge, as [[p0, q0], [p1, q1]]; null without a surface.
-export function surfaceLine(surface, w) {
-  if (surface.kind === 'none') return null;
-  const p0 = surface.kind === 'drucker_prager' ? Math.max(w.pMin, surface.apex_p * w.k) : w.pMin;
-  const q = (p) => surface.slope * p + surface.intercept * w.k;
+/// `inner`: its inner meridian (`surface.lower`, [slope, intercept], of a surface whose
+/// meridian depends on the Lode angle), null if it has none.
+export function surfaceLine(surface, w, inner = false) {
+  if (surface.kind === 'none' || (inner && !surface.lower)) return null;
+  const [slope, intercept] = inner ? surface.lower : [surface.slope, surface.intercept];
+  const p0 = hasApex(surface) ? Math.max(w.pMin, surface.apex_p * w.k) : w.pMin;
+  const q = (p) => slope * p + intercept * w.k;
   return [[p0, Math.max(0, q(p0))], [w.pMax, q(w.pMax)]];
 }

@@ -176,6 +176,16 @@ export class StressPlot {
       ctx.moveTo(X(p0), Y(q0));
       ctx.lineTo(X(p1), Y(q1));
       ctx.stroke();
+      const lower = surfaceLine(surface, win, true); // a pyramid's inner meridian, dashed
+      if (lower) {
+        ctx.setLineDash([6, 4]);
+        ctx.lineWidth = 1.5;
+        ctx.beginPath();
+        ctx.moveTo(X(lower[0][0]), Y(lower[0][1]));
+        ctx.lineTo(X(lower[1][0]), Y(lower[1][1]));
+        ctx.stroke();
+        ctx.setLineDash([]);
+      }
       ctx.fillStyle = '#c92a2a';
     } else ctx.fillStyle = '#5b6577';
     ctx.fillText(surface.label, box.x0 + 6, box.y0 + 12);

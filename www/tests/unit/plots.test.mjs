@@ -53,3 +53,14 @@ test('small stresses stay in pascals; a cohesive cone shows its apex in tension'
   assert.ok(c.pMin < -0.5 && Math.abs(c.pMin - 1.15 * -0.5) < 1e-12, `${c.pMin}`);
   assert.deepEqual(surfaceLine(cohesive, c)[0].map((x) => +x.toFixed(9)), [-0.5, 0]);
 });
+
+test('a pyramid draws its compression meridian and, inside it, its extension meridian from the apex', () => {
+  const pyramid = { kind: 'mohr_coulomb', slope: 1.2, intercept: 600, apex_p: -500, lower: [0.9, 450], label: 'Mohr–Coulomb' };
+  const w = pqWindow([[3000, 2000]], pyramid);
+  assert.ok(Math.abs(w.pMin - 1.15 * -0.5) < 1e-12, `${w.pMin}`);
+  const outer = surfaceLine(pyramid, w);
+  const inner = surfaceLine(pyramid, w, true);
+  assert.deepEqual(inner[0].map((x) => +x.toFixed(9)), [-0.5, 0]);
+  assert.ok(inner[1][1] < outer[1][1]);
+  assert.equal(surfaceLine(cohesive, w, true), null);
+});
