@@ -294,6 +294,49 @@ fn check_reports_counts_memory_and_time_step() {
     );
 }
 
+/// A Mohr–Coulomb body in a scene file: `check` names its material and takes its live
+/// parameters (`--set mohr_coulomb.…`, listed by `run --help`), `run` steps it.
+#[test]
+fn a_mohr_coulomb_scene_checks_and_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = TINY_2D.replace("drucker_prager", "mohr_coulomb");
+    fs::write(dir.path().join("mc.json"), scene).unwrap();
+    let out = mpm(
+        &[
+            "check",
+            "mc.json",
+            "--set",
+            "mohr_coulomb.friction_angle=25",
+        ],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let s = text(&out.stdout);
+    assert!(s.contains("mohr_coulomb"), "{s}");
+    let out = mpm(
+        &[
+            "check",
+            "mc.json",
+            "--set",
+            "mohr_coulomb.friction_angle=95",
+        ],
+        dir.path(),
+    );
+    assert!(!out.status.success());
+    assert!(
+        text(&out.stderr).contains("bodies[0].material.mohr_coulomb.friction_angle = 95"),
+        "{}",
+        text(&out.stderr)
+    );
+    let help = text(&mpm(&["run", "--help"], dir.path()).stdout);
+    assert!(help.contains("mohr_coulomb.friction_angle"), "{help}");
+    let out = mpm(
+        &["run", "mc.json", "-t", "0.05", "-n", "1", "-o", "out"],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+}
+
 /// `mpm check SCENE | head`: the reader closes the pipe before the command has written
 /// everything; the command ends quietly (success, nothing on stderr), not with a panic on
 /// the closed pipe.
