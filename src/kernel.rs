@@ -28,7 +28,7 @@ pub fn floor_nonneg(x: Real) -> i32 {
 /// the scalar lane loop of [`Kernel::stencil`] into SIMD only in part natively (with shuffles
 /// between most operations) and not at all for wasm32, where V8 then compiles each clamp to
 /// two branches and each truncation to a checked round trip.
-pub trait Lanes: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> {
+pub trait ShapeArith: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> {
     /// The integer type with as many lanes.
     type Int: Copy;
     fn splat(x: Real) -> Self;
@@ -41,7 +41,7 @@ pub trait Lanes: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = S
     fn floor_nonneg(self) -> (Self::Int, Self);
 }
 
-impl Lanes for Real {
+impl ShapeArith for Real {
     type Int = i32;
     #[inline(always)]
     fn splat(x: Real) -> Self {
@@ -80,7 +80,7 @@ pub use sse::F4;
 /// part, with a shuffle for every other operation (docs/performance.md).
 #[cfg(all(target_arch = "x86_64", not(feature = "f64")))]
 mod sse {
-    use super::Lanes;
+    use super::ShapeArith;
     use core::arch::x86_64::*;
     use std::ops::{Add, Mul, Sub};
 
@@ -128,7 +128,7 @@ mod sse {
     binop!(Add, add, _mm_add_ps);
     binop!(Sub, sub, _mm_sub_ps);
     binop!(Mul, mul, _mm_mul_ps);
-    impl Lanes for F4 {
+    impl ShapeArith for F4 {
         type Int = [i32; 4];
         #[inline(always)]
         fn splat(x: f32) -> Self {
@@ -175,7 +175,7 @@ mod sse {
     not(feature = "f64")
 ))]
 mod simd {
-    use super::Lanes;
+    use super::ShapeArith;
     use core::arch::wasm32::*;
     use std::ops::{Add, Mul, Sub};
 
@@ -213,7 +213,7 @@ mod simd {
     binop!(Add, add, f32x4_add);
     binop!(Sub, sub, f32x4_sub);
     binop!(Mul, mul, f32x4_mul);
-    impl Lanes for F4 {
+    impl ShapeArith for F4 {
         type Int = [i32; 4];
         #[inline(always)]
         fn splat(x: f32) -> Self {
@@ -319,11 +319,11 @@ pub trait Kernel<const S: usize>: Copy + Send + Sync + 'static {
     const KIND: KernelKind;
     /// The first stencil node along one axis for a particle at grid coordinate `xg` of
     /// half-width `lp` grid units (used by GIMP only), as an integer and as a [`Real`].
-    fn first<L: Lanes>(xg: L, lp: Real) -> (L::Int, L);
+    fn first<L: ShapeArith>(xg: L, lp: Real) -> (L::Int, L);
 
     /// Weight and derivative (per grid unit) of the k-th stencil node for a particle at
     /// fractional offset `f` from the first node.
-    fn node<L: Lanes>(f: L, k: usize, lp: Real) -> (L, L);
+    fn node<L: ShapeArith>(f: L, k: usize, lp: Real) -> (L, L);
 
     /// Base node index, weights and weight derivatives (per grid unit) along one axis.
     #[inline(always)]
@@ -523,7 +523,7 @@ pub const LINEAR_NUDGE: Real = 1e-6;
 impl Kernel<2> for Linear {
     const KIND: KernelKind = KernelKind::Linear;
     #[inline(always)]
-    fn first<L: Lanes>(xg: L, _lp: Real) -> (L::Int, L) {
+    fn first<L: ShapeArith>(xg: L, _lp: Real) -> (L::Int, L) {
         xg.floor_nonneg()
     }
     /// A particle on a node line (f = 0 exactly, as happens when x/h rounds to a whole number
@@ -533,7 +533,7 @@ impl Kernel<2> for Linear {
     /// cells the nudge is under one f32 step of x/h: the stencil is that of the next position
     /// a particle can have, one the kernel meets as often (docs/stability.md).
     #[inline(always)]
-    fn node<L: Lanes>(f: L, k: usize, _lp: Real) -> (L, L) {
+    fn node<L: ShapeArith>(f: L, k: usize, _lp: Real) -> (L, L) {
         let f = f.clamp(LINEAR_NUDGE, 1.0);
         if k == 0 {
             (L::splat(1.0) - f, L::splat(-1.0))
@@ -550,11 +550,11 @@ pub struct QuadraticBspline;
 impl Kernel<3> for QuadraticBspline {
     const KIND: KernelKind = KernelKind::QuadraticBspline;
     #[inline(always)]
-    fn first<L: Lanes>(xg: L, _lp: Real) -> (L::Int, L) {
+    fn first<L: ShapeArith>(xg: L, _lp: Real) -> (L::Int, L) {
         (xg - L::splat(0.5)).floor_nonneg()
     }
     #[inline(always)]
-    fn node<L: Lanes>(f: L, k: usize, _lp: Real) -> (L, L) {
+    fn node<L: ShapeArith>(f: L, k: usize, _lp: Real) -> (L, L) {
         let s = L::splat;
         match k {
             0 => (s(0.5) * (s(1.5) - f) * (s(1.5) - f), f - s(1.5)),
@@ -584,7 +584,7 @@ impl Gimp {
     /// w = δ²/4lp to full precision, consistent with dw = −δ/2lp. (The plain difference left
     /// w at zero there while dw was not, and a node of next to no mass took a finite force.)
     #[inline(always)]
-    fn shape<L: Lanes>(xi: L, lp: Real, inv_2lp: Real) -> (L, L) {
+    fn shape<L: ShapeArith>(xi: L, lp: Real, inv_2lp: Real) -> (L, L) {
         let hi = (xi + L::splat(lp)).clamp(-1.0, 1.0);
         let lo = (xi - L::splat(lp)).clamp(-1.0, 1.0);
         let (ahi, alo) = (hi.abs(), lo.abs());
@@ -599,11 +599,11 @@ impl Gimp {
 impl Kernel<3> for Gimp {
     const KIND: KernelKind = KernelKind::Gimp;
     #[inline(always)]
-    fn first<L: Lanes>(xg: L, lp: Real) -> (L::Int, L) {
+    fn first<L: ShapeArith>(xg: L, lp: Real) -> (L::Int, L) {
         (xg - L::splat(lp)).floor_nonneg()
     }
     #[inline(always)]
-    fn node<L: Lanes>(f: L, k: usize, lp: Real) -> (L, L) {
+    fn node<L: ShapeArith>(f: L, k: usize, lp: Real) -> (L, L) {
         Self::shape(f - L::splat(k as Real), lp, 0.5 / lp)
     }
 }

@@ -22,7 +22,7 @@ mod precision {
     pub type Mat3A = glam::Mat3A;
     pub type Mat4 = glam::Mat4;
     /// Four values side by side in SIMD lanes (four particles' constitutive updates at once).
-    pub type Lanes = glam::Vec4;
+    pub type Real4 = glam::Vec4;
 }
 #[cfg(feature = "f64")]
 mod precision {
@@ -36,7 +36,7 @@ mod precision {
     pub type Mat3 = glam::DMat3;
     pub type Mat3A = glam::DMat3;
     pub type Mat4 = glam::DMat4;
-    pub type Lanes = glam::DVec4;
+    pub type Real4 = glam::DVec4;
 }
 pub use precision::*;
 
@@ -176,8 +176,8 @@ pub trait SymTensor:
     + Mul<Real, Output = Self>
     + AddAssign
 {
-    /// The number type of the components: [`Real`], or [`Lanes`] for four tensors at once.
-    type Scalar: Lane;
+    /// The number type of the components: [`Real`], or [`Real4`] for four tensors at once.
+    type Scalar: Number;
     /// The material spin W = ½(∇v − ∇vᵀ): one component in 2D, three in 3D.
     type Spin: Copy + Debug + Default;
     const ZERO: Self;
@@ -209,11 +209,11 @@ pub trait SymTensor:
     }
 }
 
-/// A number the constitutive models compute with: one [`Real`], or [`Lanes`], four particles'
+/// A number the constitutive models compute with: one [`Real`], or [`Real4`], four particles'
 /// values side by side, so that one model update advances four particles in SIMD lanes. Only
 /// what the models need; comparisons are selects, never branches, so that every lane takes the
 /// same path.
-pub trait Lane:
+pub trait Number:
     Copy
     + Debug
     + Default
@@ -252,7 +252,7 @@ pub trait Lane:
     fn max_element(self) -> Real;
 }
 
-impl Lane for Real {
+impl Number for Real {
     const ZERO: Self = 0.0;
     const ONE: Self = 1.0;
     #[inline(always)]
@@ -305,36 +305,36 @@ impl Lane for Real {
     }
 }
 
-impl Lane for Lanes {
-    const ZERO: Self = Lanes::ZERO;
-    const ONE: Self = Lanes::ONE;
+impl Number for Real4 {
+    const ZERO: Self = Real4::ZERO;
+    const ONE: Self = Real4::ONE;
     #[inline(always)]
     fn splat(x: Real) -> Self {
-        Lanes::splat(x)
+        Real4::splat(x)
     }
     #[inline(always)]
     fn sqrt(self) -> Self {
-        Lanes::sqrt(self)
+        Real4::sqrt(self)
     }
     #[inline(always)]
     fn abs(self) -> Self {
-        Lanes::abs(self)
+        Real4::abs(self)
     }
     #[inline(always)]
     fn min(self, other: Self) -> Self {
-        Lanes::select(self.cmplt(other), self, other)
+        Real4::select(self.cmplt(other), self, other)
     }
     #[inline(always)]
     fn max(self, other: Self) -> Self {
-        Lanes::select(self.cmpgt(other), self, other)
+        Real4::select(self.cmpgt(other), self, other)
     }
     #[inline(always)]
     fn select_gt(a: Self, b: Self, x: Self, y: Self) -> Self {
-        Lanes::select(a.cmpgt(b), x, y)
+        Real4::select(a.cmpgt(b), x, y)
     }
     #[inline(always)]
     fn step_gt(a: Self, b: Self) -> Self {
-        Lanes::select(a.cmpgt(b), Lanes::ONE, Lanes::ZERO)
+        Real4::select(a.cmpgt(b), Real4::ONE, Real4::ZERO)
     }
     #[inline(always)]
     fn all_finite(self) -> bool {
@@ -342,7 +342,7 @@ impl Lane for Lanes {
     }
     #[inline(always)]
     fn exp(self) -> Self {
-        Lanes::from_array(self.to_array().map(Real::exp))
+        Real4::from_array(self.to_array().map(Real::exp))
     }
     #[inline(always)]
     fn sum(self) -> Real {
@@ -350,34 +350,34 @@ impl Lane for Lanes {
     }
     #[inline(always)]
     fn min_element(self) -> Real {
-        Lanes::min_element(self)
+        Real4::min_element(self)
     }
     #[inline(always)]
     fn max_element(self) -> Real {
-        Lanes::max_element(self)
+        Real4::max_element(self)
     }
 }
 
-/// Eight values side by side: two [`Lanes`], whose operations interleave instruction by
+/// Eight values side by side: two [`Real4`], whose operations interleave instruction by
 /// instruction, so that two groups of four particles' constitutive updates (each a long chain
 /// of dependent operations) advance together.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Lanes2(pub Lanes, pub Lanes);
+pub struct Real4x2(pub Real4, pub Real4);
 
 macro_rules! lanes2_op {
     ($tr:ident, $f:ident) => {
-        impl $tr for Lanes2 {
-            type Output = Lanes2;
+        impl $tr for Real4x2 {
+            type Output = Real4x2;
             #[inline(always)]
-            fn $f(self, o: Lanes2) -> Lanes2 {
-                Lanes2(self.0.$f(o.0), self.1.$f(o.1))
+            fn $f(self, o: Real4x2) -> Real4x2 {
+                Real4x2(self.0.$f(o.0), self.1.$f(o.1))
             }
         }
-        impl $tr<Real> for Lanes2 {
-            type Output = Lanes2;
+        impl $tr<Real> for Real4x2 {
+            type Output = Real4x2;
             #[inline(always)]
-            fn $f(self, o: Real) -> Lanes2 {
-                Lanes2(self.0.$f(o), self.1.$f(o))
+            fn $f(self, o: Real) -> Real4x2 {
+                Real4x2(self.0.$f(o), self.1.$f(o))
             }
         }
     };
@@ -385,61 +385,61 @@ macro_rules! lanes2_op {
 lanes2_op!(Add, add);
 lanes2_op!(Sub, sub);
 lanes2_op!(Mul, mul);
-impl Div for Lanes2 {
-    type Output = Lanes2;
+impl Div for Real4x2 {
+    type Output = Real4x2;
     #[inline(always)]
-    fn div(self, o: Lanes2) -> Lanes2 {
-        Lanes2(self.0 / o.0, self.1 / o.1)
+    fn div(self, o: Real4x2) -> Real4x2 {
+        Real4x2(self.0 / o.0, self.1 / o.1)
     }
 }
-impl Neg for Lanes2 {
-    type Output = Lanes2;
+impl Neg for Real4x2 {
+    type Output = Real4x2;
     #[inline(always)]
-    fn neg(self) -> Lanes2 {
-        Lanes2(-self.0, -self.1)
+    fn neg(self) -> Real4x2 {
+        Real4x2(-self.0, -self.1)
     }
 }
-impl AddAssign for Lanes2 {
+impl AddAssign for Real4x2 {
     #[inline(always)]
-    fn add_assign(&mut self, o: Lanes2) {
+    fn add_assign(&mut self, o: Real4x2) {
         self.0 += o.0;
         self.1 += o.1;
     }
 }
 
-impl Lane for Lanes2 {
-    const ZERO: Self = Lanes2(Lanes::ZERO, Lanes::ZERO);
-    const ONE: Self = Lanes2(Lanes::ONE, Lanes::ONE);
+impl Number for Real4x2 {
+    const ZERO: Self = Real4x2(Real4::ZERO, Real4::ZERO);
+    const ONE: Self = Real4x2(Real4::ONE, Real4::ONE);
     #[inline(always)]
     fn splat(x: Real) -> Self {
-        Lanes2(Lanes::splat(x), Lanes::splat(x))
+        Real4x2(Real4::splat(x), Real4::splat(x))
     }
     #[inline(always)]
     fn sqrt(self) -> Self {
-        Lanes2(self.0.sqrt(), self.1.sqrt())
+        Real4x2(self.0.sqrt(), self.1.sqrt())
     }
     #[inline(always)]
     fn abs(self) -> Self {
-        Lanes2(self.0.abs(), self.1.abs())
+        Real4x2(self.0.abs(), self.1.abs())
     }
     #[inline(always)]
     fn min(self, o: Self) -> Self {
-        Lanes2(Lane::min(self.0, o.0), Lane::min(self.1, o.1))
+        Real4x2(Number::min(self.0, o.0), Number::min(self.1, o.1))
     }
     #[inline(always)]
     fn max(self, o: Self) -> Self {
-        Lanes2(Lane::max(self.0, o.0), Lane::max(self.1, o.1))
+        Real4x2(Number::max(self.0, o.0), Number::max(self.1, o.1))
     }
     #[inline(always)]
     fn select_gt(a: Self, b: Self, x: Self, y: Self) -> Self {
-        Lanes2(
-            Lanes::select_gt(a.0, b.0, x.0, y.0),
-            Lanes::select_gt(a.1, b.1, x.1, y.1),
+        Real4x2(
+            Real4::select_gt(a.0, b.0, x.0, y.0),
+            Real4::select_gt(a.1, b.1, x.1, y.1),
         )
     }
     #[inline(always)]
     fn step_gt(a: Self, b: Self) -> Self {
-        Lanes2(Lanes::step_gt(a.0, b.0), Lanes::step_gt(a.1, b.1))
+        Real4x2(Real4::step_gt(a.0, b.0), Real4::step_gt(a.1, b.1))
     }
     #[inline(always)]
     fn all_finite(self) -> bool {
@@ -447,7 +447,7 @@ impl Lane for Lanes2 {
     }
     #[inline(always)]
     fn exp(self) -> Self {
-        Lanes2(Lane::exp(self.0), Lane::exp(self.1))
+        Real4x2(Number::exp(self.0), Number::exp(self.1))
     }
     #[inline(always)]
     fn sum(self) -> Real {
@@ -473,7 +473,7 @@ impl Lane for Lanes2 {
 const SECOND_ORDER: Real = Real::EPSILON * 2.0e-5;
 
 /// A plane-strain symmetric tensor: in-plane xx, yy, xy and the out-of-plane normal zz.
-/// `Sym2<Lanes>` holds four of them, component by component.
+/// `Sym2<Real4>` holds four of them, component by component.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C)]
 pub struct Sym2<T = Real> {
@@ -483,7 +483,7 @@ pub struct Sym2<T = Real> {
     pub xy: T,
 }
 
-/// A 3D symmetric tensor (`Sym3<Lanes>`: four of them).
+/// A 3D symmetric tensor (`Sym3<Real4>`: four of them).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C)]
 pub struct Sym3<T = Real> {
@@ -497,26 +497,26 @@ pub struct Sym3<T = Real> {
 
 macro_rules! impl_sym_arith {
     ($t:ident { $($f:ident),* }) => {
-        impl<T: Lane> Add for $t<T> {
+        impl<T: Number> Add for $t<T> {
             type Output = Self;
             #[inline(always)]
             fn add(self, o: Self) -> Self { $t { $($f: self.$f + o.$f),* } }
         }
-        impl<T: Lane> Sub for $t<T> {
+        impl<T: Number> Sub for $t<T> {
             type Output = Self;
             #[inline(always)]
             fn sub(self, o: Self) -> Self { $t { $($f: self.$f - o.$f),* } }
         }
-        impl<T: Lane> Mul<Real> for $t<T> {
+        impl<T: Number> Mul<Real> for $t<T> {
             type Output = Self;
             #[inline(always)]
             fn mul(self, k: Real) -> Self { $t { $($f: self.$f * k),* } }
         }
-        impl<T: Lane> AddAssign for $t<T> {
+        impl<T: Number> AddAssign for $t<T> {
             #[inline(always)]
             fn add_assign(&mut self, o: Self) { $(self.$f += o.$f;)* }
         }
-        impl<T: Lane> $t<T> {
+        impl<T: Number> $t<T> {
             /// One test for all components: x·0 is ±0 exactly when x is finite (NaN
             /// otherwise), so the sum of the x·0 is finite exactly when every x is.
             #[inline(always)]
@@ -525,29 +525,29 @@ macro_rules! impl_sym_arith {
             fn scale_by(self, k: T) -> Self { $t { $($f: self.$f * k),* } }
         }
         impl $t<Real> {
-            /// Four tensors as one of [`Lanes`], component by component: the plain
+            /// Four tensors as one of [`Real4`], component by component: the plain
             /// reference for [`Batch::pack`].
             #[inline(always)]
-            pub fn pack_plain(s: &[Self; LANES]) -> $t<Lanes> {
-                $t { $($f: Lanes::new(s[0].$f, s[1].$f, s[2].$f, s[3].$f)),* }
+            pub fn pack_plain(s: &[Self; LANES]) -> $t<Real4> {
+                $t { $($f: Real4::new(s[0].$f, s[1].$f, s[2].$f, s[3].$f)),* }
             }
-            /// The four tensors of one of [`Lanes`], component by component: the plain
+            /// The four tensors of one of [`Real4`], component by component: the plain
             /// reference for [`Batch::unpack`].
             #[inline(always)]
-            pub fn unpack_plain(l: $t<Lanes>) -> [Self; LANES] {
+            pub fn unpack_plain(l: $t<Real4>) -> [Self; LANES] {
                 $(let $f = l.$f.to_array();)*
                 std::array::from_fn(|i| $t { $($f: $f[i]),* })
             }
         }
-        impl $t<Lanes> {
-            /// Two tensors of [`Lanes`] as one of [`Lanes2`].
+        impl $t<Real4> {
+            /// Two tensors of [`Real4`] as one of [`Real4x2`].
             #[inline(always)]
-            pub fn zip(a: Self, b: Self) -> $t<Lanes2> {
-                $t { $($f: Lanes2(a.$f, b.$f)),* }
+            pub fn zip(a: Self, b: Self) -> $t<Real4x2> {
+                $t { $($f: Real4x2(a.$f, b.$f)),* }
             }
-            /// The two tensors of [`Lanes`] of one of [`Lanes2`].
+            /// The two tensors of [`Real4`] of one of [`Real4x2`].
             #[inline(always)]
-            pub fn unzip(l: $t<Lanes2>) -> (Self, Self) {
+            pub fn unzip(l: $t<Real4x2>) -> (Self, Self) {
                 ($t { $($f: l.$f.0),* }, $t { $($f: l.$f.1),* })
             }
         }
@@ -566,22 +566,22 @@ impl_sym_arith!(Sym3 {
 /// Particles per SIMD group of the constitutive update.
 pub const LANES: usize = 4;
 
-/// A tensor of `Real`s that four at a time make a tensor of [`Lanes`] (component by
+/// A tensor of `Real`s that four at a time make a tensor of [`Real4`] (component by
 /// component): the stress pass packs four particles' stresses and rates, updates them in one
 /// model call, and unpacks the results.
 pub trait Batch: SymTensor<Scalar = Real> {
-    type Lanes: SymTensor<Scalar = Lanes>;
-    fn pack(s: &[Self; LANES]) -> Self::Lanes;
-    fn unpack(l: Self::Lanes) -> [Self; LANES];
-    fn pack_spin(w: &[Self::Spin; LANES]) -> <Self::Lanes as SymTensor>::Spin;
-    /// Eight tensors side by side: two of [`Self::Lanes`].
-    type Lanes2: SymTensor<Scalar = Lanes2>;
-    fn zip(a: Self::Lanes, b: Self::Lanes) -> Self::Lanes2;
-    fn unzip(l: Self::Lanes2) -> (Self::Lanes, Self::Lanes);
+    type Packed: SymTensor<Scalar = Real4>;
+    fn pack(s: &[Self; LANES]) -> Self::Packed;
+    fn unpack(l: Self::Packed) -> [Self; LANES];
+    fn pack_spin(w: &[Self::Spin; LANES]) -> <Self::Packed as SymTensor>::Spin;
+    /// Eight tensors side by side: two of [`Self::Packed`].
+    type Packed2: SymTensor<Scalar = Real4x2>;
+    fn zip(a: Self::Packed, b: Self::Packed) -> Self::Packed2;
+    fn unzip(l: Self::Packed2) -> (Self::Packed, Self::Packed);
     fn zip_spin(
-        a: <Self::Lanes as SymTensor>::Spin,
-        b: <Self::Lanes as SymTensor>::Spin,
-    ) -> <Self::Lanes2 as SymTensor>::Spin;
+        a: <Self::Packed as SymTensor>::Spin,
+        b: <Self::Packed as SymTensor>::Spin,
+    ) -> <Self::Packed2 as SymTensor>::Spin;
 }
 
 // Packing specialisation: four tensors go into lanes as the rows of a 4×4 matrix (one
@@ -589,10 +589,10 @@ pub trait Batch: SymTensor<Scalar = Real> {
 // scalar load or store per component. `pack_plain` and `unpack_plain` are the reference a
 // test compares them with.
 impl Batch for Sym2 {
-    type Lanes = Sym2<Lanes>;
+    type Packed = Sym2<Real4>;
     #[inline(always)]
-    fn pack(s: &[Self; LANES]) -> Sym2<Lanes> {
-        let row = |t: &Sym2| Lanes::new(t.xx, t.yy, t.zz, t.xy);
+    fn pack(s: &[Self; LANES]) -> Sym2<Real4> {
+        let row = |t: &Sym2| Real4::new(t.xx, t.yy, t.zz, t.xy);
         let m = Mat4::from_cols(row(&s[0]), row(&s[1]), row(&s[2]), row(&s[3])).transpose();
         Sym2 {
             xx: m.x_axis,
@@ -602,7 +602,7 @@ impl Batch for Sym2 {
         }
     }
     #[inline(always)]
-    fn unpack(l: Sym2<Lanes>) -> [Self; LANES] {
+    fn unpack(l: Sym2<Real4>) -> [Self; LANES] {
         let m = Mat4::from_cols(l.xx, l.yy, l.zz, l.xy).transpose();
         std::array::from_fn(|i| {
             let c = m.col(i);
@@ -615,32 +615,32 @@ impl Batch for Sym2 {
         })
     }
     #[inline(always)]
-    fn pack_spin(w: &[Real; LANES]) -> Lanes {
-        Lanes::from_array(*w)
+    fn pack_spin(w: &[Real; LANES]) -> Real4 {
+        Real4::from_array(*w)
     }
-    type Lanes2 = Sym2<Lanes2>;
+    type Packed2 = Sym2<Real4x2>;
     #[inline(always)]
-    fn zip(a: Sym2<Lanes>, b: Sym2<Lanes>) -> Sym2<Lanes2> {
+    fn zip(a: Sym2<Real4>, b: Sym2<Real4>) -> Sym2<Real4x2> {
         Sym2::zip(a, b)
     }
     #[inline(always)]
-    fn unzip(l: Sym2<Lanes2>) -> (Sym2<Lanes>, Sym2<Lanes>) {
+    fn unzip(l: Sym2<Real4x2>) -> (Sym2<Real4>, Sym2<Real4>) {
         Sym2::unzip(l)
     }
     #[inline(always)]
-    fn zip_spin(a: Lanes, b: Lanes) -> Lanes2 {
-        Lanes2(a, b)
+    fn zip_spin(a: Real4, b: Real4) -> Real4x2 {
+        Real4x2(a, b)
     }
 }
 
 // Packing specialisation, as for `Sym2`: the six components as two overlapping rows of four
 // (xx yy zz xy and zz xy xz yz), each set of rows transposed.
 impl Batch for Sym3 {
-    type Lanes = Sym3<Lanes>;
+    type Packed = Sym3<Real4>;
     #[inline(always)]
-    fn pack(s: &[Self; LANES]) -> Sym3<Lanes> {
-        let lo = |t: &Sym3| Lanes::new(t.xx, t.yy, t.zz, t.xy);
-        let hi = |t: &Sym3| Lanes::new(t.zz, t.xy, t.xz, t.yz);
+    fn pack(s: &[Self; LANES]) -> Sym3<Real4> {
+        let lo = |t: &Sym3| Real4::new(t.xx, t.yy, t.zz, t.xy);
+        let hi = |t: &Sym3| Real4::new(t.zz, t.xy, t.xz, t.yz);
         let a = Mat4::from_cols(lo(&s[0]), lo(&s[1]), lo(&s[2]), lo(&s[3])).transpose();
         let b = Mat4::from_cols(hi(&s[0]), hi(&s[1]), hi(&s[2]), hi(&s[3])).transpose();
         Sym3 {
@@ -653,7 +653,7 @@ impl Batch for Sym3 {
         }
     }
     #[inline(always)]
-    fn unpack(l: Sym3<Lanes>) -> [Self; LANES] {
+    fn unpack(l: Sym3<Real4>) -> [Self; LANES] {
         let a = Mat4::from_cols(l.xx, l.yy, l.zz, l.xy).transpose();
         let b = Mat4::from_cols(l.xz, l.yz, l.xz, l.yz).transpose();
         std::array::from_fn(|i| {
@@ -669,27 +669,27 @@ impl Batch for Sym3 {
         })
     }
     #[inline(always)]
-    fn pack_spin(w: &[[Real; 3]; LANES]) -> [Lanes; 3] {
-        let row = |v: &[Real; 3]| Lanes::new(v[0], v[1], v[2], 0.0);
+    fn pack_spin(w: &[[Real; 3]; LANES]) -> [Real4; 3] {
+        let row = |v: &[Real; 3]| Real4::new(v[0], v[1], v[2], 0.0);
         let m = Mat4::from_cols(row(&w[0]), row(&w[1]), row(&w[2]), row(&w[3])).transpose();
         [m.x_axis, m.y_axis, m.z_axis]
     }
-    type Lanes2 = Sym3<Lanes2>;
+    type Packed2 = Sym3<Real4x2>;
     #[inline(always)]
-    fn zip(a: Sym3<Lanes>, b: Sym3<Lanes>) -> Sym3<Lanes2> {
+    fn zip(a: Sym3<Real4>, b: Sym3<Real4>) -> Sym3<Real4x2> {
         Sym3::zip(a, b)
     }
     #[inline(always)]
-    fn unzip(l: Sym3<Lanes2>) -> (Sym3<Lanes>, Sym3<Lanes>) {
+    fn unzip(l: Sym3<Real4x2>) -> (Sym3<Real4>, Sym3<Real4>) {
         Sym3::unzip(l)
     }
     #[inline(always)]
-    fn zip_spin(a: [Lanes; 3], b: [Lanes; 3]) -> [Lanes2; 3] {
-        std::array::from_fn(|c| Lanes2(a[c], b[c]))
+    fn zip_spin(a: [Real4; 3], b: [Real4; 3]) -> [Real4x2; 3] {
+        std::array::from_fn(|c| Real4x2(a[c], b[c]))
     }
 }
 
-impl<T: Lane> SymTensor for Sym2<T> {
+impl<T: Number> SymTensor for Sym2<T> {
     type Scalar = T;
     type Spin = T;
     const ZERO: Self = Sym2 {
@@ -763,7 +763,7 @@ impl<T: Lane> SymTensor for Sym2<T> {
     }
 }
 
-impl<T: Lane> SymTensor for Sym3<T> {
+impl<T: Number> SymTensor for Sym3<T> {
     type Scalar = T;
     /// (W_xy, W_xz, W_yz).
     type Spin = [T; 3];
@@ -920,9 +920,9 @@ pub fn min(a: Real, b: Real) -> Real {
 /// relative error below x⁵/120 ≈ 2·10⁻¹⁰, under f32 rounding), and by `exp` otherwise. `exp` is
 /// a library call natively and a software routine in WebAssembly. The f64 build (for
 /// validation) always calls `exp`: the series is not exact to f64 rounding.
-/// Lane by lane for [`Lanes`] (the series when every lane is small).
+/// Number by lane for [`Real4`] (the series when every lane is small).
 #[inline(always)]
-pub fn exp_small<T: Lane>(x: T) -> T {
+pub fn exp_small<T: Number>(x: T) -> T {
     if !cfg!(feature = "f64") && x.abs().max_element() <= 1.0 / 32.0 {
         x * (x * (x * (x * (1.0 / 24.0) + 1.0 / 6.0) + 0.5) + 1.0) + 1.0
     } else {
@@ -1068,7 +1068,7 @@ mod tests {
             }
         };
         let bits = |x: Real| x.to_bits();
-        let same = |a: Lanes, b: Lanes| a.to_array().map(bits) == b.to_array().map(bits);
+        let same = |a: Real4, b: Real4| a.to_array().map(bits) == b.to_array().map(bits);
         for round in 0..20 {
             let k = round * 24;
             let s2: [Sym2; LANES] = std::array::from_fn(|i| Sym2 {
@@ -1109,7 +1109,7 @@ mod tests {
                 std::array::from_fn(|i| [v(k + 3 * i), v(k + 3 * i + 1), v(k + 3 * i + 2)]);
             let packed = <Sym3 as Batch>::pack_spin(&spins);
             for c in 0..3 {
-                let plain = Lanes::new(spins[0][c], spins[1][c], spins[2][c], spins[3][c]);
+                let plain = Real4::new(spins[0][c], spins[1][c], spins[2][c], spins[3][c]);
                 assert!(same(packed[c], plain));
             }
         }
@@ -1324,13 +1324,13 @@ mod tests {
     fn exp_small_in_lanes_is_exp_small_in_each_lane() {
         // all lanes small: the series, bit for bit as one lane at a time
         let small = [-0.03, -1e-7, 0.0, 0.031];
-        let l = exp_small(Lanes::from_array(small)).to_array();
+        let l = exp_small(Real4::from_array(small)).to_array();
         for (x, e) in small.iter().zip(l) {
             assert_eq!(e.to_bits(), exp_small(*x).to_bits(), "{x}");
         }
         // one lane large: every lane still within two roundings of eˣ, a NaN stays NaN
         let mixed = [-0.02, 0.5, -3.0, Real::NAN];
-        let l = exp_small(Lanes::from_array(mixed)).to_array();
+        let l = exp_small(Real4::from_array(mixed)).to_array();
         for (x, e) in mixed.iter().zip(l).take(3) {
             let exact = (*x as f64).exp();
             assert!(

@@ -30,7 +30,7 @@
 use super::mu_i::{MuI, MuIParams};
 use super::{Constitutive, Elastic, ElasticParams, StressUpdate};
 use crate::error::{Error, Result, check_non_negative, check_range};
-use crate::math::{Lane, Real, SymTensor};
+use crate::math::{Number, Real, SymTensor};
 
 const SQRT_3: Real = 1.732_050_8;
 
@@ -120,7 +120,7 @@ impl FrictionMatch {
 
     /// [`FrictionMatch::alpha`] lane by lane, for a friction that varies per particle (μ(I)).
     #[inline(always)]
-    pub fn alpha_lanes<T: Lane>(self, mu: T) -> T {
+    pub fn alpha_lanes<T: Number>(self, mu: T) -> T {
         match self {
             FrictionMatch::PlaneStrain | FrictionMatch::StartStop => {
                 mu / (mu * mu * 12.0 + 9.0).sqrt()
@@ -351,7 +351,7 @@ impl Widening {
     /// The cone's α_φ for the base `alpha` (Eq. 13's, or μ(I)'s) and the plastic strain
     /// `plastic_strain`, lane by lane.
     #[inline(always)]
-    pub fn alpha_phi<T: Lane>(&self, alpha: T, plastic_strain: T) -> T {
+    pub fn alpha_phi<T: Number>(&self, alpha: T, plastic_strain: T) -> T {
         alpha + (plastic_strain * self.per_strain).min(T::ONE) * self.alpha
     }
 }

@@ -8,7 +8,7 @@
 
 use super::{Constitutive, StressUpdate};
 use crate::error::{Result, check_positive, check_range};
-use crate::math::{Lane, Real, SymTensor};
+use crate::math::{Number, Real, SymTensor};
 use serde::{Deserialize, Serialize};
 
 /// Elastic parameters: Young's modulus E (Pa), Poisson ratio ν ∈ [0, 0.5), density (kg/m³).
@@ -90,7 +90,7 @@ impl Elastic {
     /// The same energy density from the invariants J2 = ½ s:s and the mean stress tr(σ)/3:
     /// J2/(2G) + mean²/(2K).
     #[inline(always)]
-    pub fn energy_from_invariants<T: Lane>(&self, j2: T, mean: T) -> T {
+    pub fn energy_from_invariants<T: Number>(&self, j2: T, mean: T) -> T {
         j2 * (2.0 * self.inv_4g) + mean * mean * self.inv_2k
     }
 

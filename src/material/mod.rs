@@ -20,10 +20,10 @@ pub use mohr_coulomb::{MohrCoulomb, MohrCoulombParams};
 pub use von_mises::{VonMises, VonMisesParams};
 
 use crate::error::Result;
-use crate::math::{Lane, Real, SymTensor};
+use crate::math::{Number, Real, SymTensor};
 use serde::{Deserialize, Serialize};
 
-/// What a stress update did besides changing the stress (`T`: [`Real`], or [`Lanes`] for
+/// What a stress update did besides changing the stress (`T`: [`Real`], or [`Real4`] for
 /// four particles at once).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StressUpdate<T = Real> {
@@ -37,7 +37,7 @@ pub struct StressUpdate<T = Real> {
     pub energy: T,
 }
 
-impl<T: Lane> StressUpdate<T> {
+impl<T: Number> StressUpdate<T> {
     /// An elastic update that leaves the energy density `energy`.
     #[inline(always)]
     pub fn elastic(energy: T) -> Self {
@@ -53,7 +53,7 @@ impl<T: Lane> StressUpdate<T> {
 /// time step, given the strain rate ε̇ = ½(∇v + ∇vᵀ), the spin ω = ½(∇v − ∇vᵀ) and the
 /// particle's history, its accumulated equivalent plastic strain ε_p (which a model may
 /// harden or soften with; the solver adds each update's increment to it). Generic over
-/// the tensor type, whose components may be [`Lanes`]: the solver updates four particles per
+/// the tensor type, whose components may be [`Real4`]: the solver updates four particles per
 /// call, so a model is written without branches (selects, `min`, `max`), the same arithmetic
 /// in every lane.
 pub trait Constitutive: Copy + Send + Sync + 'static {
@@ -458,7 +458,7 @@ mod tests {
     /// scalar calls give (the same IEEE operations in the same order), in 2D and 3D, for
     /// lanes that stay elastic, yield, pass the apex, or hold no stress at all.
     fn check_lanes<M: Constitutive>(model: &M) {
-        use crate::math::{Batch, LANES, Lanes};
+        use crate::math::{Batch, LANES, Real4};
         let stress3: [Sym3; LANES] = [
             Sym3::ZERO,
             Sym3 {
@@ -499,7 +499,7 @@ mod tests {
         let dt = 2e-3;
         // each lane with its own history (accumulated plastic strain)
         let history = [0.0, 0.05, 0.5, 2.0];
-        let lanes_history = Lanes::from_slice(&history);
+        let lanes_history = Real4::from_slice(&history);
         let mut lanes = Sym3::pack(&stress3);
         let u = model.update(
             &mut lanes,
@@ -513,7 +513,7 @@ mod tests {
             let mut s = stress3[l];
             let v = model.update(&mut s, rates[l], spins[l], history[l], dt);
             assert_eq!(out[l], s, "3D lane {l}");
-            let lane = |x: Lanes| x.to_array()[l];
+            let lane = |x: Real4| x.to_array()[l];
             assert_eq!(
                 (lane(u.energy), lane(u.plastic_strain), lane(u.dissipation)),
                 (v.energy, v.plastic_strain, v.dissipation),

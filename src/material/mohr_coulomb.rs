@@ -39,7 +39,7 @@
 use super::drucker_prager::LOOSEST;
 use super::{Constitutive, Elastic, ElasticParams, PqSurface, StressUpdate};
 use crate::error::{Error, Result, check_non_negative, check_range};
-use crate::math::{Batch, LANES, Lanes, Lanes2, Real, Sym2, Sym3, SymTensor};
+use crate::math::{Batch, LANES, Real, Real4, Real4x2, Sym2, Sym3, SymTensor};
 use serde::{Deserialize, Serialize};
 use std::any::Any;
 
@@ -363,18 +363,18 @@ fn each_particle<S: SymTensor>(
     trial: S,
     f: &impl Fn(Sym3) -> (Sym3, StressUpdate),
 ) -> (S, StressUpdate<S::Scalar>) {
-    fn lanes(u: [StressUpdate; LANES]) -> StressUpdate<Lanes> {
+    fn lanes(u: [StressUpdate; LANES]) -> StressUpdate<Real4> {
         StressUpdate {
-            plastic_strain: Lanes::from_array(u.map(|u| u.plastic_strain)),
-            dissipation: Lanes::from_array(u.map(|u| u.dissipation)),
-            energy: Lanes::from_array(u.map(|u| u.energy)),
+            plastic_strain: Real4::from_array(u.map(|u| u.plastic_strain)),
+            dissipation: Real4::from_array(u.map(|u| u.dissipation)),
+            energy: Real4::from_array(u.map(|u| u.energy)),
         }
     }
-    fn pair(a: StressUpdate<Lanes>, b: StressUpdate<Lanes>) -> StressUpdate<Lanes2> {
+    fn pair(a: StressUpdate<Real4>, b: StressUpdate<Real4>) -> StressUpdate<Real4x2> {
         StressUpdate {
-            plastic_strain: Lanes2(a.plastic_strain, b.plastic_strain),
-            dissipation: Lanes2(a.dissipation, b.dissipation),
-            energy: Lanes2(a.energy, b.energy),
+            plastic_strain: Real4x2(a.plastic_strain, b.plastic_strain),
+            dissipation: Real4x2(a.dissipation, b.dissipation),
+            energy: Real4x2(a.energy, b.energy),
         }
     }
     /// The results as the caller's types (which they are).
@@ -389,23 +389,23 @@ fn each_particle<S: SymTensor>(
         let (s, u) = f(plane(t));
         return back(in_plane(s), u);
     }
-    if let Some(t) = cast::<S, Sym3<Lanes>>(trial) {
+    if let Some(t) = cast::<S, Sym3<Real4>>(trial) {
         let out = Sym3::unpack(t).map(f);
         return back(Sym3::pack(&out.map(|o| o.0)), lanes(out.map(|o| o.1)));
     }
-    if let Some(t) = cast::<S, Sym2<Lanes>>(trial) {
+    if let Some(t) = cast::<S, Sym2<Real4>>(trial) {
         let out = Sym2::unpack(t).map(|t| f(plane(t)));
         return back(
             Sym2::pack(&out.map(|o| in_plane(o.0))),
             lanes(out.map(|o| o.1)),
         );
     }
-    if let Some(t) = cast::<S, Sym3<Lanes2>>(trial) {
+    if let Some(t) = cast::<S, Sym3<Real4x2>>(trial) {
         let (a, b) = Sym3::unzip(t);
         let ((a, ua), (b, ub)) = (each_particle(a, f), each_particle(b, f));
         return back(Sym3::zip(a, b), pair(ua, ub));
     }
-    if let Some(t) = cast::<S, Sym2<Lanes2>>(trial) {
+    if let Some(t) = cast::<S, Sym2<Real4x2>>(trial) {
         let (a, b) = Sym2::unzip(t);
         let ((a, ua), (b, ub)) = (each_particle(a, f), each_particle(b, f));
         return back(Sym2::zip(a, b), pair(ua, ub));

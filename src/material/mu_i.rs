@@ -15,7 +15,7 @@
 
 use super::FrictionMatch;
 use crate::error::{Error, Result};
-use crate::math::{Lane, Real, SymTensor};
+use crate::math::{Number, Real, SymTensor};
 use serde::{Deserialize, Serialize};
 
 /// Jop et al. (2006): μ_s = tan 20.9°, μ_2 = tan 32.76°, I_0 = 0.279 (glass beads).

@@ -7,7 +7,7 @@
 
 use super::{Constitutive, Elastic, ElasticParams, StressUpdate};
 use crate::error::{Result, check_positive};
-use crate::math::{Lane, Real, SymTensor};
+use crate::math::{Number, Real, SymTensor};
 
 const SQRT_3: Real = 1.732_050_8;
 use serde::{Deserialize, Serialize};

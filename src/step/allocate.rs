@@ -5,7 +5,8 @@
 //! share blocks are found, for the contact of step 5.
 
 use super::contact::ContactPair;
-use super::{grid_coords, with_kernel};
+use super::walk::grid_coords;
+use super::with_kernel;
 use crate::grid::GridIndex;
 use crate::kernel::Kernel;
 use crate::math::Dim;

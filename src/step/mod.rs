@@ -31,13 +31,14 @@
 //! APIC), as each body's recipe chooses, used by the scatter and the gather.
 //!
 //! Each pass is a loop over one body's particles or grid nodes, generic over the dimension
-//! `D` and the kernel `K` (with `S` nodes per axis). The stencil loops follow the tensor
-//! product of the weights, w_ijk = w_i w_j w_k, so that each node costs a few multiply-adds;
-//! 2D uses the same loops with the third axis's weight 1 (LLVM folds it away). They stop at
-//! the last node with weight along each axis ([`Stencil::reach`]): a GIMP stencil has two
-//! along an axis where the particle's domain does not cross a node, three elsewhere. The
-//! passes take the stencils from [`Stencils`], which in native 2D builds evaluates GIMP's for
-//! two particles at once.
+//! `D` and the kernel `K` (with `S` nodes per axis). The passes walk no stencil themselves:
+//! [`walk`] alone knows how a stencil lies on the grid (rows, reach, the folded third axis in
+//! 2D, the packed 2D forms) and how the stress update's particles go into SIMD lanes. A pass
+//! states its sums as terms handed to a walk — the scatter a particle's share
+//! ([`walk::Share`]: m_p, m_p v_p, APIC's A_p, a force F_p), the gather and the stress pass
+//! the node fields they sum against w_ip, ∇w_ip and w_ip d_i ([`walk::Sums`]) — and the
+//! stress pass its constitutive step once (`stress::update_group`), run for one particle
+//! or eight in lanes ([`walk::update_in_lanes`]).
 
 pub mod allocate;
 pub mod contact;
@@ -47,11 +48,10 @@ pub mod report;
 pub mod scatter;
 pub mod stress;
 pub mod transfer;
+pub mod walk;
 pub mod walls;
 
 use crate::error::{Error, Result};
-use crate::grid::{BlockLayout, GHOST, Grid, stencil_span};
-use crate::kernel::{Kernel, KernelKind, Stencil};
 use crate::math::{Dim, Real, VectorOps};
 pub use crate::recipe::StressOrder;
 use crate::sim::{Diagnostics, PassTimings, Simulation};
@@ -169,140 +169,6 @@ impl Clock {
             tm.walls += s[Phase::Walls as usize];
             tm.gather += s[Phase::Gather as usize];
         }
-    }
-}
-
-/// Grid coordinates of a position: x/h plus the ghost nodes before the domain.
-#[inline(always)]
-pub fn grid_coords<D: Dim>(x: D::Vector, inv_h: Real) -> [Real; 3] {
-    let mut g = [0.0; 3];
-    for (a, c) in g.iter_mut().enumerate().take(D::DIM) {
-        *c = x[a] * inv_h + GHOST as Real;
-    }
-    g
-}
-
-/// The particles' stencils, one particle after another, for a pass that walks them in order.
-/// In native 2D builds two particles' GIMP stencils are evaluated at once
-/// ([`Kernel::stencil_pair_2d`], a packing specialisation of [`Kernel::stencil`]): the second
-/// waits here for the pass to ask for it.
-pub struct Stencils<D: Dim, K: Kernel<S>, const S: usize> {
-    inv_h: Real,
-    lp: Real,
-    /// The particle whose stencil `next` is (`usize::MAX`: none).
-    cached: usize,
-    next: Stencil<S>,
-    _kernel: std::marker::PhantomData<(D, K)>,
-}
-
-impl<D: Dim, K: Kernel<S>, const S: usize> Stencils<D, K, S> {
-    /// For particles of half-width `lp` grid units on a grid of 1/`inv_h` cells.
-    #[inline(always)]
-    pub fn new(inv_h: Real, lp: Real) -> Self {
-        Stencils {
-            inv_h,
-            lp,
-            cached: usize::MAX,
-            next: Stencil::at([0; 3]),
-            _kernel: std::marker::PhantomData,
-        }
-    }
-
-    /// The stencil of particle `q` at `x[q]` (in 2D, with particle q + 1's when q is not
-    /// the second of a pair: a pass asks for q + 1 next, whose position it has not moved yet).
-    #[inline(always)]
-    pub fn at(&mut self, x: &[D::Vector], q: usize) -> Stencil<S> {
-        let (inv_h, lp) = (self.inv_h, self.lp);
-        // Pairs pay for GIMP's weights natively; the linear kernel's and the B-spline's cost
-        // about what keeping the second stencil does, and in WebAssembly V8 ran the pairs
-        // slower (docs/performance.md).
-        if D::DIM != 2 || K::KIND != KernelKind::Gimp || cfg!(target_arch = "wasm32") {
-            return K::stencil(grid_coords::<D>(x[q], inv_h), D::DIM, inv_h, lp);
-        }
-        if self.cached == q {
-            return self.next;
-        }
-        let b = x[if q + 1 < x.len() { q + 1 } else { q }];
-        let [first, second] = K::stencil_pair_2d(
-            grid_coords::<D>(x[q], inv_h),
-            grid_coords::<D>(b, inv_h),
-            inv_h,
-            lp,
-        );
-        (self.next, self.cached) = (second, q + 1);
-        first
-    }
-}
-
-/// Nodes per row of a padded block for a kernel of `S` nodes per axis, and the number of
-/// consecutive nodes a stencil spans (compile-time constants after monomorphisation).
-#[inline(always)]
-fn layout<D: Dim, const S: usize>(grid: &Grid<D>) -> (usize, usize) {
-    let p = Grid::<D>::BLOCK + S - 1;
-    debug_assert_eq!(grid.layout.padded(), p, "grid laid out for another kernel");
-    (p, stencil_span(D::DIM, p, S))
-}
-
-/// The storage index of a particle's first stencil node, found when the grid was allocated
-/// (`node`); debug builds check it against the stencil's own first node.
-#[inline(always)]
-fn first_node<D: Dim, const S: usize>(
-    layout: &BlockLayout<D>,
-    node: u32,
-    st: &Stencil<S>,
-) -> usize {
-    debug_assert_eq!(
-        node as usize % layout.padded_nodes(),
-        layout.stencil_origin(0, st.base),
-        "particle's stencil moved since the grid was allocated"
-    );
-    node as usize
-}
-
-/// The stencil's weight and derivative along the third axis for node `k`: those of the
-/// kernel in 3D, and (1, 0) in 2D, where the loops over `k` run once.
-#[inline(always)]
-fn third_axis<D: Dim, const S: usize>(st: &Stencil<S>, k: usize) -> (Real, Real) {
-    if D::DIM == 3 {
-        (st.w[k][2], st.dw[k][2])
-    } else {
-        (1.0, 0.0)
-    }
-}
-
-/// The stencil nodes with weight along axis `a`: the first `reach[a]` of `S` for GIMP (the
-/// rest carry none, and the walks skip them), all `S` for the other kernels (a constant, so
-/// that their loops unroll) — and for GIMP in the 2D WebAssembly build, where V8 ran the
-/// loops of varying length slower than the unrolled ones (docs/performance.md).
-#[inline(always)]
-fn nodes_along<D: Dim, K: Kernel<S>, const S: usize>(st: &Stencil<S>, a: usize) -> usize {
-    let skip = D::DIM == 3 || !cfg!(target_arch = "wasm32");
-    if K::KIND == KernelKind::Gimp && skip {
-        st.reach[a]
-    } else {
-        S
-    }
-}
-
-/// The stencil nodes with weight along the first axis.
-#[inline(always)]
-fn first_axis_nodes<D: Dim, K: Kernel<S>, const S: usize>(st: &Stencil<S>) -> usize {
-    nodes_along::<D, K, S>(st, 0)
-}
-
-/// The stencil nodes with weight along the second axis.
-#[inline(always)]
-fn second_axis_nodes<D: Dim, K: Kernel<S>, const S: usize>(st: &Stencil<S>) -> usize {
-    nodes_along::<D, K, S>(st, 1)
-}
-
-/// The stencil nodes with weight along the third axis in 3D; one in 2D.
-#[inline(always)]
-fn third_axis_nodes<D: Dim, K: Kernel<S>, const S: usize>(st: &Stencil<S>) -> usize {
-    if D::DIM == 3 {
-        nodes_along::<D, K, S>(st, 2)
-    } else {
-        1
     }
 }
 

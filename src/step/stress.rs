@@ -45,23 +45,19 @@
 //! material point methods*, CMAME 333) do with a cell-averaged dilatation. It costs one more
 //! walk over the particles ([`sum_cell_dilatation`]) and an array laid out like the nodes.
 //!
-//! [`update_one`] updates one particle and is the reference; [`update_chunk`], the one the
-//! gather runs, is its SIMD specialisation: four particles per model call in SIMD lanes (the
-//! update is a long dependency chain, and in lanes four chains advance at once), with the
-//! energies and the finiteness test per group of four. A test checks that they agree.
+//! The update is written once, generic over the number type (`update_group`): [`update_one`]
+//! runs it for one particle and is the reference; [`update_chunk`], the one the passes run,
+//! is its SIMD specialisation: eight particles per model call in SIMD lanes
+//! ([`super::walk::update_in_lanes`]; the update is a long dependency chain, and in lanes
+//! eight chains advance at once), with the energies and the finiteness test per chunk. A test
+//! checks that they agree bit for bit.
 
-use super::{
-    Stencils, first_axis_nodes, first_node, grid_coords, layout, second_axis_nodes, third_axis,
-    third_axis_nodes, with_kernel,
-};
-use crate::grid::{Grid, Node, stencil_span};
-use crate::kernel::KernelKind;
-use crate::kernel::{Kernel, Stencil, floor_nonneg};
+use super::walk::{self, At, CHUNK, Chunk, Rates, Share, Walker};
+use super::with_kernel;
+use crate::grid::Grid;
+use crate::kernel::{Kernel, KernelKind, Stencil};
 use crate::material::{Constitutive, VolumetricRate, WithModel};
-use crate::math::{
-    Batch, Dim, LANES, Lane, Lanes, Lanes2, Real, SymTensor, Vec4, VectorOps, exp_small, max,
-    sum_from_first,
-};
+use crate::math::{Dim, Number, Real, SymTensor, exp_small, max};
 use crate::sim::Simulation;
 use std::ops::Range;
 
@@ -138,9 +134,6 @@ impl<D: Dim> WithModel for First<'_, D> {
         })
     }
 }
-
-/// Particles per chunk of the gather between two stress updates (a multiple of `LANES`).
-pub const CHUNK: usize = 2 * LANES;
 
 /// The particle state the stress update reads and writes.
 pub struct StressState<'a, D: Dim> {
@@ -226,7 +219,6 @@ pub fn update_stress_first<
     inv_h: Real,
     lp: Real,
 ) -> StressReport {
-    let (p, span) = layout::<D, S>(grid);
     let Grid {
         layout,
         nodes,
@@ -235,24 +227,20 @@ pub fn update_stress_first<
         ..
     } = &mut *grid;
     let mut report = StressReport::default();
-    let mut st = [Stencil::<S>::at([0; 3]); CHUNK];
-    let mut origin = [0usize; CHUNK];
+    let mut at = [At {
+        st: Stencil::<S>::at([0; 3]),
+        origin: 0,
+    }; CHUNK];
     let mut rates = Rates::<D>::zero();
-    let mut stencils = Stencils::<D, K, S>::new(inv_h, lp);
+    let mut walker = Walker::<D, K, S>::new(layout, particle_node, inv_h, lp);
     for first in (0..x.len()).step_by(CHUNK) {
         let chunk = first..x.len().min(first + CHUNK);
         for (i, q) in chunk.clone().enumerate() {
-            st[i] = stencils.at(x, q);
-            origin[i] = first_node(layout, particle_node[q], &st[i]);
-            let cell = &nodes[origin[i]..origin[i] + span];
-            let mut grad = if D::DIM == 2 {
-                velocity_gradient_2d_packed::<D, K, S>(cell, p, &st[i])
-            } else {
-                velocity_gradient::<D, K, S>(cell, p, &st[i])
-            };
+            at[i] = walker.at(x, q);
+            // ∇v_p = Σ_i v_i^n ⊗ ∇w_ip.
+            let mut grad = walk::gradient::<D, K, S>(nodes, &at[i], |n| n.vel());
             if CELL_AVERAGE {
-                let [sum, volume] =
-                    cell_dilatation[cell_node::<D, S>(x[q], inv_h, &st[i], origin[i], p)];
+                let [sum, volume] = cell_dilatation[walk::cell_node::<D, S>(x[q], inv_h, &at[i])];
                 grad = with_volumetric_rate::<D>(grad, sum / volume);
             }
             rates.set(i, grad);
@@ -276,12 +264,13 @@ pub fn update_stress_first<
             if report.bad > bad && !(sigma.is_finite() && v.is_finite() && v > 0.0) {
                 continue;
             }
-            let cell = &mut nodes[origin[i]..origin[i] + span];
-            if D::DIM == 2 {
-                scatter_force_2d_packed::<D, K, S>(cell, p, &st[i], sigma * -v);
-            } else {
-                scatter_force::<D, K, S>(cell, p, &st[i], sigma * -v);
-            }
+            // f_i += −V_p (σ_p − q_p I) ∇w_ip.
+            let share = Share {
+                mass: None,
+                affine: None,
+                force: Some(sigma * -v),
+            };
+            walk::scatter::<D, K, S>(nodes, None, &at[i], share);
         }
     }
     grid.reduce_nodes(|o, h| o.new_vel += h.new_vel);
@@ -301,7 +290,6 @@ pub fn sum_cell_dilatation<D: Dim, K: Kernel<S>, const S: usize>(
     inv_h: Real,
     lp: Real,
 ) {
-    let (p, span) = layout::<D, S>(grid);
     let Grid {
         index,
         layout,
@@ -312,18 +300,12 @@ pub fn sum_cell_dilatation<D: Dim, K: Kernel<S>, const S: usize>(
     } = &mut *grid;
     sums.clear();
     sums.resize(nodes.len(), [0.0; 2]);
-    let mut stencils = Stencils::<D, K, S>::new(inv_h, lp);
+    let mut walker = Walker::<D, K, S>::new(layout, particle_node, inv_h, lp);
     for q in 0..x.len() {
-        let st = stencils.at(x, q);
-        let origin = first_node(layout, particle_node[q], &st);
-        let cell = &nodes[origin..origin + span];
-        let grad = if D::DIM == 2 {
-            velocity_gradient_2d_packed::<D, K, S>(cell, p, &st)
-        } else {
-            velocity_gradient::<D, K, S>(cell, p, &st)
-        };
+        let at = walker.at(x, q);
+        let grad = walk::gradient::<D, K, S>(nodes, &at, |n| n.vel());
         let v = volume[q];
-        let s = &mut sums[cell_node::<D, S>(x[q], inv_h, &st, origin, p)];
+        let s = &mut sums[walk::cell_node::<D, S>(x[q], inv_h, &at)];
         s[0] += v * divergence::<D>(&grad);
         s[1] += v;
     }
@@ -332,28 +314,6 @@ pub fn sum_cell_dilatation<D: Dim, K: Kernel<S>, const S: usize>(
         o[1] += h[1];
     });
     layout.fill_halo(index, sums, |h, o| *h = *o);
-}
-
-/// The storage index of the lowest node of the cell holding a particle at `x`, in the block
-/// that handles the particle (its stencil starts at `origin`; rows are `p` nodes long). The
-/// cell's nodes all carry weight, so that node is stencil node 0 or 1 along each axis.
-#[inline(always)]
-pub fn cell_node<D: Dim, const S: usize>(
-    x: D::Vector,
-    inv_h: Real,
-    st: &Stencil<S>,
-    origin: usize,
-    p: usize,
-) -> usize {
-    let xg = grid_coords::<D>(x, inv_h);
-    let (mut n, mut stride) = (origin, 1);
-    for (a, c) in xg.iter().enumerate().take(D::DIM) {
-        let k = floor_nonneg(*c) - st.base[a];
-        debug_assert!((0..S as i32 - 1).contains(&k), "cell outside the stencil");
-        n += k as usize * stride;
-        stride *= p;
-    }
-    n
 }
 
 /// tr ∇v = ∇·v.
@@ -427,28 +387,8 @@ impl<D: Dim> StressState<'_, D> {
     }
 }
 
-/// The strain rates and spins of one chunk of particles.
-pub struct Rates<D: Dim> {
-    pub rate: [D::Sym; CHUNK],
-    pub spin: [<D::Sym as SymTensor>::Spin; CHUNK],
-}
-
-impl<D: Dim> Rates<D> {
-    pub fn zero() -> Self {
-        Rates {
-            rate: [D::Sym::ZERO; CHUNK],
-            spin: [Default::default(); CHUNK],
-        }
-    }
-    /// Sets particle `i`'s rate and spin from its velocity gradient.
-    #[inline(always)]
-    pub fn set(&mut self, i: usize, grad: D::Grad) {
-        (self.rate[i], self.spin[i]) = D::rate_and_spin(grad);
-    }
-}
-
-/// Steps 2–3 for one particle (`q`: its index, for the report): the reference version of
-/// [`update_chunk`].
+/// Steps 2–3 for one particle (`q`: its index, for the report): [`update_group`] for one,
+/// the reference that a test compares [`update_chunk`] with.
 #[allow(clippy::too_many_arguments)]
 pub fn update_one<D: Dim, M: Constitutive>(
     model: &M,
@@ -462,32 +402,34 @@ pub fn update_one<D: Dim, M: Constitutive>(
     q: usize,
     report: &mut StressReport,
 ) {
-    let u = model.update(stress, rate, spin, *plastic_strain, dt);
-    let before = *volume;
-    let mut v = before * exp_small(rate.trace() * dt);
-    if let Some(s) = model.max_specific_volume() {
-        // no growth past the bound (a particle already beyond it is not shrunk by it)
-        v = v.min(before.max(mass * s));
-    }
-    *volume = v;
+    let cap = model.max_specific_volume().map(|s| mass * s);
+    let (ep, u) = update_group(
+        model,
+        stress,
+        rate,
+        spin,
+        *plastic_strain,
+        volume,
+        cap,
+        None,
+        dt,
+    );
     if M::PLASTIC {
-        *plastic_strain += u.plastic_strain;
+        *plastic_strain += ep;
     }
-    if !(stress.is_finite() && v.is_finite() && v > 0.0) {
-        report.bad(q, stress.is_finite(), v);
+    if !u.finite {
+        report.bad(q, stress.is_finite(), *volume);
         return;
     }
-    report.elastic += (u.energy * v) as f64;
-    report.dissipated += (u.dissipation * before) as f64;
-    report.max_volume = max(report.max_volume, v);
+    report.elastic += u.elastic;
+    report.dissipated += u.dissipated;
+    report.max_volume = max(report.max_volume, u.max_volume);
 }
 
 /// Steps 2–3 for the particles of `ps` (at most [`CHUNK`], the first of them particle
-/// `first`), whose rates and spins are the first entries of `rates` — SIMD specialisation of
-/// [`update_one`]: four particles per model call. A full chunk is updated where it is stored;
-/// a short one is copied and padded with zero stress and rate and a real particle's volume,
-/// whose update adds nothing. (Copying every chunk cost four `memcpy` calls per chunk, and
-/// the SIMD registers they clobber.)
+/// `first`), whose rates and spins are the first entries of `rates`: [`update_group`] for
+/// eight particles at once in SIMD lanes ([`walk::update_in_lanes`]), a specialisation of
+/// [`update_one`].
 #[inline(always)]
 pub fn update_chunk<D: Dim, M: Constitutive>(
     model: &M,
@@ -497,165 +439,68 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
     dt: Real,
     report: &mut StressReport,
 ) {
-    let len = ps.stress.len();
-    // The particles' masses in lanes (a short chunk padded with a real particle's mass), for
-    // the volume bound m_p times the model's largest specific volume and the bulk viscosity's
-    // m_p (C h)².
-    let viscous = ps.bulk_length > 0.0;
-    let mass = (viscous || model.max_specific_volume().is_some()).then(|| {
-        let lanes = |m: &[Real]| {
-            Lanes2(
-                Lanes::from_slice(&m[..LANES]),
-                Lanes::from_slice(&m[LANES..]),
-            )
-        };
-        if len == CHUNK {
-            lanes(ps.mass)
-        } else {
-            let mut mass = [ps.mass[0]; CHUNK];
-            mass[..len].copy_from_slice(ps.mass);
-            lanes(&mass)
-        }
+    let StressState {
+        stress,
+        volume,
+        mass,
+        plastic_strain,
+        viscous_pressure,
+        bulk_length: length,
+    } = ps;
+    let largest = model.max_specific_volume();
+    // The masses: for the volume bound m_p times the model's largest specific volume, and the
+    // bulk viscosity's m_p (C h)².
+    let with_mass = length > 0.0 || largest.is_some();
+    let lanes = Chunk {
+        stress: &mut *stress,
+        volume: &mut *volume,
+        mass,
+        plastic_strain: M::PLASTIC.then_some(plastic_strain),
+        viscous_pressure: (length > 0.0).then_some(viscous_pressure),
+    };
+    let u = walk::update_in_lanes(rates, lanes, with_mass, |l| {
+        let cap = largest.zip(l.mass).map(|(s, m)| m * s);
+        let bulk = l
+            .mass
+            .filter(|_| length > 0.0)
+            .map(|m| m * (length * length));
+        let q = bulk.map(|b| (b, l.viscous_pressure));
+        update_group(
+            model, l.stress, l.rate, l.spin, l.history, l.volume, cap, q, dt,
+        )
     });
-    let cap = model.max_specific_volume().zip(mass).map(|(s, m)| m * s);
-    let bulk = mass
-        .filter(|_| viscous)
-        .map(|m| m * (ps.bulk_length * ps.bulk_length));
-    // Set only for a short chunk (zeroing them for every chunk cost 4 instructions a particle).
-    let (mut pad_stress, mut pad_volume);
-    let (stress, volume, short): (&mut [D::Sym; CHUNK], &mut [Real; CHUNK], _) = if len == CHUNK {
-        let stress = ps.stress.try_into().expect("a full chunk");
-        let volume = ps.volume.try_into().expect("a full chunk");
-        (stress, volume, None)
-    } else {
-        (pad_stress, pad_volume) = ([D::Sym::ZERO; CHUNK], [ps.volume[0]; CHUNK]);
-        pad_stress[..len].copy_from_slice(ps.stress);
-        pad_volume[..len].copy_from_slice(ps.volume);
-        rates.rate[len..].fill(D::Sym::ZERO);
-        rates.spin[len..].fill(Default::default());
-        (
-            &mut pad_stress,
-            &mut pad_volume,
-            Some((ps.stress, ps.volume)),
-        )
-    };
-    // The particles' accumulated plastic strains in lanes (zero for models that do not yield,
-    // and in a short chunk's padding).
-    let history = if !M::PLASTIC {
-        Lanes2(Lanes::ZERO, Lanes::ZERO)
-    } else if len == CHUNK {
-        Lanes2(
-            Lanes::from_slice(&ps.plastic_strain[..LANES]),
-            Lanes::from_slice(&ps.plastic_strain[LANES..]),
-        )
-    } else {
-        let mut e = [0.0; CHUNK];
-        e[..len].copy_from_slice(ps.plastic_strain);
-        Lanes2(
-            Lanes::from_slice(&e[..LANES]),
-            Lanes::from_slice(&e[LANES..]),
-        )
-    };
-    let mut plastic = [0.0; CHUNK];
-    // The eight particles in two groups of four lanes, updated in one call: the two groups'
-    // dependency chains interleave.
-    let pack = |g: usize| {
-        let group = |a: &[D::Sym]| -> [D::Sym; LANES] { a[g..g + LANES].try_into().unwrap() };
-        let spins: [_; LANES] = rates.spin[g..g + LANES].try_into().unwrap();
-        (
-            D::Sym::pack(&group(&stress[..])),
-            D::Sym::pack(&group(&rates.rate)),
-            D::Sym::pack_spin(&spins),
-            Lanes::from_slice(&volume[g..g + LANES]),
-        )
-    };
-    let ((s0, r0, w0, v0), (s1, r1, w1, v1)) = (pack(0), pack(LANES));
-    let mut lanes = D::Sym::zip(s0, s1);
-    let mut v = Lanes2(v0, v1);
-    let mut q = Lanes2(Lanes::ZERO, Lanes::ZERO);
-    let (ep, u) = update_group(
-        model,
-        &mut lanes,
-        D::Sym::zip(r0, r1),
-        D::Sym::zip_spin(w0, w1),
-        history,
-        &mut v,
-        cap,
-        bulk.map(|b| (b, &mut q)),
-        dt,
-    );
-    if viscous {
-        match <&mut [Real; CHUNK]>::try_from(&mut *ps.viscous_pressure) {
-            Ok(out) => {
-                q.0.write_to_slice(&mut out[..LANES]);
-                q.1.write_to_slice(&mut out[LANES..]);
-            }
-            Err(_) => {
-                let mut all = [0.0; CHUNK];
-                q.0.write_to_slice(&mut all[..LANES]);
-                q.1.write_to_slice(&mut all[LANES..]);
-                ps.viscous_pressure.copy_from_slice(&all[..len]);
-            }
-        }
-    }
-    let (s0, s1) = D::Sym::unzip(lanes);
-    stress[..LANES].copy_from_slice(&D::Sym::unpack(s0));
-    stress[LANES..].copy_from_slice(&D::Sym::unpack(s1));
-    v.0.write_to_slice(&mut volume[..LANES]);
-    v.1.write_to_slice(&mut volume[LANES..]);
-    ep.0.write_to_slice(&mut plastic[..LANES]);
-    ep.1.write_to_slice(&mut plastic[LANES..]);
-    let finite = u.finite;
-    if finite {
+    if u.finite {
         report.elastic += u.elastic;
         report.dissipated += u.dissipated;
         report.max_volume = max(report.max_volume, u.max_volume);
         report.viscous += u.viscous;
         report.max_compression = max(report.max_compression, u.max_compression);
-    }
-    if M::PLASTIC {
-        // A full chunk adds its plastic strains in lanes (one by one they cost 7 instructions
-        // a particle); a short one adds them one by one.
-        match <&mut [Real; CHUNK]>::try_from(&mut *ps.plastic_strain) {
-            Ok(e) => {
-                (history.0 + ep.0).write_to_slice(&mut e[..LANES]);
-                (history.1 + ep.1).write_to_slice(&mut e[LANES..]);
-            }
-            Err(_) => {
-                for (e, de) in ps.plastic_strain.iter_mut().zip(plastic) {
-                    *e += de;
-                }
-            }
-        }
-    }
-    for i in 0..len {
+    } else {
         // Only a chunk that was not all finite is looked at particle by particle.
-        let ok = finite || stress[i].is_finite() && volume[i].is_finite() && volume[i] > 0.0;
-        if !ok {
-            report.bad(first + i, stress[i].is_finite(), volume[i]);
+        for (i, (s, &v)) in stress.iter().zip(volume.iter()).enumerate() {
+            if !(s.is_finite() && v.is_finite() && v > 0.0) {
+                report.bad(first + i, s.is_finite(), v);
+            }
         }
-    }
-    if let Some((to_stress, to_volume)) = short {
-        to_stress.copy_from_slice(&stress[..len]);
-        to_volume.copy_from_slice(&volume[..len]);
     }
 }
 
 pub use crate::recipe::BULK_VISCOSITY;
 
-/// What one constitutive call (for `LANES` particles in SIMD lanes) adds to the report.
+/// What one constitutive call (for one particle, or for several in SIMD lanes) adds to the
+/// report.
 struct Group {
     /// Σ V W(σ) after the update, and Σ V D (energy the plastic correction removed).
-    elastic: f64,
-    dissipated: f64,
-    max_volume: Real,
+    pub elastic: f64,
+    pub dissipated: f64,
+    pub max_volume: Real,
     /// The bulk viscosity's work Σ q V |tr ε̇| Δt and the fastest compression |tr ε̇|.
-    viscous: f64,
-    max_compression: Real,
-    finite: bool,
+    pub viscous: f64,
+    pub max_compression: Real,
+    pub finite: bool,
 }
 
-/// Steps 2–3 for one group of particles in lanes: the stress by the model (returning their
+/// Steps 2–3 for one particle, or for a group of particles in lanes: the stress by the model (returning their
 /// plastic strain increments) and the volume; with `bulk` = (m (C h)², q), the bulk
 /// viscosity q = ρ (C h tr ε̇)² = m (C h)² (tr ε̇)²/V of the compressing particles, whose work
 /// q V |tr ε̇| Δt = m (C h)² |tr ε̇|³ Δt needs no division.
@@ -702,119 +547,11 @@ fn update_group<S: SymTensor, M: Constitutive>(
     (u.plastic_strain, group)
 }
 
-/// Step 2 for one particle: ∇v_p = Σ_i v_i ⊗ ∇w_ip from the nodes' `vel`. `nodes` starts at
-/// the stencil's first node (node (i, j, k) at `i + j p + k p²`).
-#[inline(always)]
-pub fn velocity_gradient<D: Dim, K: Kernel<S>, const S: usize>(
-    nodes: &[Node<D::Vector>],
-    p: usize,
-    st: &Stencil<S>,
-) -> D::Grad {
-    let nodes = &nodes[..stencil_span(D::DIM, p, S)];
-    let mut c = [D::Vector::ZERO; 3];
-    for k in 0..third_axis_nodes::<D, K, S>(st) {
-        let (wk, dwk) = third_axis::<D, S>(st, k);
-        for j in 0..second_axis_nodes::<D, K, S>(st) {
-            let base = j * p + k * p * p;
-            let row = &nodes[base..base + S];
-            // Σ_i v_i ∂w_i and Σ_i v_i w_i along the row, then the row's weights.
-            let (mut a, mut b) = (D::Vector::ZERO, D::Vector::ZERO);
-            for i in 0..first_axis_nodes::<D, K, S>(st) {
-                a += row[i].vel() * st.dw[i][0];
-                b += row[i].vel() * st.w[i][0];
-            }
-            c[0] += a * (st.w[j][1] * wk);
-            c[1] += b * (st.dw[j][1] * wk);
-            if D::DIM == 3 {
-                c[2] += b * (st.w[j][1] * dwk);
-            }
-        }
-    }
-    D::from_columns(c)
-}
-
-/// [`velocity_gradient`] in 2D, packing specialisation: both columns in one `Vec4`,
-/// (L_xx, L_yx, L_xy, L_yy) = Σ_i (v_i, v_i) ∘ (∂_x w_i ×2, ∂_y w_i ×2).
-#[inline(always)]
-pub fn velocity_gradient_2d_packed<D: Dim, K: Kernel<S>, const S: usize>(
-    nodes: &[Node<D::Vector>],
-    p: usize,
-    st: &Stencil<S>,
-) -> D::Grad {
-    debug_assert_eq!(D::DIM, 2);
-    let nodes = &nodes[..stencil_span(2, p, S)];
-    let l = sum_from_first(second_axis_nodes::<D, K, S>(st), |j| {
-        let row = &nodes[j * p..j * p + S];
-        let wj = Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
-        sum_from_first(first_axis_nodes::<D, K, S>(st), |i| {
-            let g = Vec4::new(st.dw[i][0], st.dw[i][0], st.w[i][0], st.w[i][0]) * wj;
-            let v = row[i].vel();
-            Vec4::new(v[0], v[1], v[0], v[1]) * g
-        })
-    });
-    D::from_columns([
-        D::vector([l.x, l.y, 0.0]),
-        D::vector([l.z, l.w, 0.0]),
-        D::Vector::ZERO,
-    ])
-}
-
-/// Step 4 for one particle: f_i += A ∇w_ip for the symmetric A = −V_p σ_p, into the nodes'
-/// `new_vel`.
-#[inline(always)]
-pub fn scatter_force<D: Dim, K: Kernel<S>, const S: usize>(
-    nodes: &mut [Node<D::Vector>],
-    p: usize,
-    st: &Stencil<S>,
-    a: D::Sym,
-) {
-    let nodes = &mut nodes[..stencil_span(D::DIM, p, S)];
-    let [a0, a1, a2] = D::sym_columns(a);
-    for k in 0..third_axis_nodes::<D, K, S>(st) {
-        let (wk, dwk) = third_axis::<D, S>(st, k);
-        for j in 0..second_axis_nodes::<D, K, S>(st) {
-            let base = j * p + k * p * p;
-            // A ∇w = A e_x ∂_x w + A e_y ∂_y w (+ A e_z ∂_z w): the row's factors first.
-            let pjk = a0 * (st.w[j][1] * wk);
-            let mut qjk = a1 * (st.dw[j][1] * wk);
-            if D::DIM == 3 {
-                qjk += a2 * (st.w[j][1] * dwk);
-            }
-            let row = &mut nodes[base..base + S];
-            for i in 0..first_axis_nodes::<D, K, S>(st) {
-                row[i].new_vel += pjk * st.dw[i][0] + qjk * st.w[i][0];
-            }
-        }
-    }
-}
-
-/// [`scatter_force`] in 2D, packing specialisation: a node's force from both columns of A in
-/// one `Vec4`, (a_xx, a_xy) ∂_x w_i and (a_xy, a_yy) ∂_y w_i side by side.
-#[inline(always)]
-pub fn scatter_force_2d_packed<D: Dim, K: Kernel<S>, const S: usize>(
-    nodes: &mut [Node<D::Vector>],
-    p: usize,
-    st: &Stencil<S>,
-    a: D::Sym,
-) {
-    debug_assert_eq!(D::DIM, 2);
-    let nodes = &mut nodes[..stencil_span(2, p, S)];
-    let [c0, c1, _] = D::sym_columns(a);
-    let a = Vec4::new(c0[0], c0[1], c1[0], c1[1]);
-    for j in 0..second_axis_nodes::<D, K, S>(st) {
-        let wj = a * Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
-        let row = &mut nodes[j * p..j * p + S];
-        for i in 0..first_axis_nodes::<D, K, S>(st) {
-            let t = wj * Vec4::new(st.dw[i][0], st.dw[i][0], st.w[i][0], st.w[i][0]);
-            row[i].new_vel += D::vector([t.x + t.z, t.y + t.w, 0.0]);
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::material::{Material, Model};
+    use crate::math::VectorOps;
     use crate::math::{D2, D3, Mat2, Sym2, Vec2};
     use crate::step::test_util::noise;
 
@@ -924,7 +661,7 @@ mod tests {
             .collect();
         let mut grid = Grid::<D>::default();
         grid.rebuild(count, S, |q| {
-            K::base(super::super::grid_coords::<D>(x[q], inv_h), D::DIM, lp)
+            K::base(super::walk::grid_coords::<D>(x[q], inv_h), D::DIM, lp)
         });
         for slot in 0..grid.index.block_count() {
             let (layout, index, nodes) = (&grid.layout, &grid.index, &mut grid.nodes);

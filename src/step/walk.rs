@@ -1,0 +1,1029 @@
+//! The walk over a particle's stencil, the one place that knows how a stencil lies on the
+//! grid: every pass states its Sec. 4.2 sums as terms handed to these walks.
+//!
+//! **The nodes.** A particle's stencil has `S` nodes per axis; a body's grid stores its nodes
+//! in padded blocks whose rows are `p` = block + S − 1 nodes long, so that node (i, j, k) of a
+//! stencil is `i + j p + k p²` nodes after its first ([`Walker::at`] finds that first node, as
+//! the grid's allocation recorded it).
+//!
+//! **Rows.** The weights are products of one-axis weights, w_ip = w_i w_j w_k and
+//! ∇w_ip = (w'_i w_j w_k, w_i w'_j w_k, w_i w_j w'_k) (grid units folded into w'), so each
+//! walk goes row by row: along the first axis it sums the node terms against w_i, w'_i (and
+//! the offset d_i), then multiplies the row's sums by the row's factors w_j w_k, w'_j w_k and
+//! w_j w'_k. A node then costs a few multiply-adds.
+//!
+//! **Axis folding.** 2D runs the same loops with the third axis's weight 1 and derivative 0
+//! and one `k` (`third_axis`); LLVM folds them away.
+//!
+//! **Reach.** The loops stop at the last node with weight along each axis
+//! ([`Stencil::reach`]): a GIMP stencil has two along an axis where the particle's domain does
+//! not cross a node, three elsewhere (`nodes_along`).
+//!
+//! **2D packing.** In 2D two vectors fit one `Vec4`, so the 2D walks keep two sums side by
+//! side: [`scatter_packed_2d`], [`gather_rows_packed_2d`], [`gather_values_packed_2d`] and
+//! [`gradient_packed_2d`] are packing specialisations of the row walks [`scatter_rows`] and
+//! [`gather_rows`], chosen by [`scatter`], [`gather`] and [`gradient`]; the tests below
+//! compare each with the plain per-node sums.
+//!
+//! **Lanes.** The stress update advances eight particles at once in SIMD lanes;
+//! [`update_in_lanes`] puts a chunk of particles into lanes, pads a short one, and takes the
+//! results back out.
+
+use crate::grid::{BlockLayout, GHOST, Grid, Node, stencil_span};
+use crate::kernel::{Kernel, KernelKind, Stencil, floor_nonneg};
+use crate::math::{
+    Batch, Dim, LANES, Real, Real4, Real4x2, SymTensor, Vec2, Vec4, VectorOps, sum_from_first,
+};
+use std::marker::PhantomData;
+
+/// Grid coordinates of a position: x/h plus the ghost nodes before the domain.
+#[inline(always)]
+pub fn grid_coords<D: Dim>(x: D::Vector, inv_h: Real) -> [Real; 3] {
+    let mut g = [0.0; 3];
+    for (a, c) in g.iter_mut().enumerate().take(D::DIM) {
+        *c = x[a] * inv_h + GHOST as Real;
+    }
+    g
+}
+
+/// Nodes per row of a padded block for a kernel of `S` nodes per axis (a compile-time
+/// constant after monomorphisation).
+#[inline(always)]
+pub const fn row_length<D: Dim, const S: usize>() -> usize {
+    Grid::<D>::BLOCK + S - 1
+}
+
+/// The number of consecutive nodes a stencil spans.
+#[inline(always)]
+fn span<D: Dim, const S: usize>() -> usize {
+    stencil_span(D::DIM, row_length::<D, S>(), S)
+}
+
+/// A particle's place on its body's grid: its stencil, and the storage index of the
+/// stencil's first node.
+#[derive(Clone, Copy)]
+pub struct At<const S: usize> {
+    pub st: Stencil<S>,
+    pub origin: usize,
+}
+
+impl<const S: usize> At<S> {
+    /// The stencil's nodes.
+    #[inline(always)]
+    fn nodes<'a, D: Dim>(&self, nodes: &'a [Node<D::Vector>]) -> &'a [Node<D::Vector>] {
+        &nodes[self.origin..][..span::<D, S>()]
+    }
+
+    /// The stencil's nodes, to add to.
+    #[inline(always)]
+    fn nodes_mut<'a, D: Dim>(&self, nodes: &'a mut [Node<D::Vector>]) -> &'a mut [Node<D::Vector>] {
+        &mut nodes[self.origin..][..span::<D, S>()]
+    }
+}
+
+/// A body's particles walked in order over its grid: each one's stencil and first node.
+pub struct Walker<'g, D: Dim, K: Kernel<S>, const S: usize> {
+    layout: &'g BlockLayout<D>,
+    particle_node: &'g [u32],
+    stencils: Stencils<D, K, S>,
+}
+
+impl<'g, D: Dim, K: Kernel<S>, const S: usize> Walker<'g, D, K, S> {
+    /// For a grid laid out by `layout` whose allocation found the first stencil node
+    /// `particle_node[q]` of each particle, of half-width `lp` grid units on cells of 1/`inv_h`.
+    #[inline(always)]
+    pub fn new(
+        layout: &'g BlockLayout<D>,
+        particle_node: &'g [u32],
+        inv_h: Real,
+        lp: Real,
+    ) -> Self {
+        debug_assert_eq!(
+            layout.padded(),
+            row_length::<D, S>(),
+            "grid laid out for another kernel"
+        );
+        Walker {
+            layout,
+            particle_node,
+            stencils: Stencils::new(inv_h, lp),
+        }
+    }
+
+    /// Particle `q`'s place, at `x[q]` (debug builds check that its stencil did not move since
+    /// the grid was allocated).
+    #[inline(always)]
+    pub fn at(&mut self, x: &[D::Vector], q: usize) -> At<S> {
+        let st = self.stencils.at(x, q);
+        let node = self.particle_node[q];
+        debug_assert_eq!(
+            node as usize % self.layout.padded_nodes(),
+            self.layout.stencil_origin(0, st.base),
+            "particle's stencil moved since the grid was allocated"
+        );
+        At {
+            st,
+            origin: node as usize,
+        }
+    }
+}
+
+/// The particles' stencils, one particle after another, for a pass that walks them in order.
+/// In native 2D builds two particles' GIMP stencils are evaluated at once
+/// ([`Kernel::stencil_pair_2d`], a packing specialisation of [`Kernel::stencil`]): the second
+/// waits here for the pass to ask for it.
+pub struct Stencils<D: Dim, K: Kernel<S>, const S: usize> {
+    inv_h: Real,
+    lp: Real,
+    /// The particle whose stencil `next` is (`usize::MAX`: none).
+    cached: usize,
+    next: Stencil<S>,
+    _kernel: PhantomData<(D, K)>,
+}
+
+impl<D: Dim, K: Kernel<S>, const S: usize> Stencils<D, K, S> {
+    /// For particles of half-width `lp` grid units on a grid of 1/`inv_h` cells.
+    #[inline(always)]
+    pub fn new(inv_h: Real, lp: Real) -> Self {
+        Stencils {
+            inv_h,
+            lp,
+            cached: usize::MAX,
+            next: Stencil::at([0; 3]),
+            _kernel: PhantomData,
+        }
+    }
+
+    /// The stencil of particle `q` at `x[q]` (in 2D, with particle q + 1's when q is not
+    /// the second of a pair: a pass asks for q + 1 next, whose position it has not moved yet).
+    #[inline(always)]
+    pub fn at(&mut self, x: &[D::Vector], q: usize) -> Stencil<S> {
+        let (inv_h, lp) = (self.inv_h, self.lp);
+        // Pairs pay for GIMP's weights natively; the linear kernel's and the B-spline's cost
+        // about what keeping the second stencil does, and in WebAssembly V8 ran the pairs
+        // slower (docs/performance.md).
+        if D::DIM != 2 || K::KIND != KernelKind::Gimp || cfg!(target_arch = "wasm32") {
+            return K::stencil(grid_coords::<D>(x[q], inv_h), D::DIM, inv_h, lp);
+        }
+        if self.cached == q {
+            return self.next;
+        }
+        let b = x[if q + 1 < x.len() { q + 1 } else { q }];
+        let [first, second] = K::stencil_pair_2d(
+            grid_coords::<D>(x[q], inv_h),
+            grid_coords::<D>(b, inv_h),
+            inv_h,
+            lp,
+        );
+        (self.next, self.cached) = (second, q + 1);
+        first
+    }
+}
+
+/// The stencil's weight and derivative along the third axis for node `k`: those of the
+/// kernel in 3D, and (1, 0) in 2D, where the loops over `k` run once.
+#[inline(always)]
+fn third_axis<D: Dim, const S: usize>(st: &Stencil<S>, k: usize) -> (Real, Real) {
+    if D::DIM == 3 {
+        (st.w[k][2], st.dw[k][2])
+    } else {
+        (1.0, 0.0)
+    }
+}
+
+/// The stencil nodes with weight along axis `a` (one along the third axis in 2D): the first
+/// `reach[a]` of `S` for GIMP (the rest carry none, and the walks skip them), all `S` for the
+/// other kernels (a constant, so that their loops unroll) — and for GIMP in the 2D WebAssembly
+/// build, where V8 ran the loops of varying length slower than the unrolled ones
+/// (docs/performance.md).
+#[inline(always)]
+fn nodes_along<D: Dim, K: Kernel<S>, const S: usize>(st: &Stencil<S>, a: usize) -> usize {
+    if a >= D::DIM {
+        return 1;
+    }
+    let skip = D::DIM == 3 || !cfg!(target_arch = "wasm32");
+    if K::KIND == KernelKind::Gimp && skip {
+        st.reach[a]
+    } else {
+        S
+    }
+}
+
+/// What one particle gives each node of its stencil in a scatter.
+#[derive(Clone, Copy)]
+pub struct Share<D: Dim> {
+    /// The particle's mass m_p and momentum m_p v_p: m_i += w_ip m_p, (mv)_i += w_ip m_p v_p.
+    pub mass: Option<(Real, D::Vector)>,
+    /// APIC's A_p = m_p C_p h: (mv)_i += w_ip A_p d_i (d_i: the node's offset in cells).
+    pub affine: Option<D::Grad>,
+    /// A symmetric F_p (a force per unit weight gradient): f_i += F_p ∇w_ip, into the nodes'
+    /// `new_vel`.
+    pub force: Option<D::Sym>,
+}
+
+/// Adds a particle's [`Share`] to the nodes of its stencil, and with `mass_grad` (the grid's
+/// mass gradients, laid out as its nodes) ∇m_i += m_p ∇w_ip. In 2D without the affine term or
+/// the mass gradient this is [`scatter_packed_2d`], else [`scatter_rows`].
+#[inline(always)]
+pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
+    nodes: &mut [Node<D::Vector>],
+    mass_grad: Option<&mut [D::Vector]>,
+    at: &At<S>,
+    share: Share<D>,
+) {
+    if D::DIM == 2 && share.affine.is_none() && mass_grad.is_none() {
+        scatter_packed_2d::<D, K, S>(at.nodes_mut::<D>(nodes), &at.st, share);
+    } else {
+        let grad = mass_grad.map(|g| &mut g[at.origin..][..span::<D, S>()]);
+        scatter_rows::<D, K, S>(at.nodes_mut::<D>(nodes), grad, &at.st, share);
+    }
+}
+
+/// [`scatter`] row by row, for the stencil's `nodes` (from its first), in any dimension:
+/// F ∇w = F e_x w'_i w_j w_k + (F e_y w'_j w_k + F e_z w_j w'_k) w_i with the row's factors
+/// first, and the momentum's affine part A d = A e_x d_i + (A e_y d_j + A e_z d_k).
+#[inline(always)]
+pub fn scatter_rows<D: Dim, K: Kernel<S>, const S: usize>(
+    nodes: &mut [Node<D::Vector>],
+    mut grad: Option<&mut [D::Vector]>,
+    st: &Stencil<S>,
+    share: Share<D>,
+) {
+    let p = row_length::<D, S>();
+    let nodes = &mut nodes[..span::<D, S>()];
+    let Share {
+        mass,
+        affine,
+        force,
+    } = share;
+    let (m, mv) = mass.unwrap_or((0.0, D::Vector::ZERO));
+    let pm = mv.with_mass(m);
+    let ax = affine
+        .map(|a| D::column(&a, 0).with_mass(0.0))
+        .unwrap_or_default();
+    let [f0, f1, f2] = D::sym_columns(force.unwrap_or(D::Sym::ZERO));
+    // The first axis's weights as vectors, once.
+    let w: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.w[i][0]));
+    let dw: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.dw[i][0]));
+    for k in 0..nodes_along::<D, K, S>(st, 2) {
+        let (wk, dwk) = third_axis::<D, S>(st, k);
+        for j in 0..nodes_along::<D, K, S>(st, 1) {
+            let base = j * p + k * p * p;
+            let wjk = st.w[j][1] * wk;
+            let fx = f0 * wjk;
+            let mut fyz = f1 * (st.dw[j][1] * wk);
+            if D::DIM == 3 {
+                fyz += f2 * (st.w[j][1] * dwk);
+            }
+            let row = &mut nodes[base..base + S];
+            match affine {
+                None => {
+                    for i in 0..nodes_along::<D, K, S>(st, 0) {
+                        if mass.is_some() {
+                            row[i].vm += pm * (st.w[i][0] * wjk);
+                        }
+                        if force.is_some() {
+                            row[i].new_vel += fx * dw[i] + fyz * w[i];
+                        }
+                    }
+                }
+                Some(a) => {
+                    let mut r = mv + D::column(&a, 1) * st.d[j][1];
+                    if D::DIM == 3 {
+                        r += D::column(&a, 2) * st.d[k][2];
+                    }
+                    let r = r.with_mass(m);
+                    for i in 0..nodes_along::<D, K, S>(st, 0) {
+                        row[i].vm += (r + ax * st.d[i][0]) * (st.w[i][0] * wjk);
+                        if force.is_some() {
+                            row[i].new_vel += fx * dw[i] + fyz * w[i];
+                        }
+                    }
+                }
+            }
+            if let Some(g) = grad.as_deref_mut() {
+                let (djk, wdjk) = (st.dw[j][1] * wk, st.w[j][1] * dwk);
+                for i in 0..nodes_along::<D, K, S>(st, 0) {
+                    g[base + i] +=
+                        D::vector([st.dw[i][0] * wjk, st.w[i][0] * djk, st.w[i][0] * wdjk]) * m;
+                }
+            }
+        }
+    }
+}
+
+/// [`scatter_rows`] in 2D without the affine term or the mass gradient, packing
+/// specialisation: a node's F ∇w from both columns of F in one `Vec4`, (F_xx, F_xy) w'_i w_j
+/// and (F_xy, F_yy) w_i w'_j side by side.
+#[inline(always)]
+pub fn scatter_packed_2d<D: Dim, K: Kernel<S>, const S: usize>(
+    nodes: &mut [Node<D::Vector>],
+    st: &Stencil<S>,
+    share: Share<D>,
+) {
+    debug_assert!(D::DIM == 2 && share.affine.is_none());
+    let p = row_length::<D, S>();
+    let nodes = &mut nodes[..span::<D, S>()];
+    let (m, mv) = share.mass.unwrap_or((0.0, D::Vector::ZERO));
+    let pm = mv.with_mass(m);
+    let [c0, c1, _] = D::sym_columns(share.force.unwrap_or(D::Sym::ZERO));
+    let f = Vec4::new(c0[0], c0[1], c1[0], c1[1]);
+    for j in 0..nodes_along::<D, K, S>(st, 1) {
+        let fj = f * Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
+        let row = &mut nodes[j * p..j * p + S];
+        for i in 0..nodes_along::<D, K, S>(st, 0) {
+            if share.mass.is_some() {
+                row[i].vm += pm * (st.w[i][0] * st.w[j][1]);
+            }
+            if share.force.is_some() {
+                let t = fj * Vec4::new(st.dw[i][0], st.dw[i][0], st.w[i][0], st.w[i][0]);
+                row[i].new_vel += D::vector([t.x + t.z, t.y + t.w, 0.0]);
+            }
+        }
+    }
+}
+
+/// What a gather sums over a particle's stencil from a node field f (and a second field g):
+/// the walks compute the sums asked for and leave the others zero.
+#[derive(Clone, Copy)]
+pub struct Sums<D: Dim> {
+    /// Σ_i w_ip f_i.
+    pub value: D::Vector,
+    /// Σ_i w_ip g_i (`value` again when g was not asked for).
+    pub second: D::Vector,
+    /// Σ_i f_i ⊗ ∇w_ip.
+    pub gradient: D::Grad,
+    /// Σ_i w_ip f_i ⊗ d_i, with d_i the node's offset from the particle in cells.
+    pub moment: D::Grad,
+}
+
+/// The [`Sums`] over the stencil at `at` of the node fields `f` and (`SECOND`) `g`, with
+/// (`GRADIENT`) the gradient and (`MOMENT`) the moment of f. In 2D without the moment this is
+/// [`gather_rows_packed_2d`] or, without the gradient either, [`gather_values_packed_2d`];
+/// else [`gather_rows`].
+#[inline(always)]
+pub fn gather<
+    D: Dim,
+    K: Kernel<S>,
+    const S: usize,
+    const SECOND: bool,
+    const GRADIENT: bool,
+    const MOMENT: bool,
+>(
+    nodes: &[Node<D::Vector>],
+    at: &At<S>,
+    f: impl Fn(&Node<D::Vector>) -> D::Vector,
+    g: impl Fn(&Node<D::Vector>) -> D::Vector,
+) -> Sums<D> {
+    let (nodes, st) = (at.nodes::<D>(nodes), &at.st);
+    if D::DIM == 2 && !MOMENT {
+        if GRADIENT {
+            gather_rows_packed_2d::<D, K, S, SECOND>(nodes, st, f, g)
+        } else {
+            gather_values_packed_2d::<D, K, S, SECOND>(nodes, st, f, g)
+        }
+    } else {
+        gather_rows::<D, K, S, SECOND, GRADIENT, MOMENT>(nodes, st, f, g)
+    }
+}
+
+/// The gradient Σ_i f_i ⊗ ∇w_ip of the node field `f` at `at`: in 2D
+/// [`gradient_packed_2d`], else [`gather_rows`]'.
+#[inline(always)]
+pub fn gradient<D: Dim, K: Kernel<S>, const S: usize>(
+    nodes: &[Node<D::Vector>],
+    at: &At<S>,
+    f: impl Fn(&Node<D::Vector>) -> D::Vector,
+) -> D::Grad {
+    let (nodes, st) = (at.nodes::<D>(nodes), &at.st);
+    if D::DIM == 2 {
+        gradient_packed_2d::<D, K, S>(nodes, st, f)
+    } else {
+        gather_rows::<D, K, S, false, true, false>(nodes, st, &f, &f).gradient
+    }
+}
+
+/// [`gather`] row by row, for the stencil's `nodes` (from its first), in any dimension: along
+/// a row Σ_i w_i f_i, Σ_i w_i g_i, Σ_i w'_i f_i and Σ_i w_i d_i f_i, then the row's factors.
+#[inline(always)]
+pub fn gather_rows<
+    D: Dim,
+    K: Kernel<S>,
+    const S: usize,
+    const SECOND: bool,
+    const GRADIENT: bool,
+    const MOMENT: bool,
+>(
+    nodes: &[Node<D::Vector>],
+    st: &Stencil<S>,
+    f: impl Fn(&Node<D::Vector>) -> D::Vector,
+    g: impl Fn(&Node<D::Vector>) -> D::Vector,
+) -> Sums<D> {
+    let p = row_length::<D, S>();
+    let nodes = &nodes[..span::<D, S>()];
+    let (mut value, mut second) = (D::Vector::ZERO, D::Vector::ZERO);
+    let mut c = [D::Vector::ZERO; 3];
+    let mut b = [D::Vector::ZERO; 3];
+    // The first axis's weights as vectors, once.
+    let w: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.w[i][0]));
+    let dw: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.dw[i][0]));
+    for k in 0..nodes_along::<D, K, S>(st, 2) {
+        let (wk, dwk) = third_axis::<D, S>(st, k);
+        for j in 0..nodes_along::<D, K, S>(st, 1) {
+            let base = j * p + k * p * p;
+            let row = &nodes[base..base + S];
+            let (mut rn, mut ro, mut rd) = (D::Vector::ZERO, D::Vector::ZERO, D::Vector::ZERO);
+            let mut rx = D::Vector::ZERO;
+            for i in 0..nodes_along::<D, K, S>(st, 0) {
+                let v = f(&row[i]);
+                let vw = v * w[i];
+                rn += vw;
+                if MOMENT {
+                    rx += vw * st.d[i][0];
+                }
+                if SECOND {
+                    ro += g(&row[i]) * w[i];
+                }
+                if GRADIENT {
+                    rd += v * dw[i];
+                }
+            }
+            let wjk = st.w[j][1] * wk;
+            value += rn * wjk;
+            second += ro * wjk;
+            if GRADIENT {
+                c[0] += rd * wjk;
+                c[1] += rn * (st.dw[j][1] * wk);
+                if D::DIM == 3 {
+                    c[2] += rn * (st.w[j][1] * dwk);
+                }
+            }
+            if MOMENT {
+                b[0] += rx * wjk;
+                b[1] += rn * (wjk * st.d[j][1]);
+                if D::DIM == 3 {
+                    b[2] += rn * (wjk * st.d[k][2]);
+                }
+            }
+        }
+    }
+    Sums {
+        value,
+        second: if SECOND { second } else { value },
+        gradient: D::from_columns(c),
+        moment: D::from_columns(b),
+    }
+}
+
+/// [`gather_rows`] in 2D without the moment, packing specialisation: along a row,
+/// (f w_i, g w_i) — or without g, (f w_i, f w'_i) — in one `Vec4`, then the two gradient
+/// columns (Σ_i w'_i f_i) w_j and (Σ_i w_i f_i) w'_j side by side in another.
+#[inline(always)]
+pub fn gather_rows_packed_2d<D: Dim, K: Kernel<S>, const S: usize, const SECOND: bool>(
+    nodes: &[Node<D::Vector>],
+    st: &Stencil<S>,
+    f: impl Fn(&Node<D::Vector>) -> D::Vector,
+    g: impl Fn(&Node<D::Vector>) -> D::Vector,
+) -> Sums<D> {
+    debug_assert_eq!(D::DIM, 2);
+    let p = row_length::<D, S>();
+    let nodes = &nodes[..span::<D, S>()];
+    let (mut vel, mut grad) = (Vec4::ZERO, Vec4::ZERO);
+    for j in 0..nodes_along::<D, K, S>(st, 1) {
+        let row = &nodes[j * p..j * p + S];
+        // rn: Σ_i w_i f_i, rd: Σ_i w'_i f_i, ro: Σ_i w_i g_i.
+        let (rn, rd, ro) = if SECOND {
+            let (mut rv, mut rd) = (Vec4::ZERO, Vec2::ZERO);
+            for i in 0..nodes_along::<D, K, S>(st, 0) {
+                let (n, o) = (f(&row[i]), g(&row[i]));
+                rv += Vec4::new(n[0], n[1], o[0], o[1]) * st.w[i][0];
+                rd += Vec2::new(n[0], n[1]) * st.dw[i][0];
+            }
+            (Vec2::new(rv.x, rv.y), rd, Vec2::new(rv.z, rv.w))
+        } else {
+            let mut r = Vec4::ZERO;
+            for i in 0..nodes_along::<D, K, S>(st, 0) {
+                let n = f(&row[i]);
+                r += Vec4::new(n[0], n[1], n[0], n[1])
+                    * Vec4::new(st.w[i][0], st.w[i][0], st.dw[i][0], st.dw[i][0]);
+            }
+            let rn = Vec2::new(r.x, r.y);
+            (rn, Vec2::new(r.z, r.w), rn)
+        };
+        vel += Vec4::new(rn.x, rn.y, ro.x, ro.y) * st.w[j][1];
+        grad += Vec4::new(rd.x, rd.y, rn.x, rn.y)
+            * Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
+    }
+    let value = D::vector([vel.x, vel.y, 0.0]);
+    Sums {
+        value,
+        second: if SECOND {
+            D::vector([vel.z, vel.w, 0.0])
+        } else {
+            value
+        },
+        gradient: D::from_columns([
+            D::vector([grad.x, grad.y, 0.0]),
+            D::vector([grad.z, grad.w, 0.0]),
+            D::Vector::ZERO,
+        ]),
+        moment: D::GRAD_ZERO,
+    }
+}
+
+/// [`gather_rows`] in 2D for the values alone, packing specialisation: f and g side by side
+/// in one `Vec4`.
+#[inline(always)]
+pub fn gather_values_packed_2d<D: Dim, K: Kernel<S>, const S: usize, const SECOND: bool>(
+    nodes: &[Node<D::Vector>],
+    st: &Stencil<S>,
+    f: impl Fn(&Node<D::Vector>) -> D::Vector,
+    g: impl Fn(&Node<D::Vector>) -> D::Vector,
+) -> Sums<D> {
+    debug_assert_eq!(D::DIM, 2);
+    let p = row_length::<D, S>();
+    let nodes = &nodes[..span::<D, S>()];
+    let acc = sum_from_first(nodes_along::<D, K, S>(st, 1), |j| {
+        let row = &nodes[j * p..j * p + S];
+        sum_from_first(nodes_along::<D, K, S>(st, 0), |i| {
+            let (n, o) = (f(&row[i]), g(&row[i]));
+            Vec4::new(n[0], n[1], o[0], o[1]) * st.w[i][0]
+        }) * st.w[j][1]
+    });
+    let value = D::vector([acc.x, acc.y, 0.0]);
+    Sums {
+        value,
+        second: if SECOND {
+            D::vector([acc.z, acc.w, 0.0])
+        } else {
+            value
+        },
+        gradient: D::GRAD_ZERO,
+        moment: D::GRAD_ZERO,
+    }
+}
+
+/// The gradient of [`gather_rows`] in 2D, packing specialisation: both columns in one `Vec4`,
+/// (L_xx, L_yx, L_xy, L_yy) = Σ_i (f_i, f_i) ∘ (∂_x w_ip ×2, ∂_y w_ip ×2), node by node.
+#[inline(always)]
+pub fn gradient_packed_2d<D: Dim, K: Kernel<S>, const S: usize>(
+    nodes: &[Node<D::Vector>],
+    st: &Stencil<S>,
+    f: impl Fn(&Node<D::Vector>) -> D::Vector,
+) -> D::Grad {
+    debug_assert_eq!(D::DIM, 2);
+    let p = row_length::<D, S>();
+    let nodes = &nodes[..span::<D, S>()];
+    let l = sum_from_first(nodes_along::<D, K, S>(st, 1), |j| {
+        let row = &nodes[j * p..j * p + S];
+        let wj = Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
+        sum_from_first(nodes_along::<D, K, S>(st, 0), |i| {
+            let g = Vec4::new(st.dw[i][0], st.dw[i][0], st.w[i][0], st.w[i][0]) * wj;
+            let v = f(&row[i]);
+            Vec4::new(v[0], v[1], v[0], v[1]) * g
+        })
+    });
+    D::from_columns([
+        D::vector([l.x, l.y, 0.0]),
+        D::vector([l.z, l.w, 0.0]),
+        D::Vector::ZERO,
+    ])
+}
+
+/// The storage index of the lowest node of the cell holding a particle at `x` (grid spacing
+/// 1/`inv_h`), in the block that handles the particle (its place `at`). The cell's nodes all
+/// carry weight, so that node is stencil node 0 or 1 along each axis.
+#[inline(always)]
+pub fn cell_node<D: Dim, const S: usize>(x: D::Vector, inv_h: Real, at: &At<S>) -> usize {
+    let xg = grid_coords::<D>(x, inv_h);
+    let (mut n, mut stride) = (at.origin, 1);
+    for (a, c) in xg.iter().enumerate().take(D::DIM) {
+        let k = floor_nonneg(*c) - at.st.base[a];
+        debug_assert!((0..S as i32 - 1).contains(&k), "cell outside the stencil");
+        n += k as usize * stride;
+        stride *= row_length::<D, S>();
+    }
+    n
+}
+
+/// Particles per chunk of the gather between two stress updates (a multiple of `LANES`).
+pub const CHUNK: usize = 2 * LANES;
+
+/// The strain rates and spins of one chunk of particles.
+pub struct Rates<D: Dim> {
+    pub rate: [D::Sym; CHUNK],
+    pub spin: [<D::Sym as SymTensor>::Spin; CHUNK],
+}
+
+impl<D: Dim> Rates<D> {
+    pub fn zero() -> Self {
+        Rates {
+            rate: [D::Sym::ZERO; CHUNK],
+            spin: [Default::default(); CHUNK],
+        }
+    }
+    /// Sets particle `i`'s rate and spin from its velocity gradient.
+    #[inline(always)]
+    pub fn set(&mut self, i: usize, grad: D::Grad) {
+        (self.rate[i], self.spin[i]) = D::rate_and_spin(grad);
+    }
+}
+
+/// The particle state of a chunk of at most [`CHUNK`] particles that a stress update reads
+/// and writes: the plastic strains when the update makes them, and the bulk viscosity's
+/// pressures when it computes them.
+pub struct Chunk<'a, D: Dim> {
+    pub stress: &'a mut [D::Sym],
+    pub volume: &'a mut [Real],
+    pub mass: &'a [Real],
+    pub plastic_strain: Option<&'a mut [Real]>,
+    pub viscous_pressure: Option<&'a mut [Real]>,
+}
+
+/// One chunk's stress-update state in SIMD lanes: eight particles as two groups of four, side
+/// by side ([`Real4x2`]), for [`update_in_lanes`]' `update`.
+pub struct InLanes<'a, D: Dim> {
+    pub stress: &'a mut <D::Sym as Batch>::Packed2,
+    pub rate: <D::Sym as Batch>::Packed2,
+    pub spin: <<D::Sym as Batch>::Packed2 as SymTensor>::Spin,
+    /// The accumulated plastic strains (zero when the chunk has none).
+    pub history: Real4x2,
+    pub volume: &'a mut Real4x2,
+    /// The masses, when asked for.
+    pub mass: Option<Real4x2>,
+    /// Where `update` leaves the bulk viscosity's pressures (zero to start with).
+    pub viscous_pressure: &'a mut Real4x2,
+}
+
+/// Runs the stress update `update` on the particles of `ps`, whose rates and spins are the
+/// first entries of `rates`, in SIMD lanes, eight at a time: the two groups' dependency
+/// chains interleave. `update` returns the plastic strain increments (added to the chunk's)
+/// and what the report gains, which this returns; `with_mass` puts the masses in lanes too.
+///
+/// A full chunk is updated where it is stored; a short one is copied and padded with zero
+/// stress, rate and plastic strain and a real particle's volume and mass, whose update adds
+/// nothing. (Copying every chunk cost four `memcpy` calls per chunk, and the SIMD registers
+/// they clobber.)
+#[inline(always)]
+pub fn update_in_lanes<D: Dim, G>(
+    rates: &mut Rates<D>,
+    ps: Chunk<'_, D>,
+    with_mass: bool,
+    update: impl FnOnce(InLanes<'_, D>) -> (Real4x2, G),
+) -> G {
+    let len = ps.stress.len();
+    let lanes = |m: &[Real]| {
+        Real4x2(
+            Real4::from_slice(&m[..LANES]),
+            Real4::from_slice(&m[LANES..]),
+        )
+    };
+    let mass = with_mass.then(|| {
+        if len == CHUNK {
+            lanes(ps.mass)
+        } else {
+            let mut mass = [ps.mass[0]; CHUNK];
+            mass[..len].copy_from_slice(ps.mass);
+            lanes(&mass)
+        }
+    });
+    // Set only for a short chunk (zeroing them for every chunk cost 4 instructions a particle).
+    let (mut pad_stress, mut pad_volume);
+    let (stress, volume, short): (&mut [D::Sym; CHUNK], &mut [Real; CHUNK], _) = if len == CHUNK {
+        let stress = ps.stress.try_into().expect("a full chunk");
+        let volume = ps.volume.try_into().expect("a full chunk");
+        (stress, volume, None)
+    } else {
+        (pad_stress, pad_volume) = ([D::Sym::ZERO; CHUNK], [ps.volume[0]; CHUNK]);
+        pad_stress[..len].copy_from_slice(ps.stress);
+        pad_volume[..len].copy_from_slice(ps.volume);
+        rates.rate[len..].fill(D::Sym::ZERO);
+        rates.spin[len..].fill(Default::default());
+        (
+            &mut pad_stress,
+            &mut pad_volume,
+            Some((ps.stress, ps.volume)),
+        )
+    };
+    let plastic_strain = ps.plastic_strain;
+    let history = match plastic_strain.as_deref() {
+        None => Real4x2(Real4::ZERO, Real4::ZERO),
+        Some(e) if len == CHUNK => lanes(e),
+        Some(e) => {
+            let mut padded = [0.0; CHUNK];
+            padded[..len].copy_from_slice(e);
+            lanes(&padded)
+        }
+    };
+    let mut increments = [0.0; CHUNK];
+    // Four tensors into lanes at a time ([`Batch`]), then the two groups side by side.
+    let pack = |g: usize| {
+        let group = |a: &[D::Sym]| -> [D::Sym; LANES] { a[g..g + LANES].try_into().unwrap() };
+        let spins: [_; LANES] = rates.spin[g..g + LANES].try_into().unwrap();
+        (
+            D::Sym::pack(&group(&stress[..])),
+            D::Sym::pack(&group(&rates.rate)),
+            D::Sym::pack_spin(&spins),
+            Real4::from_slice(&volume[g..g + LANES]),
+        )
+    };
+    let ((s0, r0, w0, v0), (s1, r1, w1, v1)) = (pack(0), pack(LANES));
+    let mut s = D::Sym::zip(s0, s1);
+    let mut v = Real4x2(v0, v1);
+    let mut q = Real4x2(Real4::ZERO, Real4::ZERO);
+    let (ep, u) = update(InLanes {
+        stress: &mut s,
+        rate: D::Sym::zip(r0, r1),
+        spin: D::Sym::zip_spin(w0, w1),
+        history,
+        volume: &mut v,
+        mass,
+        viscous_pressure: &mut q,
+    });
+    if let Some(pressure) = ps.viscous_pressure {
+        match <&mut [Real; CHUNK]>::try_from(&mut *pressure) {
+            Ok(out) => {
+                q.0.write_to_slice(&mut out[..LANES]);
+                q.1.write_to_slice(&mut out[LANES..]);
+            }
+            Err(_) => {
+                let mut all = [0.0; CHUNK];
+                q.0.write_to_slice(&mut all[..LANES]);
+                q.1.write_to_slice(&mut all[LANES..]);
+                pressure.copy_from_slice(&all[..len]);
+            }
+        }
+    }
+    let (s0, s1) = D::Sym::unzip(s);
+    stress[..LANES].copy_from_slice(&D::Sym::unpack(s0));
+    stress[LANES..].copy_from_slice(&D::Sym::unpack(s1));
+    v.0.write_to_slice(&mut volume[..LANES]);
+    v.1.write_to_slice(&mut volume[LANES..]);
+    ep.0.write_to_slice(&mut increments[..LANES]);
+    ep.1.write_to_slice(&mut increments[LANES..]);
+    if let Some(e) = plastic_strain {
+        // A full chunk adds its plastic strains in lanes (one by one they cost 7 instructions
+        // a particle); a short one adds them one by one.
+        match <&mut [Real; CHUNK]>::try_from(&mut *e) {
+            Ok(e) => {
+                (history.0 + ep.0).write_to_slice(&mut e[..LANES]);
+                (history.1 + ep.1).write_to_slice(&mut e[LANES..]);
+            }
+            Err(_) => {
+                for (e, de) in e.iter_mut().zip(increments) {
+                    *e += de;
+                }
+            }
+        }
+    }
+    if let Some((to_stress, to_volume)) = short {
+        to_stress.copy_from_slice(&stress[..len]);
+        to_volume.copy_from_slice(&volume[..len]);
+    }
+    u
+}
+
+/// Plain per-node forms: each node's weight and gradient as the products they are, for the
+/// tests that compare the row walks and their specialisations with them.
+#[cfg(test)]
+pub(crate) mod plain {
+    use super::*;
+
+    /// Calls `f(index, w_ip, ∇w_ip, d)` for every node of the stencil (index from its first
+    /// node; d the node's offset from the particle in cells).
+    pub fn for_each_node<D: Dim, const S: usize>(
+        st: &Stencil<S>,
+        mut f: impl FnMut(usize, Real, D::Vector, D::Vector),
+    ) {
+        let p = row_length::<D, S>();
+        for k in 0..if D::DIM == 3 { S } else { 1 } {
+            let (wk, dwk) = third_axis::<D, S>(st, k);
+            let dk = if D::DIM == 3 { st.d[k][2] } else { 0.0 };
+            for j in 0..S {
+                for i in 0..S {
+                    let w = st.w[i][0] * st.w[j][1] * wk;
+                    let grad = D::vector([
+                        st.dw[i][0] * st.w[j][1] * wk,
+                        st.w[i][0] * st.dw[j][1] * wk,
+                        st.w[i][0] * st.w[j][1] * dwk,
+                    ]);
+                    let d = D::vector([st.d[i][0], st.d[j][1], dk]);
+                    f(i + j * p + k * p * p, w, grad, d);
+                }
+            }
+        }
+    }
+
+    /// The plain [`super::gather`], every sum asked for.
+    pub fn gather<D: Dim, const S: usize>(
+        nodes: &[Node<D::Vector>],
+        st: &Stencil<S>,
+        f: impl Fn(&Node<D::Vector>) -> D::Vector,
+        g: impl Fn(&Node<D::Vector>) -> D::Vector,
+    ) -> Sums<D> {
+        let (mut value, mut second) = (D::Vector::ZERO, D::Vector::ZERO);
+        let (mut c, mut b) = ([D::Vector::ZERO; 3], [D::Vector::ZERO; 3]);
+        for_each_node::<D, S>(st, |n, w, gw, d| {
+            let v = f(&nodes[n]);
+            value += v * w;
+            second += g(&nodes[n]) * w;
+            for a in 0..D::DIM {
+                c[a] += v * gw[a];
+                b[a] += v * (w * d[a]);
+            }
+        });
+        Sums {
+            value,
+            second,
+            gradient: D::from_columns(c),
+            moment: D::from_columns(b),
+        }
+    }
+
+    /// The plain [`super::scatter`].
+    pub fn scatter<D: Dim, const S: usize>(
+        nodes: &mut [Node<D::Vector>],
+        grad: &mut [D::Vector],
+        st: &Stencil<S>,
+        share: Share<D>,
+    ) {
+        for_each_node::<D, S>(st, |n, w, gw, d| {
+            if let Some((m, mv)) = share.mass {
+                let mut a = D::Vector::ZERO;
+                if let Some(c) = share.affine {
+                    for x in 0..D::DIM {
+                        a += D::column(&c, x) * d[x];
+                    }
+                }
+                nodes[n].vm += (mv + a).with_mass(m) * w;
+                grad[n] += gw * m;
+            }
+            if let Some(f) = share.force {
+                let c = D::sym_columns(f);
+                for x in 0..D::DIM {
+                    nodes[n].new_vel += c[x] * gw[x];
+                }
+            }
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kernel::{Gimp, Linear, QuadraticBspline};
+    use crate::math::{D2, D3, Sym2};
+    use crate::step::test_util::{noise, random_stencils};
+
+    /// Whether two vectors agree up to rounding, relative to `scale`.
+    fn near<V: VectorOps>(a: V, b: V, scale: Real) -> bool {
+        (a - b).length() <= 1e-5 * (1.0 + scale)
+    }
+
+    /// Whether two nodes' momenta and masses agree up to rounding.
+    fn same_mass<V: VectorOps>(x: &Node<V>, y: &Node<V>) -> bool {
+        near(x.vel(), y.vel(), y.vel().length())
+            && (x.mass() - y.mass()).abs() <= 1e-5 * (1.0 + y.mass().abs())
+    }
+
+    /// A made-up particle share: mass, momentum, (`affine`) A and (`force`) F.
+    fn share<D: Dim>(seed: &mut u64, affine: bool, force: bool) -> Share<D> {
+        let mut v = || D::vector([0; 3].map(|_| noise(seed)));
+        let (mv, a0, a1, a2) = (v(), v(), v(), v());
+        let f = D::rate_and_spin(D::from_columns([a2, a1, a0])).0;
+        Share {
+            mass: Some((2.5, mv)),
+            affine: affine.then(|| D::from_columns([a0, a1, a2])),
+            force: force.then_some(f),
+        }
+    }
+
+    /// The row walk (and in 2D its packing specialisation) adds to the nodes what the plain
+    /// per-node sums add, up to rounding.
+    fn scatter_matches_plain<D: Dim, K: Kernel<S>, const S: usize>() {
+        let (nodes, stencils) = random_stencils::<D, K, S>(40, row_length::<D, S>());
+        let mut seed = 3;
+        for (affine, force) in [(false, false), (false, true), (true, false), (true, true)] {
+            let (mut rows, mut packed, mut plain) = (nodes.clone(), nodes.clone(), nodes.clone());
+            let mut g_rows = vec![D::Vector::ZERO; nodes.len()];
+            let mut g_plain = g_rows.clone();
+            for st in &stencils {
+                let s = share::<D>(&mut seed, affine, force);
+                scatter_rows::<D, K, S>(&mut rows, Some(&mut g_rows), st, s);
+                plain::scatter::<D, S>(&mut plain, &mut g_plain, st, s);
+                if D::DIM == 2 && !affine {
+                    scatter_packed_2d::<D, K, S>(&mut packed, st, s);
+                }
+            }
+            for (n, (x, y)) in rows.iter().zip(&plain).enumerate() {
+                assert!(same_mass(x, y), "momentum at node {n}");
+                assert!(near(x.new_vel, y.new_vel, y.new_vel.length()), "force {n}");
+                assert!(near(g_rows[n], g_plain[n], g_plain[n].length()), "∇m {n}");
+                if D::DIM == 2 && !affine {
+                    let z = &packed[n];
+                    assert!(same_mass(z, y), "packed momentum {n}");
+                    assert!(near(z.new_vel, y.new_vel, y.new_vel.length()), "packed {n}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_scatter_walks_add_the_plain_per_node_shares() {
+        scatter_matches_plain::<D2, Linear, 2>();
+        scatter_matches_plain::<D2, QuadraticBspline, 3>();
+        scatter_matches_plain::<D2, Gimp, 3>();
+        scatter_matches_plain::<D3, Linear, 2>();
+        scatter_matches_plain::<D3, Gimp, 3>();
+    }
+
+    /// Whether two gradients agree up to rounding, column by column.
+    fn near_grad<D: Dim>(a: D::Grad, b: D::Grad) -> bool {
+        (0..D::DIM).all(|c| {
+            let (x, y) = (D::column(&a, c), D::column(&b, c));
+            near(x, y, y.length())
+        })
+    }
+
+    /// Whether two gradients are the same, bit for bit.
+    fn same_grad<D: Dim>(a: D::Grad, b: D::Grad) -> bool {
+        (0..D::DIM).all(|c| D::column(&a, c) == D::column(&b, c))
+    }
+
+    /// The row walk, with every sum and with each alone, and in 2D its packing
+    /// specialisations, sum what the plain per-node sums do, up to rounding.
+    fn gather_matches_plain<D: Dim, K: Kernel<S>, const S: usize>() {
+        let (nodes, stencils) = random_stencils::<D, K, S>(50, row_length::<D, S>());
+        let (f, g) = (
+            |n: &Node<D::Vector>| n.new_vel,
+            |n: &Node<D::Vector>| n.vel(),
+        );
+        for st in &stencils {
+            let plain = plain::gather::<D, S>(&nodes, st, f, g);
+            let all = gather_rows::<D, K, S, true, true, true>(&nodes, st, f, g);
+            let pic = gather_rows::<D, K, S, false, false, false>(&nodes, st, f, g);
+            let grad = gather_rows::<D, K, S, false, true, false>(&nodes, st, f, g);
+            let moment = gather_rows::<D, K, S, false, false, true>(&nodes, st, f, g);
+            let scale = plain.value.length();
+            assert!(near(all.value, plain.value, scale) && pic.value == all.value);
+            assert!(near(all.second, plain.second, plain.second.length()));
+            assert!(pic.second == pic.value, "without g, the value twice");
+            assert!(
+                near_grad::<D>(all.gradient, plain.gradient)
+                    && same_grad::<D>(grad.gradient, all.gradient)
+            );
+            assert!(
+                near_grad::<D>(all.moment, plain.moment)
+                    && same_grad::<D>(moment.moment, all.moment)
+            );
+            if D::DIM == 2 {
+                let rows = gather_rows_packed_2d::<D, K, S, true>(&nodes, st, f, g);
+                let rows_pic = gather_rows_packed_2d::<D, K, S, false>(&nodes, st, f, g);
+                let values = gather_values_packed_2d::<D, K, S, true>(&nodes, st, f, g);
+                let l = gradient_packed_2d::<D, K, S>(&nodes, st, f);
+                for s in [rows, rows_pic, values] {
+                    assert!(near(s.value, plain.value, scale));
+                }
+                assert!(rows_pic.second == rows_pic.value);
+                assert!(near(rows.second, plain.second, plain.second.length()));
+                assert!(near(values.second, plain.second, plain.second.length()));
+                for l in [rows.gradient, rows_pic.gradient, l] {
+                    assert!(near_grad::<D>(l, plain.gradient));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_gather_walks_sum_the_plain_per_node_terms() {
+        gather_matches_plain::<D2, Linear, 2>();
+        gather_matches_plain::<D2, QuadraticBspline, 3>();
+        gather_matches_plain::<D2, Gimp, 3>();
+        gather_matches_plain::<D3, Linear, 2>();
+        gather_matches_plain::<D3, QuadraticBspline, 3>();
+        gather_matches_plain::<D3, Gimp, 3>();
+    }
+
+    /// Without mass the scatter adds the force alone (the stress pass's use).
+    #[test]
+    fn a_share_without_mass_adds_only_the_force() {
+        let (nodes, stencils) = random_stencils::<D2, Gimp, 3>(10, row_length::<D2, 3>());
+        let f = Sym2 {
+            xx: 1.5,
+            yy: -0.7,
+            zz: 0.2,
+            xy: 0.4,
+        };
+        let mut a = nodes.clone();
+        for st in &stencils {
+            let s = Share::<D2> {
+                mass: None,
+                affine: None,
+                force: Some(f),
+            };
+            scatter_packed_2d::<D2, Gimp, 3>(&mut a, st, s);
+        }
+        assert!(a.iter().zip(&nodes).all(|(x, y)| x.vm == y.vm));
+        assert!(a.iter().zip(&nodes).any(|(x, y)| x.new_vel != y.new_vel));
+    }
+}
