@@ -18,6 +18,10 @@
 //! * **By hand** ([`length`], [`inclination`], [`angle_at`]): what a ruler and a protractor
 //!   read between dragged points.
 
+use crate::Material;
+use crate::math::Dim;
+use crate::sim::{AnySimulation, Simulation};
+
 /// Least-squares slope of y(x) (NaN with fewer than two distinct x).
 pub fn slope(x: &[f64], y: &[f64]) -> f64 {
     let n = x.len() as f64;
@@ -34,7 +38,7 @@ pub const FIT_TO: f64 = 0.8;
 
 /// One flank of a heap: its angle to the horizontal and the fitted line, drawn between the
 /// first and the last column of the fit (`from` nearer the peak's side with the smaller x).
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Flank {
     /// Angle of the fitted slope to the horizontal (degrees, 0–90).
     pub angle: f64,
@@ -45,7 +49,7 @@ pub struct Flank {
 
 /// A heap's free surface measured column by column: its height, where its peak stands and
 /// its two flanks (left, right; `None` when fewer than two columns fall in the fit band).
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Heap {
     /// Height of the highest column of the surface (m).
     pub height: f64,
@@ -201,17 +205,17 @@ pub fn column_extent(xs: impl Iterator<Item = f64> + Clone, s: f64) -> (f64, f64
 }
 
 /// The run-out of a deposit from its initial footprint.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Runout {
     /// The footprint's centre: `x` in 2D, `[x, z]` in 3D (then `centre[1]` is z).
     pub centre: [f64; 2],
-    /// The footprint's half-width L0 (2D) or radius R0 (3D) (m).
+    /// The footprint's half-width L0 (2D) or mean reach R0 over the sectors (3D) (m).
     pub footprint: f64,
     /// The deposit's front: in 2D the left and right ends (x, m); in 3D the mean front radius
-    /// over the azimuthal sectors and the farthest sector's.
+    /// over the azimuthal sectors (twice).
     pub front: [f64; 2],
-    /// How far the front lies beyond the footprint (m): left and right in 2D; mean and
-    /// largest over the sectors in 3D.
+    /// How far the front lies beyond the footprint (m): left and right in 2D; the mean over
+    /// the sectors and the largest in 3D.
     pub runout: [f64; 2],
 }
 
@@ -243,35 +247,44 @@ pub fn plane_runout(initial: &[f64], current: &[f64], s: f64) -> Runout {
 
 /// The run-out of a 3D deposit about the vertical axis through the centroid of its initial
 /// footprint: `initial` and `current` are the same body's particles `[x, y, z]` at the start
-/// and now (spacing `s`). The footprint's radius R0 is the farthest initial particle's
-/// distance from the axis plus half a spacing; the front in each of `sectors` azimuthal
-/// sectors is the [`deposit_front`] of its particles beyond R0.
+/// and now (spacing `s`), split into `sectors` azimuthal sectors. In each sector the
+/// footprint reaches the farthest initial particle plus half a spacing (R0 of that
+/// direction), the front is the [`deposit_front`] of the current particles beyond it, and the
+/// run-out is the front less R0; the result holds the means over the sectors and the largest
+/// run-out (a square footprint has a longer reach along its diagonals than a round one, and
+/// each direction is measured from its own).
 pub fn radial_runout(initial: &[[f64; 3]], current: &[[f64; 3]], s: f64, sectors: usize) -> Runout {
     let centre = axis(initial);
-    let r0 = radial_profile(initial, centre)
-        .iter()
-        .map(|p| p.0)
-        .fold(0.0, f64::max)
-        + 0.5 * s;
     let sectors = sectors.max(1);
-    let mut rays = vec![Vec::new(); sectors];
-    for p in current {
-        let (dx, dz) = (p[0] - centre[0], p[2] - centre[1]);
-        let k = ((dz.atan2(dx) / std::f64::consts::TAU + 0.5) * sectors as f64) as usize;
-        rays[k.min(sectors - 1)].push(dx.hypot(dz));
+    let split = |points: &[[f64; 3]]| {
+        let mut rays = vec![Vec::new(); sectors];
+        for p in points {
+            let (dx, dz) = (p[0] - centre[0], p[2] - centre[1]);
+            let k = ((dz.atan2(dx) / std::f64::consts::TAU + 0.5) * sectors as f64) as usize;
+            rays[k.min(sectors - 1)].push(dx.hypot(dz));
+        }
+        rays
+    };
+    let (start, now) = (split(initial), split(current));
+    let (mut r0, mut front, mut far, mut n) = (0.0, 0.0, f64::NEG_INFINITY, 0.0);
+    for (a, b) in start.into_iter().zip(now) {
+        if a.is_empty() || b.is_empty() {
+            continue;
+        }
+        let reach = a.iter().copied().fold(0.0, f64::max) + 0.5 * s;
+        let end = deposit_front(b, s, reach);
+        r0 += reach;
+        front += end;
+        far = far.max(end - reach);
+        n += 1.0;
     }
-    let fronts: Vec<f64> = rays
-        .into_iter()
-        .filter(|d| !d.is_empty())
-        .map(|d| deposit_front(d, s, r0))
-        .collect();
-    let mean = fronts.iter().sum::<f64>() / fronts.len().max(1) as f64;
-    let far = fronts.iter().copied().fold(0.0, f64::max);
+    let n = f64::max(n, 1.0);
+    let (r0, front) = (r0 / n, front / n);
     Runout {
         centre,
         footprint: r0,
-        front: [mean, far],
-        runout: [mean - r0, far - r0],
+        front: [front, front],
+        runout: [front - r0, far.max(front - r0)],
     }
 }
 
@@ -311,6 +324,129 @@ pub fn angle_at(vertex: &[f64], a: &[f64], b: &[f64]) -> f64 {
     }
     let c = u.iter().zip(&w).map(|(p, q)| p * q).sum::<f64>() / (lu * lw);
     c.clamp(-1.0, 1.0).acos().to_degrees()
+}
+
+/// The positions particles had when they first entered the simulation, by particle id: the
+/// initial footprints run-outs are measured from. [`Footprints::update`] records the
+/// particles that entered since its last call (a dropped body's footprint is where it was
+/// dropped); a front end clears it when it clears or rebuilds the simulation.
+#[derive(Clone, Debug, Default)]
+pub struct Footprints {
+    /// By id; NaN for an id not seen yet.
+    start: Vec<[f64; 3]>,
+}
+
+impl Footprints {
+    /// Records the particles of `sim` not seen before at their current positions.
+    pub fn update<D: Dim>(&mut self, sim: &Simulation<D>) {
+        let p = sim.particles();
+        for i in 0..p.len() {
+            let id = p.id[i] as usize;
+            if id >= self.start.len() {
+                self.start.resize(id + 1, [f64::NAN; 3]);
+            }
+            if self.start[id][0].is_nan() {
+                self.start[id] = point::<D>(&p.x[i]);
+            }
+        }
+    }
+    /// [`Footprints::update`] for a simulation of either dimension.
+    pub fn update_any(&mut self, sim: &AnySimulation) {
+        match sim {
+            AnySimulation::D2(s) => self.update(s),
+            AnySimulation::D3(s) => self.update(s),
+        }
+    }
+    /// Forgets every position (the simulation was cleared or rebuilt).
+    pub fn clear(&mut self) {
+        self.start.clear();
+    }
+    /// The recorded start of particle `id`, if any.
+    pub fn start(&self, id: u32) -> Option<[f64; 3]> {
+        self.start
+            .get(id as usize)
+            .filter(|x| !x[0].is_nan())
+            .copied()
+    }
+}
+
+fn point<D: Dim>(x: &D::Vector) -> [f64; 3] {
+    let mut r = [0.0; 3];
+    for (a, c) in r.iter_mut().enumerate().take(D::DIM) {
+        *c = x[a] as f64;
+    }
+    r
+}
+
+/// How many azimuthal sectors a 3D deposit's front is measured over.
+pub const SECTORS: usize = 16;
+
+/// The measures of one sand body as it stands: its heap's flanks (in 3D on the radial profile
+/// about the body's centroid, the flank's x coordinates then radii) and its run-out from its
+/// initial footprint.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Deposit {
+    /// The body's index in the simulation.
+    pub body: usize,
+    pub name: String,
+    /// The particle spacing the measures use (m).
+    pub spacing: f64,
+    pub heap: Heap,
+    /// `None` for a body whose start was not recorded.
+    pub runout: Option<Runout>,
+}
+
+/// The measures of every sand (Drucker–Prager) body present in `sim`: the surface columns
+/// (rings in 3D) are a cell wide and tile the domain's width (out to the farthest particle
+/// in 3D); a body's particle spacing is the cell size over its particles per cell.
+pub fn deposits<D: Dim>(sim: &Simulation<D>, footprints: &Footprints) -> Vec<Deposit> {
+    let p = sim.particles();
+    let scene = sim.scene();
+    let h = sim.cell_size();
+    let mut out = Vec::new();
+    for (b, body) in sim.bodies().iter().enumerate() {
+        let config = &scene.bodies[b];
+        if !matches!(config.material, Material::DruckerPrager(_)) {
+            continue;
+        }
+        let range = body.range();
+        if range.is_empty() {
+            continue;
+        }
+        let s = h / config.particles_per_cell.max(1) as f64;
+        let now: Vec<[f64; 3]> = range.clone().map(|i| point::<D>(&p.x[i])).collect();
+        let start: Option<Vec<[f64; 3]>> = range.map(|i| footprints.start(p.id[i])).collect();
+        let (heap, runout) = if D::DIM == 2 {
+            let profile: Vec<(f64, f64)> = now.iter().map(|x| (x[0], x[1])).collect();
+            let heap = heap(&profile, s, h, 0.0, scene.domain.size[0]);
+            let runout = start.map(|start| {
+                let xs: Vec<f64> = start.iter().map(|x| x[0]).collect();
+                let current: Vec<f64> = now.iter().map(|x| x[0]).collect();
+                plane_runout(&xs, &current, s)
+            });
+            (heap, runout)
+        } else {
+            let heap = radial_heap(&now, s, h, axis(&now));
+            let runout = start.map(|start| radial_runout(&start, &now, s, SECTORS));
+            (heap, runout)
+        };
+        out.push(Deposit {
+            body: b,
+            name: config.name.clone(),
+            spacing: s,
+            heap,
+            runout,
+        });
+    }
+    out
+}
+
+/// [`deposits`] for a simulation of either dimension.
+pub fn deposits_any(sim: &AnySimulation, footprints: &Footprints) -> Vec<Deposit> {
+    match sim {
+        AnySimulation::D2(s) => deposits(s, footprints),
+        AnySimulation::D3(s) => deposits(s, footprints),
+    }
 }
 
 #[cfg(test)]
@@ -484,5 +620,56 @@ mod tests {
         let sixty = angle_at(&[0.0, 0.0], &[1.0, 0.0], &[0.5, 3f64.sqrt() / 2.0]);
         assert!((sixty - 60.0).abs() < 1e-9);
         assert!(angle_at(&[0.0, 0.0], &[0.0, 0.0], &[1.0, 0.0]).is_nan());
+    }
+
+    #[test]
+    fn a_sand_body_at_rest_has_no_runout_and_its_box_height() {
+        use crate::{BodyConfig, D2, D3, Shape};
+        let sand = Material::drucker_prager(3.5e5, 0.3, 2200.0, 35.0, 0.0, 0.0);
+        let elastic = Material::elastic(1e5, 0.3, 1000.0);
+        let sim = Simulation::<D2>::builder(&[1.0, 0.5], 0.02)
+            .body(BodyConfig::new(
+                "block",
+                Shape::cuboid(&[0.05, 0.0], &[0.2, 0.1]),
+                elastic,
+            ))
+            .body(BodyConfig::new(
+                "sand",
+                Shape::cuboid(&[0.4, 0.0], &[0.6, 0.3]),
+                sand.clone(),
+            ))
+            .build()
+            .unwrap();
+        let mut f = Footprints::default();
+        f.update(&sim);
+        let d = deposits(&sim, &f);
+        assert_eq!(d.len(), 1, "only the sand is measured");
+        assert_eq!((d[0].body, d[0].name.as_str()), (1, "sand"));
+        assert!(
+            (d[0].heap.height - 0.3).abs() < 1e-6,
+            "{}",
+            d[0].heap.height
+        );
+        let r = d[0].runout.as_ref().unwrap();
+        assert!((r.footprint - 0.1).abs() < 1e-6 && (r.centre[0] - 0.5).abs() < 1e-6);
+        assert!(r.runout.iter().all(|x| x.abs() < 1e-6), "{:?}", r.runout);
+        // a flat top has no flank in the 20–80 % band
+        assert_eq!(d[0].heap.flanks, [None, None]);
+        // a body never recorded has no run-out
+        assert!(deposits(&sim, &Footprints::default())[0].runout.is_none());
+
+        let sim = Simulation::<D3>::builder(&[1.0, 0.6, 1.0], 0.04)
+            .body(BodyConfig::new(
+                "sand",
+                Shape::cuboid(&[0.4, 0.0, 0.4], &[0.6, 0.3, 0.6]),
+                sand,
+            ))
+            .build()
+            .unwrap();
+        f.clear();
+        f.update(&sim);
+        let d = deposits(&sim, &f);
+        let r = d[0].runout.as_ref().unwrap();
+        assert!(r.runout[0].abs() < 1e-6, "{:?}", r.runout);
     }
 }
