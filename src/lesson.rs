@@ -39,6 +39,125 @@ pub struct Lesson {
     /// How long to watch (s of simulated time) before the caption's claim shows: what the
     /// tests run.
     pub duration: f64,
+    /// A question asked before the first Play and answered after `duration` by the page's own
+    /// measurements.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub question: Option<Question>,
+}
+
+/// The quantities a lesson's question can be answered with: what the page measures of its
+/// sand bodies ([`crate::measure::deposits`]).
+pub const QUANTITIES: [&str; 3] = ["flank_angle", "runout", "runout_ratio"];
+
+/// A question with choices, shown before the first Play and answered after the run with the
+/// page's measurement of `measure`: the choice whose range holds the measured value is the
+/// answer.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Question {
+    /// The question, as the student reads it.
+    pub ask: String,
+    pub measure: QuestionMeasure,
+    /// Two to five choices, their ranges in increasing order and not overlapping.
+    pub choices: Vec<Choice>,
+}
+
+/// What answers a question: `quantity` of body `bodies[0]`, less that of `bodies[1]` when
+/// two are named. `flank_angle` is the mean of the body's fitted flanks (degrees), `runout`
+/// its farthest run-out beyond its footprint (m; in 3D the mean over the sectors),
+/// `runout_ratio` that over the footprint's half-width L0 (or R0).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct QuestionMeasure {
+    pub quantity: String,
+    pub bodies: Vec<usize>,
+}
+
+/// One answer to choose: its text and the range `[low, high)` of the measured value it
+/// stands for.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Choice {
+    pub text: String,
+    pub range: [f64; 2],
+}
+
+/// The longest question and choice (characters).
+pub const MAX_ASK: usize = 200;
+pub const MAX_CHOICE: usize = 120;
+
+impl Question {
+    /// Checks the question against the lesson's scene; errors name the field path
+    /// (`question.choices[1].range`).
+    pub fn validate(&self, scene: &SceneConfig) -> Result<()> {
+        let n = self.ask.trim().chars().count();
+        if n == 0 || n > MAX_ASK {
+            return Err(Error::invalid(
+                "question.ask",
+                format!("{n} characters"),
+                format!("must hold 1 to {MAX_ASK} characters"),
+            ));
+        }
+        if !QUANTITIES.contains(&self.measure.quantity.as_str()) {
+            return Err(not_one_of(
+                "question.measure.quantity",
+                &self.measure.quantity,
+                QUANTITIES,
+            ));
+        }
+        if !(1..=2).contains(&self.measure.bodies.len()) {
+            return Err(Error::invalid(
+                "question.measure.bodies",
+                format!("{} bodies", self.measure.bodies.len()),
+                "must name 1 body, or 2 (the first less the second)",
+            ));
+        }
+        for (i, &b) in self.measure.bodies.iter().enumerate() {
+            let field = format!("question.measure.bodies[{i}]");
+            let Some(body) = scene.bodies.get(b) else {
+                return Err(Error::invalid(
+                    field,
+                    b,
+                    format!("must be a body of the scene, below {}", scene.bodies.len()),
+                ));
+            };
+            if !matches!(body.material, crate::Material::DruckerPrager(_)) {
+                return Err(Error::invalid(
+                    field,
+                    b,
+                    "must be a sand (drucker_prager) body: the page measures sand",
+                ));
+            }
+        }
+        if !(2..=5).contains(&self.choices.len()) {
+            return Err(Error::invalid(
+                "question.choices",
+                format!("{} choices", self.choices.len()),
+                "must hold 2 to 5 choices",
+            ));
+        }
+        let mut last = f64::NEG_INFINITY;
+        for (i, c) in self.choices.iter().enumerate() {
+            let n = c.text.trim().chars().count();
+            if n == 0 || n > MAX_CHOICE {
+                return Err(Error::invalid(
+                    format!("question.choices[{i}].text"),
+                    format!("{n} characters"),
+                    format!("must hold 1 to {MAX_CHOICE} characters"),
+                ));
+            }
+            let [lo, hi] = c.range;
+            if !(lo.is_finite() && hi.is_finite() && lo < hi && lo >= last) {
+                return Err(Error::invalid(
+                    format!("question.choices[{i}].range"),
+                    format!("[{lo}, {hi}]"),
+                    "must be finite [low, high] with low < high, at or above the range before",
+                ));
+            }
+            last = hi;
+        }
+        Ok(())
+    }
 }
 
 /// A lesson's scene: a scene file's path (relative to the lesson file) or the scene itself.
@@ -177,6 +296,9 @@ impl Lesson {
                 "none",
                 "a point is needed to show a stress path (the particle nearest it is inspected)",
             ));
+        }
+        if let Some(q) = &self.question {
+            q.validate(scene)?;
         }
         check_non_negative("duration", self.duration, "s")?;
         if !(self.duration > 0.0 && self.duration <= 60.0) {
@@ -355,6 +477,59 @@ mod tests {
             let e = lesson(edit).unwrap_err().to_string();
             assert!(e.starts_with(want), "{e}\n  want {want}");
         }
+    }
+
+    #[test]
+    fn a_question_is_validated_with_field_paths() {
+        let ask = |edit: &dyn Fn(&mut serde_json::Value)| {
+            lesson(|v| {
+                v["question"] = serde_json::json!({
+                    "ask": "How far will the sand run out?",
+                    "measure": {"quantity": "runout", "bodies": [0]},
+                    "choices": [{"text": "under 10 cm", "range": [0, 0.1]},
+                                {"text": "10 cm or more", "range": [0.1, 2]}]
+                });
+                edit(v);
+            })
+        };
+        ask(&|_| ()).unwrap();
+        type Edit<'a> = &'a dyn Fn(&mut serde_json::Value);
+        let cases: [(Edit, &str); 7] = [
+            (&|v| v["question"]["ask"] = "".into(), "question.ask"),
+            (
+                &|v| v["question"]["measure"]["quantity"] = "colour".into(),
+                "question.measure.quantity",
+            ),
+            (
+                &|v| v["question"]["measure"]["bodies"] = serde_json::json!([3]),
+                "question.measure.bodies[0]",
+            ),
+            (
+                &|v| v["question"]["choices"] = serde_json::json!([{"text": "a", "range": [0, 1]}]),
+                "question.choices",
+            ),
+            (
+                &|v| v["question"]["choices"][1]["range"] = serde_json::json!([0.05, 2]),
+                "question.choices[1].range",
+            ),
+            (
+                &|v| v["question"]["choices"][0]["range"] = serde_json::json!([0.1, 0.1]),
+                "question.choices[0].range",
+            ),
+            (
+                &|v| v["question"]["choices"][0]["text"] = "".into(),
+                "question.choices[0].text",
+            ),
+        ];
+        for (edit, field) in cases {
+            let e = ask(edit).unwrap_err().to_string();
+            assert!(e.starts_with(&format!("{field} ")), "{field}: {e}");
+        }
+        // an unknown key names its path
+        let e = ask(&|v| v["question"]["hint"] = "x".into())
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("question.hint: unknown field `hint`"), "{e}");
     }
 
     #[test]

@@ -18,6 +18,10 @@
 //! * **By hand** ([`length`], [`inclination`], [`angle_at`]): what a ruler and a protractor
 //!   read between dragged points.
 
+use crate::Material;
+use crate::math::Dim;
+use crate::sim::{AnySimulation, Simulation};
+
 /// Least-squares slope of y(x) (NaN with fewer than two distinct x).
 pub fn slope(x: &[f64], y: &[f64]) -> f64 {
     let n = x.len() as f64;
@@ -34,7 +38,7 @@ pub const FIT_TO: f64 = 0.8;
 
 /// One flank of a heap: its angle to the horizontal and the fitted line, drawn between the
 /// first and the last column of the fit (`from` nearer the peak's side with the smaller x).
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Flank {
     /// Angle of the fitted slope to the horizontal (degrees, 0–90).
     pub angle: f64,
@@ -45,7 +49,7 @@ pub struct Flank {
 
 /// A heap's free surface measured column by column: its height, where its peak stands and
 /// its two flanks (left, right; `None` when fewer than two columns fall in the fit band).
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Heap {
     /// Height of the highest column of the surface (m).
     pub height: f64,
@@ -201,17 +205,17 @@ pub fn column_extent(xs: impl Iterator<Item = f64> + Clone, s: f64) -> (f64, f64
 }
 
 /// The run-out of a deposit from its initial footprint.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Runout {
     /// The footprint's centre: `x` in 2D, `[x, z]` in 3D (then `centre[1]` is z).
     pub centre: [f64; 2],
-    /// The footprint's half-width L0 (2D) or radius R0 (3D) (m).
+    /// The footprint's half-width L0 (2D) or mean reach R0 over the sectors (3D) (m).
     pub footprint: f64,
     /// The deposit's front: in 2D the left and right ends (x, m); in 3D the mean front radius
-    /// over the azimuthal sectors and the farthest sector's.
+    /// over the azimuthal sectors (twice).
     pub front: [f64; 2],
-    /// How far the front lies beyond the footprint (m): left and right in 2D; mean and
-    /// largest over the sectors in 3D.
+    /// How far the front lies beyond the footprint (m): left and right in 2D; the mean over
+    /// the sectors and the largest in 3D.
     pub runout: [f64; 2],
 }
 
@@ -243,36 +247,82 @@ pub fn plane_runout(initial: &[f64], current: &[f64], s: f64) -> Runout {
 
 /// The run-out of a 3D deposit about the vertical axis through the centroid of its initial
 /// footprint: `initial` and `current` are the same body's particles `[x, y, z]` at the start
-/// and now (spacing `s`). The footprint's radius R0 is the farthest initial particle's
-/// distance from the axis plus half a spacing; the front in each of `sectors` azimuthal
-/// sectors is the [`deposit_front`] of its particles beyond R0.
+/// and now (spacing `s`), split into `sectors` azimuthal sectors. In each sector the
+/// footprint reaches the farthest initial particle plus half a spacing (R0 of that
+/// direction), the front is the [`deposit_front`] of the current particles beyond it, and the
+/// run-out is the front less R0; the result holds the means over the sectors and the largest
+/// run-out (a square footprint has a longer reach along its diagonals than a round one, and
+/// each direction is measured from its own).
 pub fn radial_runout(initial: &[[f64; 3]], current: &[[f64; 3]], s: f64, sectors: usize) -> Runout {
     let centre = axis(initial);
-    let r0 = radial_profile(initial, centre)
-        .iter()
-        .map(|p| p.0)
-        .fold(0.0, f64::max)
-        + 0.5 * s;
     let sectors = sectors.max(1);
-    let mut rays = vec![Vec::new(); sectors];
-    for p in current {
-        let (dx, dz) = (p[0] - centre[0], p[2] - centre[1]);
-        let k = ((dz.atan2(dx) / std::f64::consts::TAU + 0.5) * sectors as f64) as usize;
-        rays[k.min(sectors - 1)].push(dx.hypot(dz));
+    let split = |points: &[[f64; 3]]| {
+        let mut rays = vec![Vec::new(); sectors];
+        for p in points {
+            let (dx, dz) = (p[0] - centre[0], p[2] - centre[1]);
+            let k = ((dz.atan2(dx) / std::f64::consts::TAU + 0.5) * sectors as f64) as usize;
+            rays[k.min(sectors - 1)].push(dx.hypot(dz));
+        }
+        rays
+    };
+    let (start, now) = (split(initial), split(current));
+    let (mut r0, mut front, mut far, mut n) = (0.0, 0.0, f64::NEG_INFINITY, 0.0);
+    for (a, b) in start.into_iter().zip(now) {
+        if a.is_empty() || b.is_empty() {
+            continue;
+        }
+        let reach = a.iter().copied().fold(0.0, f64::max) + 0.5 * s;
+        let end = deposit_front(b, s, reach);
+        r0 += reach;
+        front += end;
+        far = far.max(end - reach);
+        n += 1.0;
     }
-    let fronts: Vec<f64> = rays
-        .into_iter()
-        .filter(|d| !d.is_empty())
-        .map(|d| deposit_front(d, s, r0))
-        .collect();
-    let mean = fronts.iter().sum::<f64>() / fronts.len().max(1) as f64;
-    let far = fronts.iter().copied().fold(0.0, f64::max);
+    let n = f64::max(n, 1.0);
+    let (r0, front) = (r0 / n, front / n);
     Runout {
         centre,
         footprint: r0,
-        front: [mean, far],
-        runout: [mean - r0, far - r0],
+        front: [front, front],
+        runout: [front - r0, far.max(front - r0)],
     }
+}
+
+/// The principal stresses of a stress given by its components (2D plane strain: xx, yy, zz,
+/// xy; 3D: xx, yy, zz, xy, xz, yz; tension positive), as compression-positive values sorted
+/// from the largest: the centres and radii of the Mohr circles follow. In 2D the first two are
+/// the in-plane principal stresses (major, minor) and the third is −σ_zz, the out-of-plane
+/// one.
+pub fn principal_stresses(c: &[f64]) -> Vec<f64> {
+    if c.len() == 4 {
+        let (m, r) = (0.5 * (c[0] + c[1]), (0.5 * (c[0] - c[1])).hypot(c[3]));
+        return vec![-(m - r), -(m + r), -c[2]];
+    }
+    // 3D: the eigenvalues of a symmetric 3×3 matrix by the trigonometric closed form
+    let (xx, yy, zz, xy, xz, yz) = (c[0], c[1], c[2], c[3], c[4], c[5]);
+    let q = (xx + yy + zz) / 3.0;
+    let off = xy * xy + xz * xz + yz * yz;
+    let mut e = if off == 0.0 {
+        vec![xx, yy, zz]
+    } else {
+        let p2 = (xx - q).powi(2) + (yy - q).powi(2) + (zz - q).powi(2) + 2.0 * off;
+        let p = (p2 / 6.0).sqrt();
+        let (a, b, d) = ((xx - q) / p, (yy - q) / p, (zz - q) / p);
+        let (e_, f, g) = (xy / p, xz / p, yz / p);
+        let det = a * (b * d - g * g) - e_ * (e_ * d - g * f) + f * (e_ * g - b * f);
+        let phi = (det / 2.0).clamp(-1.0, 1.0).acos() / 3.0;
+        let third = 2.0 * std::f64::consts::PI / 3.0;
+        vec![
+            q + 2.0 * p * phi.cos(),
+            q + 2.0 * p * (phi + third).cos(),
+            q + 2.0 * p * (phi + 2.0 * third).cos(),
+        ]
+    };
+    for x in &mut e {
+        *x = -*x;
+    }
+    e.sort_by(|a, b| b.total_cmp(a));
+    e
 }
 
 /// The length between two points (m): what a ruler reads.
@@ -311,6 +361,267 @@ pub fn angle_at(vertex: &[f64], a: &[f64], b: &[f64]) -> f64 {
     }
     let c = u.iter().zip(&w).map(|(p, q)| p * q).sum::<f64>() / (lu * lw);
     c.clamp(-1.0, 1.0).acos().to_degrees()
+}
+
+/// The positions particles had when they first entered the simulation, by particle id: the
+/// initial footprints run-outs are measured from. [`Footprints::update`] records the
+/// particles that entered since its last call (a dropped body's footprint is where it was
+/// dropped); a front end clears it when it clears or rebuilds the simulation.
+#[derive(Clone, Debug, Default)]
+pub struct Footprints {
+    /// By id; NaN for an id not seen yet.
+    start: Vec<[f64; 3]>,
+}
+
+impl Footprints {
+    /// Records the particles of `sim` not seen before at their current positions.
+    pub fn update<D: Dim>(&mut self, sim: &Simulation<D>) {
+        let p = sim.particles();
+        for i in 0..p.len() {
+            let id = p.id[i] as usize;
+            if id >= self.start.len() {
+                self.start.resize(id + 1, [f64::NAN; 3]);
+            }
+            if self.start[id][0].is_nan() {
+                self.start[id] = point::<D>(&p.x[i]);
+            }
+        }
+    }
+    /// [`Footprints::update`] for a simulation of either dimension.
+    pub fn update_any(&mut self, sim: &AnySimulation) {
+        match sim {
+            AnySimulation::D2(s) => self.update(s),
+            AnySimulation::D3(s) => self.update(s),
+        }
+    }
+    /// Forgets every position (the simulation was cleared or rebuilt).
+    pub fn clear(&mut self) {
+        self.start.clear();
+    }
+    /// The recorded start of particle `id`, if any.
+    pub fn start(&self, id: u32) -> Option<[f64; 3]> {
+        self.start
+            .get(id as usize)
+            .filter(|x| !x[0].is_nan())
+            .copied()
+    }
+}
+
+fn point<D: Dim>(x: &D::Vector) -> [f64; 3] {
+    let mut r = [0.0; 3];
+    for (a, c) in r.iter_mut().enumerate().take(D::DIM) {
+        *c = x[a] as f64;
+    }
+    r
+}
+
+/// How many azimuthal sectors a 3D deposit's front is measured over.
+pub const SECTORS: usize = 16;
+
+/// The measures of one sand body as it stands: its heap's flanks (in 3D on the radial profile
+/// about the body's centroid, the flank's x coordinates then radii) and its run-out from its
+/// initial footprint.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Deposit {
+    /// The body's index in the simulation.
+    pub body: usize,
+    pub name: String,
+    /// The particle spacing the measures use (m).
+    pub spacing: f64,
+    /// In 3D the axis `[x, z]` the heap's radial profile is taken about (the body's
+    /// centroid); `[0, 0]` in 2D.
+    pub axis: [f64; 2],
+    pub heap: Heap,
+    /// `None` for a body whose start was not recorded.
+    pub runout: Option<Runout>,
+    /// The sand's friction angle φ (degrees).
+    pub friction_angle: f64,
+    /// The plane-strain friction angle φ_ps of its Drucker–Prager cone
+    /// ([`crate::laws::plane_strain_angle`]), in 2D only.
+    pub plane_strain_angle: Option<f64>,
+    /// When the body started as a column standing on the floor ([`column`]): the column and
+    /// where the experiments put its run-out and final height.
+    pub column: Option<ColumnMarkers>,
+}
+
+/// A sand body that started as a column standing on the floor: in 2D a full rectangle
+/// (free, or against one side wall: then half of a symmetric collapse), in 3D a cylinder
+/// clear of the walls.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Column {
+    /// Its axis: `[x, 0]` in 2D (the wall's x against a wall), `[x, z]` in 3D.
+    pub centre: [f64; 2],
+    /// L0, the half-width of a free column or the width of one against a wall (2D), or the
+    /// radius R0 (3D) (m).
+    pub half_width: f64,
+    /// H0 (m).
+    pub height: f64,
+    /// −1 against the left wall, +1 against the right one, 0 free.
+    pub wall: i32,
+    /// a = H0/L0 (or H0/R0).
+    pub aspect_ratio: f64,
+}
+
+/// Where the experiments put a column's deposit: the run-out (floor positions: in 2D the x
+/// range `[near, far]` of each free side's front, in 3D the radius range about the axis) and
+/// the final height, with the law's source and regime.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ColumnMarkers {
+    pub column: Column,
+    /// The aspect ratio's law ([`crate::laws::collapse_law`]).
+    pub law: crate::laws::CollapseLaw,
+    /// 2D: `[x_near, x_far]` for each free side (left first); 3D: one `[r_near, r_far]`.
+    pub fronts: Vec<[f64; 2]>,
+    /// H∞ by the law (m).
+    pub height: f64,
+}
+
+/// The column `start` (the body's particles `[x, y, z]` at the start, spacing `s`) was, if it
+/// was one: it stands on the floor (its lowest particle within a spacing of it) and fills its
+/// bounding rectangle (2D) or cylinder (3D, clear of the walls) to 80 % (a jittered sampling
+/// reaches up to half a spacing further). `domain` is the domain's size.
+pub fn column(start: &[[f64; 3]], s: f64, domain: &[f64]) -> Option<Column> {
+    if start.is_empty() {
+        return None;
+    }
+    let n = start.len() as f64;
+    let lo_y = start.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min) - 0.5 * s;
+    let h0 = start.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max) + 0.5 * s;
+    if lo_y > s || h0 <= 0.0 {
+        return None;
+    }
+    if domain.len() == 2 {
+        let lo = start.iter().map(|p| p[0]).fold(f64::INFINITY, f64::min) - 0.5 * s;
+        let hi = start.iter().map(|p| p[0]).fold(f64::NEG_INFINITY, f64::max) + 0.5 * s;
+        if n * s * s < 0.8 * (hi - lo) * h0 {
+            return None;
+        }
+        let (left, right) = (lo < s, hi > domain[0] - s);
+        let (centre, half_width, wall) = match (left, right) {
+            (true, true) => return None,
+            (true, false) => (0.0, hi, -1),
+            (false, true) => (domain[0], domain[0] - lo, 1),
+            (false, false) => (0.5 * (lo + hi), 0.5 * (hi - lo), 0),
+        };
+        Some(Column {
+            centre: [centre, 0.0],
+            half_width,
+            height: h0,
+            wall,
+            aspect_ratio: h0 / half_width,
+        })
+    } else {
+        let centre = axis(start);
+        let reach = radial_profile(start, centre)
+            .iter()
+            .map(|p| p.0)
+            .fold(0.0, f64::max)
+            + 0.5 * s;
+        let clear = centre[0] - reach > s
+            && centre[0] + reach < domain[0] - s
+            && centre[1] - reach > s
+            && centre[1] + reach < domain[2] - s;
+        let volume = n * s.powi(3);
+        if !clear || volume < 0.8 * std::f64::consts::PI * reach * reach * h0 {
+            return None;
+        }
+        // the radius of the cylinder of height H0 that holds the sampled volume (as the
+        // validation's axisymmetric collapses take it): jittered particles reach further
+        let r0 = (volume / (std::f64::consts::PI * h0)).sqrt();
+        Some(Column {
+            centre,
+            half_width: r0,
+            height: h0,
+            wall: 0,
+            aspect_ratio: h0 / r0,
+        })
+    }
+}
+
+/// The experiments' markers for column `c` in dimension `dim`.
+pub fn column_markers(c: Column, dim: usize) -> ColumnMarkers {
+    let law = crate::laws::collapse_law(dim, c.aspect_ratio);
+    let [near, far] = law.runout.map(|r| c.half_width * (1.0 + r));
+    let x = c.centre[0];
+    let fronts = match (dim, c.wall) {
+        (3, _) => vec![[near, far]],
+        (_, -1) => vec![[x + near, x + far]],
+        (_, 1) => vec![[x - near, x - far]],
+        _ => vec![[x - near, x - far], [x + near, x + far]],
+    };
+    ColumnMarkers {
+        height: c.height * law.height,
+        column: c,
+        law,
+        fronts,
+    }
+}
+
+/// The measures of every sand (Drucker–Prager) body present in `sim`: the surface columns
+/// (rings in 3D) are a cell wide and tile the domain's width (out to the farthest particle
+/// in 3D); a body's particle spacing is the cell size over its particles per cell.
+pub fn deposits<D: Dim>(sim: &Simulation<D>, footprints: &Footprints) -> Vec<Deposit> {
+    let p = sim.particles();
+    let scene = sim.scene();
+    let h = sim.cell_size();
+    let mut out = Vec::new();
+    for (b, body) in sim.bodies().iter().enumerate() {
+        let config = &scene.bodies[b];
+        let Material::DruckerPrager(sand) = &config.material else {
+            continue;
+        };
+        let range = body.range();
+        if range.is_empty() {
+            continue;
+        }
+        let s = h / config.particles_per_cell.max(1) as f64;
+        let now: Vec<[f64; 3]> = range.clone().map(|i| point::<D>(&p.x[i])).collect();
+        let start: Option<Vec<[f64; 3]>> = range.map(|i| footprints.start(p.id[i])).collect();
+        let start = start.filter(|v| !v.is_empty());
+        let mut centre = [0.0; 2];
+        let (heap, runout) = if D::DIM == 2 {
+            let profile: Vec<(f64, f64)> = now.iter().map(|x| (x[0], x[1])).collect();
+            let heap = heap(&profile, s, h, 0.0, scene.domain.size[0]);
+            let runout = start.as_ref().map(|start| {
+                let xs: Vec<f64> = start.iter().map(|x| x[0]).collect();
+                let current: Vec<f64> = now.iter().map(|x| x[0]).collect();
+                plane_runout(&xs, &current, s)
+            });
+            (heap, runout)
+        } else {
+            centre = axis(&now);
+            let heap = radial_heap(&now, s, h, centre);
+            let runout = start
+                .as_ref()
+                .map(|start| radial_runout(start, &now, s, SECTORS));
+            (heap, runout)
+        };
+        let column = start
+            .as_deref()
+            .and_then(|start| column(start, s, &scene.domain.size))
+            .map(|c| column_markers(c, D::DIM));
+        out.push(Deposit {
+            body: b,
+            name: config.name.clone(),
+            spacing: s,
+            axis: centre,
+            heap,
+            runout,
+            friction_angle: sand.friction_angle,
+            plane_strain_angle: (D::DIM == 2)
+                .then(|| crate::laws::plane_strain_angle(sand.friction_angle)),
+            column,
+        });
+    }
+    out
+}
+
+/// [`deposits`] for a simulation of either dimension.
+pub fn deposits_any(sim: &AnySimulation, footprints: &Footprints) -> Vec<Deposit> {
+    match sim {
+        AnySimulation::D2(s) => deposits(s, footprints),
+        AnySimulation::D3(s) => deposits(s, footprints),
+    }
 }
 
 #[cfg(test)]
@@ -473,6 +784,74 @@ mod tests {
     }
 
     #[test]
+    fn principal_stresses_in_closed_form() {
+        // 2D: uniaxial compression along x rotated by 30°, and σ_zz
+        let (s1, t) = (-100.0f64, 30f64.to_radians());
+        let c = [
+            s1 * t.cos().powi(2),
+            s1 * t.sin().powi(2),
+            -20.0,
+            s1 * t.sin() * t.cos(),
+        ];
+        let p = principal_stresses(&c);
+        assert!((p[0] - 100.0).abs() < 1e-9 && p[1].abs() < 1e-9 && (p[2] - 20.0).abs() < 1e-9);
+        // 3D: a diagonal stress, and the same rotated about z
+        let p = principal_stresses(&[-3.0, -1.0, -2.0, 0.0, 0.0, 0.0]);
+        assert_eq!(p, vec![3.0, 2.0, 1.0]);
+        let (a, b) = (-5.0, -1.0);
+        let (c2, s2) = (t.cos(), t.sin());
+        let rotated = [
+            a * c2 * c2 + b * s2 * s2,
+            a * s2 * s2 + b * c2 * c2,
+            -2.0,
+            (a - b) * s2 * c2,
+            0.0,
+            0.0,
+        ];
+        let p = principal_stresses(&rotated);
+        for (x, e) in p.iter().zip([5.0, 2.0, 1.0]) {
+            assert!((x - e).abs() < 1e-9, "{p:?}");
+        }
+        // a general one: the invariants agree
+        let g = [-4.0, -1.0, -2.5, 0.7, -0.3, 1.1];
+        let p = principal_stresses(&g);
+        assert!((p.iter().sum::<f64>() + g[0] + g[1] + g[2]).abs() < 1e-9);
+        assert!(p[0] >= p[1] && p[1] >= p[2]);
+    }
+
+    #[test]
+    fn columns_are_recognised_with_their_law() {
+        let s = 0.01;
+        let block = |x0: f64, x1: f64, y0: f64, y1: f64| -> Vec<[f64; 3]> {
+            fill(s, x0, x1, |_| y1 - y0)
+                .into_iter()
+                .map(|(x, y)| [x, y + y0, 0.0])
+                .collect()
+        };
+        // a free column 0.2 wide and 0.2 high: a = 2, in the transition
+        let c = column(&block(0.4, 0.6, 0.0, 0.2), s, &[1.0, 0.5]).unwrap();
+        assert!((c.aspect_ratio - 2.0).abs() < 1e-9 && c.wall == 0);
+        let m = column_markers(c, 2);
+        assert_eq!(m.fronts.len(), 2);
+        let [lo, hi] = crate::laws::lube_runout_range(2.0);
+        assert!((m.fronts[1][0] - (0.5 + 0.1 * (1.0 + lo))).abs() < 1e-9);
+        assert!((m.fronts[1][1] - (0.5 + 0.1 * (1.0 + hi))).abs() < 1e-9);
+        assert!((m.fronts[0][1] - (0.5 - 0.1 * (1.0 + hi))).abs() < 1e-9);
+        assert!((m.height - 0.2 * crate::laws::lube_height(2.0)).abs() < 1e-9);
+        // against the left wall: L0 is its width, one front
+        let c = column(&block(0.0, 0.2, 0.0, 0.4), s, &[2.4, 0.6]).unwrap();
+        assert!(c.wall == -1 && (c.half_width - 0.2).abs() < 1e-9);
+        let m = column_markers(c, 2);
+        assert_eq!(m.fronts.len(), 1);
+        assert!(m.fronts[0][0] > 0.2);
+        // in the air, or a thin L, is no column
+        assert!(column(&block(0.4, 0.6, 0.2, 0.4), s, &[1.0, 0.5]).is_none());
+        let mut l = block(0.4, 0.6, 0.0, 0.05);
+        l.extend(block(0.4, 0.45, 0.05, 0.4));
+        assert!(column(&l, s, &[1.0, 0.5]).is_none());
+    }
+
+    #[test]
     fn by_hand() {
         assert!((length(&[0.0, 0.0], &[3.0, 4.0]) - 5.0).abs() < 1e-12);
         assert!((inclination(&[0.0, 0.0], &[1.0, 1.0]) - 45.0).abs() < 1e-9);
@@ -484,5 +863,56 @@ mod tests {
         let sixty = angle_at(&[0.0, 0.0], &[1.0, 0.0], &[0.5, 3f64.sqrt() / 2.0]);
         assert!((sixty - 60.0).abs() < 1e-9);
         assert!(angle_at(&[0.0, 0.0], &[0.0, 0.0], &[1.0, 0.0]).is_nan());
+    }
+
+    #[test]
+    fn a_sand_body_at_rest_has_no_runout_and_its_box_height() {
+        use crate::{BodyConfig, D2, D3, Shape};
+        let sand = Material::drucker_prager(3.5e5, 0.3, 2200.0, 35.0, 0.0, 0.0);
+        let elastic = Material::elastic(1e5, 0.3, 1000.0);
+        let sim = Simulation::<D2>::builder(&[1.0, 0.5], 0.02)
+            .body(BodyConfig::new(
+                "block",
+                Shape::cuboid(&[0.05, 0.0], &[0.2, 0.1]),
+                elastic,
+            ))
+            .body(BodyConfig::new(
+                "sand",
+                Shape::cuboid(&[0.4, 0.0], &[0.6, 0.3]),
+                sand.clone(),
+            ))
+            .build()
+            .unwrap();
+        let mut f = Footprints::default();
+        f.update(&sim);
+        let d = deposits(&sim, &f);
+        assert_eq!(d.len(), 1, "only the sand is measured");
+        assert_eq!((d[0].body, d[0].name.as_str()), (1, "sand"));
+        assert!(
+            (d[0].heap.height - 0.3).abs() < 1e-6,
+            "{}",
+            d[0].heap.height
+        );
+        let r = d[0].runout.as_ref().unwrap();
+        assert!((r.footprint - 0.1).abs() < 1e-6 && (r.centre[0] - 0.5).abs() < 1e-6);
+        assert!(r.runout.iter().all(|x| x.abs() < 1e-6), "{:?}", r.runout);
+        // a flat top has no flank in the 20–80 % band
+        assert_eq!(d[0].heap.flanks, [None, None]);
+        // a body never recorded has no run-out
+        assert!(deposits(&sim, &Footprints::default())[0].runout.is_none());
+
+        let sim = Simulation::<D3>::builder(&[1.0, 0.6, 1.0], 0.04)
+            .body(BodyConfig::new(
+                "sand",
+                Shape::cuboid(&[0.4, 0.0, 0.4], &[0.6, 0.3, 0.6]),
+                sand,
+            ))
+            .build()
+            .unwrap();
+        f.clear();
+        f.update(&sim);
+        let d = deposits(&sim, &f);
+        let r = d[0].runout.as_ref().unwrap();
+        assert!(r.runout[0].abs() < 1e-6, "{:?}", r.runout);
     }
 }

@@ -375,4 +375,45 @@ impl Playground {
     pub fn stress_point(&self, index: usize) -> Result<String, JsError> {
         Ok(json(&self.core.stress_point(index).map_err(js_err)?))
     }
+    /// The measures of each sand body (`mpm::measure::deposits`) as JSON: its heap's flank
+    /// angles with the fitted lines, its run-out from where it entered, its plane-strain
+    /// friction angle (2D) and, for a column, the experiments' run-out and final height.
+    pub fn measures(&mut self) -> String {
+        json(&self.core.measures())
+    }
+}
+
+/// What a ruler and a protractor read between dragged points `a` and `b` (m, 2 or 3
+/// components), as JSON: `{length, inclination}` (the angle to the horizontal, degrees).
+#[wasm_bindgen(js_name = handMeasure)]
+pub fn hand_measure(a: &[f64], b: &[f64]) -> Result<String, JsError> {
+    if a.len() != b.len()
+        || !(2..=3).contains(&a.len())
+        || a.iter().chain(b).any(|x| !x.is_finite())
+    {
+        return Err(JsError::new(
+            "points: must be two points of 2 or 3 finite coordinates each",
+        ));
+    }
+    Ok(format!(
+        "{{\"length\":{},\"inclination\":{}}}",
+        crate::measure::length(a, b),
+        crate::measure::inclination(a, b)
+    ))
+}
+
+/// The surface and flanks of a 2D heap (`mpm::measure::heap`) of particles at `xy` (x, y
+/// pairs, m; spacing `spacing`) over columns of width `bin` tiling `[0, width]`, as JSON: the
+/// page's angle readout, computed for any set of points (the tests check the readout with it).
+#[wasm_bindgen(js_name = heapMeasure)]
+pub fn heap_measure(xy: &[f64], spacing: f64, bin: f64, width: f64) -> Result<String, JsError> {
+    if !(xy.len().is_multiple_of(2) && spacing > 0.0 && bin > 0.0 && width >= bin) {
+        return Err(JsError::new(
+            "heapMeasure: xy holds (x, y) pairs; spacing and bin must be > 0, width >= bin",
+        ));
+    }
+    let points: Vec<(f64, f64)> = xy.chunks(2).map(|p| (p[0], p[1])).collect();
+    Ok(json(&crate::measure::heap(
+        &points, spacing, bin, 0.0, width,
+    )))
 }

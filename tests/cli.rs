@@ -472,6 +472,13 @@ fn run_adds_bodies_at_their_times() {
     assert_eq!(bodies[1]["particles"], 64);
     let top = bodies[1]["bbox_max"][1].as_f64().unwrap();
     assert!(top < 0.7875 && top > 0.786, "{top}");
+    // its footprint is where it entered, so it has not run out while it falls
+    let late = &after["deposits"][1];
+    assert_eq!(late["name"], "late");
+    for side in 0..2 {
+        let r = late["runout"]["runout"][side].as_f64().unwrap();
+        assert!(r.abs() < 1e-3, "late body's run-out {r}");
+    }
     let out = mpm(&["check", "late.json"], dir.path());
     let shown = text(&out.stdout);
     assert!(
@@ -528,4 +535,45 @@ fn a_saved_playground_session_runs_in_the_cli() {
         pg.particle_count()
     );
     assert!(saved.contains("\"friction_angle\": 22.0"), "{saved}");
+}
+
+/// The summary measures each sand body as the page does (`mpm::measure`): a column that
+/// collapses runs out on both sides of its footprint and ends lower, with flanks of a sand
+/// heap's slope; at the start it has run out nowhere and stands at its height.
+#[test]
+fn the_summary_measures_a_collapsing_column() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene: serde_json::Value = serde_json::from_str(TINY_2D).unwrap();
+    scene["cell_size"] = 0.025.into();
+    scene["bodies"][0]["shape"] =
+        serde_json::json!({"box": {"min": [0.4, 0.0], "max": [0.6, 0.4]}});
+    fs::write(dir.path().join("column.json"), scene.to_string()).unwrap();
+    let deposit = |t: &str| -> serde_json::Value {
+        let out = mpm(
+            &["run", "column.json", "-t", t, "-q", "--summary", "-"],
+            dir.path(),
+        );
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let summary: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(summary["deposits"].as_array().unwrap().len(), 1);
+        summary["deposits"][0].clone()
+    };
+    let start = deposit("0.001");
+    let f = |v: &serde_json::Value| v.as_f64().unwrap();
+    assert!(
+        (f(&start["runout"]["footprint"]) - 0.1).abs() < 1e-3,
+        "{start}"
+    );
+    for side in 0..2 {
+        assert!(f(&start["runout"]["runout"][side]).abs() < 1e-3, "{start}");
+    }
+    assert!((f(&start["heap"]["height"]) - 0.4).abs() < 2e-3, "{start}");
+    let end = deposit("1.0");
+    for side in 0..2 {
+        let r = f(&end["runout"]["runout"][side]);
+        assert!(r > 0.05, "run-out {r}: {end}");
+        let angle = f(&end["heap"]["flanks"][side]["angle"]);
+        assert!(angle > 5.0 && angle < 60.0, "flank {angle}°: {end}");
+    }
+    assert!(f(&end["heap"]["height"]) < 0.35, "{end}");
 }

@@ -279,3 +279,37 @@ fn the_inspected_sand_particle_reaches_the_cone() {
     assert!(on_cone * 10 >= frames * 8, "{on_cone} of {frames}");
     assert!(moved > 0.05, "a particle of the flowing sand: {moved}");
 }
+
+/// The column-collapse lesson's question is answered by the run-out the page measures
+/// (`Playground::measures`), and the experiments' markers apply: a = 2, Lube et al. (2005)'s
+/// plane transition, whose range the markers span. The measured ratio falls in one of the
+/// choices.
+#[test]
+fn the_column_lesson_is_measured_and_marked() {
+    let (lesson, scene) = load("column_collapse.json");
+    let q = lesson.question.clone().expect("the lesson asks first");
+    let mut pg = Playground::new(scene).unwrap();
+    run(&mut pg, lesson.duration, |_| {});
+    let d = pg.measures();
+    assert_eq!(d.len(), 1);
+    let m = d[0].column.as_ref().expect("the column's markers");
+    assert!((m.column.aspect_ratio - 2.0).abs() < 0.1, "{m:?}");
+    assert!(m.law.source.contains("Lube et al. (2005)") && m.law.regime.contains("between"));
+    assert_eq!(m.fronts.len(), 2);
+    let r = d[0].runout.as_ref().unwrap();
+    let ratio = r.runout[0].max(r.runout[1]) / r.footprint;
+    println!(
+        "run-out {:.3} m = {ratio:.2} L0 (Lube: {:.2}–{:.2}), flanks {:?}",
+        r.runout[0].max(r.runout[1]),
+        m.law.runout[0],
+        m.law.runout[1],
+        d[0].heap.flanks.map(|f| f.map(|f| f.angle))
+    );
+    assert!(ratio > 0.5, "the column ran out: {ratio}");
+    assert!(
+        q.choices
+            .iter()
+            .any(|c| ratio >= c.range[0] && ratio <= c.range[1]),
+        "{ratio} lies in a choice"
+    );
+}

@@ -597,3 +597,33 @@ fn every_lesson_checks_with_its_files_and_a_bad_one_names_the_field() {
         }
     }
 }
+
+/// The measures cross to JavaScript: the 2D column collapse's sand is a column with Lube et
+/// al.'s markers and no run-out at the start; the hand tool's reading is the core's; a bad
+/// point is an error naming what is allowed.
+#[wasm_bindgen_test]
+fn the_measures_cross_as_json() {
+    let text = read_file_sync(&format!("{ROOT}/scenes/column_collapse_2d.json"), "utf8").unwrap();
+    let mut pg = Playground::new(&text, None, None).unwrap();
+    let m: serde_json::Value = serde_json::from_str(&pg.measures()).unwrap();
+    let d = &m[0];
+    assert_eq!(d["name"], "column");
+    assert!(
+        d["column"]["law"]["source"]
+            .as_str()
+            .unwrap()
+            .contains("2005")
+    );
+    for side in 0..2 {
+        assert!(
+            d["runout"]["runout"][side].as_f64().unwrap().abs() < 1e-3,
+            "{d}"
+        );
+    }
+    let r: serde_json::Value =
+        serde_json::from_str(&mpm::wasm::hand_measure(&[0.0, 0.0], &[0.3, 0.3]).unwrap()).unwrap();
+    assert!((r["length"].as_f64().unwrap() - 0.3 * 2f64.sqrt()).abs() < 1e-12);
+    assert!((r["inclination"].as_f64().unwrap() - 45.0).abs() < 1e-9);
+    let e = message(mpm::wasm::hand_measure(&[0.0], &[1.0]).unwrap_err());
+    assert!(e.starts_with("points: "), "{e}");
+}

@@ -1,6 +1,7 @@
 //! The JSON summary of a run: world figures, energies and per-body statistics.
 
 use super::Snapshot;
+use crate::measure::{Deposit, Footprints, deposits_any};
 use crate::sim::AnySimulation;
 use serde::{Deserialize, Serialize};
 
@@ -20,6 +21,10 @@ pub struct Summary {
     pub escaped_particles: usize,
     pub energy: Energy,
     pub bodies: Vec<BodySummary>,
+    /// The measures of each sand body ([`crate::measure::deposits`]): its height, its flank
+    /// angles (in 3D on the radial profile) and its run-out from its initial footprint.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub deposits: Vec<Deposit>,
     /// The error that stopped the run, if any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,
@@ -56,8 +61,9 @@ pub struct BodySummary {
 }
 
 impl Summary {
-    /// The summary of a simulation as it stands.
-    pub fn of(sim: &AnySimulation, wall_seconds: f64) -> Self {
+    /// The summary of a simulation as it stands; `footprints` holds where its particles
+    /// started (for the run-outs).
+    pub fn of(sim: &AnySimulation, wall_seconds: f64, footprints: &Footprints) -> Self {
         let snap = Snapshot::of(sim);
         let d = sim.diagnostics();
         let dim = sim.dim();
@@ -98,6 +104,7 @@ impl Summary {
                     max_plastic_strain: s.max_plastic_strain,
                 })
                 .collect(),
+            deposits: deposits_any(sim, footprints),
             error: sim.failure().map(|e| e.to_string()),
         }
     }

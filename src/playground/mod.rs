@@ -34,7 +34,8 @@ pub use quality::{
 use crate::config::{BodyConfig, SceneConfig};
 use crate::error::{Error, Result};
 use crate::material::{Material, PqSurface, pq};
-use crate::math::{Dim, Real};
+use crate::math::{Dim, Real, SymTensor};
+use crate::measure::{Deposit, Footprints, deposits_any, principal_stresses};
 use crate::params::{MODELS, Param, Target, model_index};
 use crate::sim::{AnySimulation, Diagnostics, Simulation, cfl_time_step};
 use colours::Colours;
@@ -96,6 +97,22 @@ pub struct StressPoint {
     pub position: [f64; 3],
     /// The material's yield surface in p–q space.
     pub surface: PqSurface,
+    /// The principal stresses (Pa, compression positive, [`principal_stresses`]): in 2D the
+    /// in-plane major and minor, then the out-of-plane one; in 3D sorted from the largest.
+    pub principal: Vec<f64>,
+    /// For sand: the friction angle φ (degrees) and the cohesion c (Pa) of the Mohr–Coulomb
+    /// envelope, and the plane-strain angle φ_ps of the Drucker–Prager cone (the cone's trace
+    /// in a plane-strain Mohr plane).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mohr_coulomb: Option<MohrCoulomb>,
+}
+
+/// The Mohr–Coulomb figures of a sand particle's material (see [`StressPoint`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct MohrCoulomb {
+    pub friction_angle: f64,
+    pub cohesion: f64,
+    pub plane_strain_angle: f64,
 }
 
 /// What a dropped object may measure, for a front end's size control (m).
@@ -153,6 +170,8 @@ pub struct Playground {
     /// Smoothed wall-clock cost of one step (ms), for predictions.
     ms_per_step: f64,
     bunny: BunnyAssets,
+    /// Where each particle entered (for the run-outs of [`Playground::measures`]).
+    footprints: Footprints,
 }
 
 impl Playground {
@@ -211,7 +230,9 @@ impl Playground {
             colours: Colours::default(),
             ms_per_step: 0.0,
             bunny: BunnyAssets::default(),
+            footprints: Footprints::default(),
         };
+        pg.footprints.update_any(&pg.sim);
         pg.update_colours(ColourMode::Body);
         Ok(pg)
     }
@@ -320,6 +341,7 @@ impl Playground {
         }
         report.refused = self.land_due_drops();
         report.stable_dt = self.sim.stable_dt();
+        self.footprints.update_any(&self.sim);
     }
 
     /// The parameter `name` = `value` applied to a copy of the scene and of the presets, the
@@ -644,6 +666,7 @@ impl Playground {
     /// Removes every body; the drops are forgotten and their clock starts again.
     pub fn clear(&mut self) {
         self.sim.clear();
+        self.footprints.clear();
         self.colours.values.clear();
         self.drops.forget(self.sim.time());
         self.drops.cleared = true;
@@ -806,6 +829,14 @@ impl Playground {
         })
     }
 
+    /// The measures of each sand body as it stands ([`crate::measure::deposits`]): the angle
+    /// of its heap's flanks, its run-out from where it entered (a body is recorded at the end
+    /// of the frame it entered in), and for a column the experiments' run-out and height.
+    pub fn measures(&mut self) -> Vec<Deposit> {
+        self.footprints.update_any(&self.sim);
+        deposits_any(&self.sim, &self.footprints)
+    }
+
     /// The stress of particle `index` in p–q space, with its body's yield surface.
     pub fn stress_point(&self, index: usize) -> Result<StressPoint> {
         if index >= self.particle_count() {
@@ -846,6 +877,21 @@ fn stress_point<D: Dim>(s: &Simulation<D>, i: usize) -> StressPoint {
         plastic_strain: p.plastic_strain[i] as f64,
         position: xyz::<D>(p.x[i]),
         surface: material.pq_surface(p.plastic_strain[i] as f64),
+        principal: principal_stresses(
+            &p.stress[i]
+                .components()
+                .iter()
+                .map(|&c| c as f64)
+                .collect::<Vec<_>>(),
+        ),
+        mohr_coulomb: match material {
+            Material::DruckerPrager(m) => Some(MohrCoulomb {
+                friction_angle: m.friction_angle,
+                cohesion: m.cohesion,
+                plane_strain_angle: crate::laws::plane_strain_angle(m.friction_angle),
+            }),
+            _ => None,
+        },
     }
 }
 

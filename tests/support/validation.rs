@@ -656,17 +656,13 @@ pub const PLANE_COLLAPSES: [(&str, f64); 4] = [
 /// Lube, Huppert, Sparks & Freundt (2005), plane collapses: (L∞ − L0)/L0 = 1.2 a for
 /// a ≲ 2.3, 1.9 a^(2/3) above.
 pub fn lube_runout(a: f64) -> f64 {
-    if a < 2.3 {
-        1.2 * a
-    } else {
-        1.9 * a.powf(2.0 / 3.0)
-    }
+    mpm::laws::lube_runout(a)
 }
 
 /// Lube et al. (2005), plane collapses: H∞/H0 = 1 for a ≲ 1.15 (the top is not reached by
 /// the failure), H∞/L0 ≈ a^(2/5) above, i.e. H∞/H0 = a^(−3/5).
 pub fn lube_height(a: f64) -> f64 {
-    if a < 1.15 { 1.0 } else { a.powf(-0.6) }
+    mpm::laws::lube_height(a)
 }
 
 /// A deposit counts as at rest when no particle is faster than this share of √(g H0): 0.1 %
@@ -796,23 +792,19 @@ pub fn column_collapse(file: &str, n: &Numerics, t_max: f64) -> Collapse {
 /// Lube, Huppert, Sparks & Hallworth (2004) and Lajeunesse, Mangeney-Castelnau & Vilotte
 /// (2004), axisymmetric collapses: (R∞ − R0)/R0 = 1.24 a for a ≲ 1.7, 1.6 a^(1/2) above.
 pub fn lube_axisymmetric_runout(a: f64) -> f64 {
-    if a < 1.7 { 1.24 * a } else { 1.6 * a.sqrt() }
+    mpm::laws::lube_axisymmetric_runout(a)
 }
 
 /// Lube et al. (2004), axisymmetric collapses: H∞/R0 = a for a ≲ 0.74 (the top is not
 /// reached by the failure), H∞/R0 ≈ 0.88 a^(1/6) above; returned as H∞/H0.
 pub fn lube_axisymmetric_height(a: f64) -> f64 {
-    if a < 0.74 {
-        1.0
-    } else {
-        0.88 * a.powf(1.0 / 6.0) / a
-    }
+    mpm::laws::lube_axisymmetric_height(a)
 }
 
 /// Lajeunesse, Mangeney-Castelnau & Vilotte (2004), axisymmetric collapses: H∞/R0 = a for
 /// a ≲ 0.74, then about 0.74 whatever a; returned as H∞/H0.
 pub fn lajeunesse_axisymmetric_height(a: f64) -> f64 {
-    a.min(0.74) / a
+    mpm::laws::lajeunesse_axisymmetric_height(a)
 }
 
 /// Azimuthal sectors over which the front of an axisymmetric deposit is measured.
@@ -919,8 +911,7 @@ pub fn repose_duration(lift_speed: f64) -> f64 {
 
 /// The plane-strain Mohr–Coulomb angle of the paper's Drucker–Prager cone with ψ = 0.
 pub fn plane_strain_angle(phi_deg: f64) -> f64 {
-    let t = phi_deg.to_radians().tan();
-    (3.0 * t / (9.0 + 12.0 * t * t).sqrt()).asin().to_degrees()
+    mpm::laws::plane_strain_angle(phi_deg)
 }
 
 /// `phi` replaces the scene's friction angle (degrees) when given; the walls rise at

@@ -18,8 +18,11 @@ import { Recorder } from './record.js';
 export const TARGET_FPS = 30;
 
 export class App {
-  constructor({ session, renderer, camera, canvas, energyPlot, stressPlot, scenes, lessons = [], bunny }) {
-    Object.assign(this, { session, renderer, camera, canvas, energyPlot, stressPlot, scenes, lessons, bunny });
+  constructor({ session, renderer, camera, canvas, energyPlot, stressPlot, mohrPlot, overlay, scenes, lessons = [], bunny }) {
+    Object.assign(this, { session, renderer, camera, canvas, energyPlot, stressPlot, mohrPlot, overlay, scenes, lessons, bunny });
+    this.hudDetails = false; // the HUD's technical figures
+    this.readouts = true; // the measures drawn on the view
+    this.hand = null; // the hand tool's line: {a, b, reading} (m)
     // `lesson`: the id of the lesson open (its scene is the one shown), else undefined.
     this.view = { lesson: undefined, scene: SANDBOX, dim: '3', colour: 'body', object: 'bunny', material: 'drucker_prager', time: '1' };
     this.lesson = null; // the lesson open, as its file has it
@@ -277,6 +280,38 @@ export class App {
     document.getElementById('pq-note').textContent = '';
   }
 
+  /// The hand tool: a drag from screen point `from` to `to` (CSS pixels on the view) measures
+  /// the length and the angle to the horizontal between the world points under them (in 3D
+  /// the particles drawn there, else the floor), as the core reads them.
+  async measureDrag(from, to, done) {
+    this.camera.matrices(this.canvas.clientWidth, this.canvas.clientHeight);
+    const dim = this.domain.length;
+    const world = ([px, py]) => {
+      if (dim === 2) return this.camera.unproject(px, py);
+      const f = this.session.frame;
+      const i = f ? nearestParticle(f, dim, (x, y, z) => this.camera.project(x, y, z), px, py) : -1;
+      if (i >= 0) return Array.from(f.positions.subarray(i * f.stride, i * f.stride + 3));
+      return this.camera.unproject(px, py);
+    };
+    const a = world(from), b = world(to);
+    if (!a || !b) return;
+    // the reading shown stays the last one until this line's comes back (`measured`)
+    const hand = { a, b, reading: this.hand?.reading ?? null, done, measured: false };
+    this.hand = hand;
+    this.redraw();
+    if (!done && this.measuring) return; // one request at a time while dragging
+    this.measuring = true;
+    try {
+      hand.reading = await this.session.handMeasure(a, b);
+      hand.measured = true;
+    } catch (e) {
+      toast(e.message);
+    } finally {
+      this.measuring = false;
+    }
+    this.redraw();
+  }
+
   /// Follows the particle of stable id `id` (null: none) in the p–q plot.
   setProbe(id) {
     this.probeId = id;
@@ -298,13 +333,16 @@ export class App {
     this.updateHash();
     syncControls(this);
     if (this.lesson?.view?.inspect) this.setProbe(await this.session.pick(this.lesson.view.inspect));
+    if (this.lesson?.question) this.lessonPanel.ask(this.lesson.question);
   }
 
   /// What a new start forgets: the inspected particle, the plots, the failure banner.
   restarted() {
     this.setProbe(null);
     this.stressPlot.clear();
+    this.mohrPlot?.clear();
     this.energyPlot.restart();
+    this.hand = null;
     banner('failed');
     banner('slow');
     banner('cfl');

@@ -141,7 +141,8 @@ function pickTool(app, tool) {
   for (const b of document.querySelectorAll('[data-tool]')) b.setAttribute('aria-pressed', String(b.dataset.tool === tool));
   $('hint').textContent = tool === 'drop'
     ? (app.domain.length === 3 ? 'Click on the floor to drop' : 'Click in the box to drop')
-    : 'Click a particle to inspect its stress';
+    : tool === 'measure' ? 'Drag to measure a length and its angle'
+      : 'Click a particle to inspect its stress';
 }
 
 function pickObject(app, id) {

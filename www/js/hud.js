@@ -4,6 +4,7 @@
 import { BODY_COLOURS, YIELD_COLOURS, YIELD_LABELS, css, viridis } from './colours.js';
 import { format, formatTime } from './params.js';
 import { el } from './widgets.js';
+import { accuracyNote, pct, speedWords } from './measure-view.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -56,45 +57,50 @@ export function warnCost(spec, value, p, before, session) {
     : '');
 }
 
-/// The HUD rows a small screen shows (app.css hides the others there).
-const MAIN_ROWS = ['fps', 'particles', 'sim / real', 'sim time'];
-
-/// The HUD: `rows` [[label, value, title?]]; the `sim / real` value is marked slow when `slow`.
-export function hud(rows, slow) {
-  $('hud').replaceChildren(...rows.flatMap(([k, v, title = '']) => [
-    el('span', { class: `k${MAIN_ROWS.includes(k) ? '' : ' minor'}` }, k),
+/// The HUD, in the strip above the view: `rows` {main, tech} of [label, value, title?]; the
+/// class's figures always, the technical ones when `details` is on. The real-time figure is
+/// marked when `slow`.
+export function hud(rows, slow, details) {
+  const item = ([k, v, title = ''], tech) => el('span', { class: `row${tech ? ' tech' : ''}` },
+    el('span', { class: 'k' }, k),
     el('span', {
-      class: `v${k === 'sim / real' && slow ? ' slow' : ''}${MAIN_ROWS.includes(k) ? '' : ' minor'}`,
+      class: `v${k === 'speed' && slow ? ' slow' : ''}`,
       'data-hud': k,
-      title: k === 'sim / real' && slow ? 'Slow motion: the simulation steps slower than real time at this resolution' : title,
-    }, v),
-  ]));
+      title: k === 'speed' && slow ? 'Slow motion: the simulation steps slower than real time at this resolution' : title,
+    }, v));
+  $('hud').replaceChildren(...rows.main.map((r) => item(r, false)), ...(details ? rows.tech.map((r) => item(r, true)) : []));
 }
 
-/// The HUD's rows from the frame statistics `st`, diagnostics `d` and the rest: the
-/// simulation's quality level and what its resolution costs in accuracy (the validation
-/// cases' errors at that cell size and particles per cell, `resolution.accuracy`).
+/// The HUD's rows from the frame statistics `st`, diagnostics `d` and the rest. `main`, what
+/// a class needs: the simulated time, the real-time factor in words, the quality level with
+/// what its resolution costs in accuracy (the validation cases' errors at that cell size and
+/// particles per cell, `resolution.accuracy`). `tech`, behind Details: frame rate, particles,
+/// steps per frame, time step, CFL number, cost per step, the resolution, renderer, solver.
 export function hudRows(st, d, { particles, playing, stableDt, time, renderer, quality, thread, resolution, label, dim }) {
   const a = resolution.accuracy;
-  const pct = (x) => `${x > 0 ? '+' : x < 0 ? '−' : ''}${(100 * Math.abs(x)).toPrecision(2)} %`;
-  return [
-    ['fps', st.fps.toFixed(0)],
-    ['particles', particles.toLocaleString('en')],
-    ['steps / frame', String(st.substeps)],
-    ['dt', formatTime(d.dt || stableDt)],
-    ['CFL', (d.cfl || 0).toFixed(2)],
-    ['ms / step', st.msPerStep ? st.msPerStep.toPrecision(3) : '–'],
-    ['sim / real', playing ? `${st.ratio.toFixed(2)}${st.fellBehind ? ' slow' : ''}` : 'paused'],
-    ['sim time', formatTime(time)],
-    ['quality', `${label}: h ${+(100 * resolution.cell_size).toPrecision(3)} cm, ${Array(dim).fill(resolution.particles_per_cell).join('×')} per cell`,
-      `Cells ${+(resolution.cell_size / resolution.scene_cell_size).toPrecision(3)} × the scene file's; particles per cell per axis ${resolution.particles_per_cell}`],
-    ['error', `period ${pct(a.bar_period)}, run-out ${pct(a.column_runout)}, settling ${pct(a.resting_settlement)}`,
-      'The errors at this resolution, measured on the validation cases at the same cell factor and particles per cell ' +
-      `(docs/playground.md): vibrating bar period ${pct(a.bar_period)} (L2 ${pct(a.bar_l2)}), column collapse run-out ` +
-      `${pct(a.column_runout)} and height ${pct(a.column_height)} against Lube et al. (2005)'s experiments, resting column settlement ${pct(a.resting_settlement)}`],
-    ['renderer', `${renderer.replace(/ \(.*\)$/, '')}${quality ? `, ${quality}` : ''}`],
-    ['solver', `wasm, ${thread}`],
-  ];
+  return {
+    main: [
+      ['time', formatTime(time)],
+      ['speed', speedWords(st.ratio, playing, st.fellBehind)],
+      ['quality', accuracyNote(label, a),
+        'The errors at this resolution, measured on the validation cases at the same cell factor and particles per cell ' +
+        `(docs/playground.md): column collapse run-out ${pct(a.column_runout)} and height ${pct(a.column_height)} against ` +
+        `Lube et al. (2005)'s experiments, vibrating bar period ${pct(a.bar_period)} (L2 ${pct(a.bar_l2)}), resting column settlement ${pct(a.resting_settlement)}`],
+    ],
+    tech: [
+      ['fps', st.fps.toFixed(0)],
+      ['particles', particles.toLocaleString('en')],
+      ['steps / frame', String(st.substeps)],
+      ['dt', formatTime(d.dt || stableDt)],
+      ['CFL', (d.cfl || 0).toFixed(2)],
+      ['ms / step', st.msPerStep ? st.msPerStep.toPrecision(3) : '–'],
+      ['sim / real', playing ? st.ratio.toFixed(2) : 'paused'],
+      ['cells', `h ${+(100 * resolution.cell_size).toPrecision(3)} cm, ${Array(dim).fill(resolution.particles_per_cell).join('×')} per cell`,
+        `Cells ${+(resolution.cell_size / resolution.scene_cell_size).toPrecision(3)} × the scene file's; particles per cell per axis ${resolution.particles_per_cell}`],
+      ['renderer', `${renderer.replace(/ \(.*\)$/, '')}${quality ? `, ${quality}` : ''}`],
+      ['solver', `wasm, ${thread}`],
+    ],
+  };
 }
 
 /// The legend of colour mode `mode`: the bodies of `scene`, the yield states, or a ramp over

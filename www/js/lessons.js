@@ -9,6 +9,7 @@
 import { banner } from './hud.js';
 import { fetchText } from './scenes.js';
 import { el, paramSlider } from './widgets.js';
+import { answerIndex, questionValue, quantityUnit } from './measure-view.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -101,11 +102,60 @@ export class LessonPanel {
       rows.push(w.root);
     }
     $('lesson-params').replaceChildren(...rows);
+    this.ask(lesson.question);
     for (const e of document.querySelectorAll('.param.lesson-param')) e.classList.remove('lesson-param');
     this.root.hidden = false;
     this.root.classList.remove('folded');
     banner('lesson');
     await this.sync();
+  }
+
+  /// Shows the lesson's question (if any) before the run: the simulation waits paused for
+  /// Play; a choice is the student's prediction. After the lesson's duration the page's own
+  /// measure answers it (`measured`).
+  ask(question) {
+    const box = $('lesson-question');
+    this.question = question ?? null;
+    this.picked = -1;
+    this.answer = null;
+    if (!question) {
+      box.hidden = true;
+      box.replaceChildren();
+      return;
+    }
+    this.app.setPlaying(false);
+    const buttons = question.choices.map((c, i) => el('button', {
+      'data-choice': String(i), 'aria-pressed': 'false',
+      onclick: () => {
+        if (this.answer) return; // answered: the prediction stands
+        this.picked = i;
+        for (const b of buttons) b.setAttribute('aria-pressed', String(b === buttons[i]));
+        verdict.textContent = 'Now press Play and watch.';
+      },
+    }, c.text));
+    const verdict = el('div', { class: 'verdict', id: 'lesson-verdict' }, 'Predict first: pick an answer, then press Play.');
+    box.replaceChildren(el('div', { class: 'ask' }, question.ask), el('div', { class: 'choices' }, ...buttons), verdict);
+    box.hidden = false;
+    this.verdict = verdict;
+    this.buttons = buttons;
+  }
+
+  /// A frame was shown: once the lesson's duration has run, its question is answered with
+  /// the frame's measures (the readouts on the view).
+  measured(f) {
+    const q = this.question;
+    if (!q || this.answer || !this.lesson || f.time < this.lesson.duration) return;
+    const dim = this.app.domain.length;
+    const value = questionValue(q, f.measures ?? [], dim);
+    const i = answerIndex(q, value);
+    if (value === null) return;
+    this.answer = { value, index: i, time: f.time };
+    const unit = quantityUnit(q.measure.quantity);
+    const shown = unit === '°' ? `${value.toFixed(1)}°` : `${value.toFixed(2)} ${unit}`;
+    if (i >= 0) this.buttons[i].classList.add('answer');
+    const what = q.measure.bodies.length === 2 ? 'the difference measured on the view' : 'measured on the view';
+    const mine = this.picked < 0 ? '' : this.picked === i ? ' Your prediction was right.' : ` You predicted “${q.choices[this.picked].text}”.`;
+    this.verdict.textContent = `At t = ${f.time.toFixed(2)} s, ${what}: ${shown}${i >= 0 ? ` → “${q.choices[i].text}”.` : ' (outside every choice).'}${mine}`;
   }
 
   /// The sliders' values from the solver (after a load, a reset or a change elsewhere), and
@@ -135,6 +185,7 @@ export class LessonPanel {
   /// The lesson is left (another scene): no panel, no marks.
   close() {
     this.lesson = null;
+    this.ask(null);
     this.sliders.clear();
     this.hide();
     for (const e of document.querySelectorAll('.param.lesson-param')) e.classList.remove('lesson-param');

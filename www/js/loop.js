@@ -32,7 +32,9 @@ export function startLoop(app) {
     if (lastDrawn) app.governQuality(wall);
     lastDrawn = drawn;
     record(app, wall, fresh ? f : null, t1 - t0, t2 - t1, drawn);
-    if (app.stats.frames % 6 === 0 && drawn) refresh(app, f);
+    // Every few frames while it runs; every frame drawn while paused (a view that turns, the
+    // hand tool), so that the HUD and plots show the state before the first Play.
+    if (drawn && (app.stats.frames % 6 === 0 || !app.playing)) refresh(app, f);
   };
   requestAnimationFrame(frame);
 }
@@ -52,6 +54,7 @@ function received(app, f) {
   } else if (f.stress && app.probeId !== null) {
     const sp = f.stress;
     if (f.report.substeps > 0 || !app.stressPlot.point) app.stressPlot.push(sp);
+    app.mohrPlot?.set(sp, app.domain.length);
     note.textContent = `particle #${sp.id} of body ${sp.body + 1} (${sp.model.replace('_', ' ')}): ` +
       `p = ${format(sp.p, 'Pa')}, q = ${format(sp.q, 'Pa')}, plastic strain ${sp.plastic_strain.toPrecision(2)}`;
   }
@@ -65,6 +68,10 @@ function draw(app, f) {
   app.renderer.draw({
     camera: app.camera, positions: f.positions, stride: f.stride, values: f.values, count: f.count,
     mode: app.view.colour, range: app.range, radius: app.radius, marker,
+  });
+  app.overlay?.draw({
+    camera: app.camera, dim: app.domain.length, measures: app.readouts ? f.measures : [], hand: app.hand,
+    show: { readouts: app.readouts, laws: app.readouts },
   });
   if (app.syncRender) app.renderer.finish(); // benchmarks: count the GPU's work in renderMs
   // A recording or a snapshot copies the frame now, while the drawing buffer holds it.
@@ -125,6 +132,8 @@ function refresh(app, f) {
     renderer: app.renderer.kind, quality: app.quality, thread: s.kind,
     resolution: s.quality, label: app.qualityLabel(s.quality.quality), dim: app.domain.length,
   });
-  hud(rows, app.playing && app.stats.fellBehind);
+  hud(rows, app.playing && app.stats.fellBehind, app.hudDetails);
+  app.mohrPlot?.draw();
+  app.lessonPanel.measured(f);
   legend(app.view.colour, s.scene, app.range);
 }

@@ -13,7 +13,8 @@ import { buildLessonMenu, loadLessonList } from './lessons.js';
 import { setupRecording } from './record.js';
 import { banner } from './hud.js';
 import { startLoop } from './loop.js';
-import { EnergyPlot, StressPlot } from './plots.js';
+import { EnergyPlot, MohrPlot, StressPlot } from './plots.js';
+import { Overlay } from './overlay.js';
 import { setupPointer } from './pointer.js';
 import { GlRenderer } from './render-gl.js';
 import { CanvasRenderer } from './render-2d.js';
@@ -45,6 +46,8 @@ async function main() {
     camera: new Camera([2, 1, 1]),
     energyPlot: new EnergyPlot($('energy')),
     stressPlot: new StressPlot($('pq')),
+    mohrPlot: new MohrPlot($('mohr')),
+    overlay: new Overlay($('overlay')),
   });
   window.mpm = app; // for tests, benchmarks and curious students
   if (!location.hash) {
@@ -56,7 +59,17 @@ async function main() {
   buildLessonMenu(app, lessons);
   setupFiles(app, document.querySelector('.stage'));
   setupRecording(app);
-  setupPointer(canvas, app.camera, (x, y) => app.click(x, y));
+  setupPointer(canvas, app.camera, (x, y) => app.click(x, y), {
+    active: () => app.tool === 'measure',
+    drag: (from, to, done) => app.measureDrag(from, to, done),
+  });
+  for (const [id, key] of [['hud-details', 'hudDetails'], ['readouts', 'readouts']]) {
+    $(id).addEventListener('click', () => {
+      app[key] = !app[key];
+      $(id).setAttribute('aria-pressed', String(app[key]));
+      app.redraw();
+    });
+  }
   await app.loadFromHash();
   startLoop(app);
 }

@@ -3,6 +3,7 @@
 
 import { format } from './params.js';
 import { energyWindow, pqWindow, surfaceLine, ticks } from './plot-scale.js';
+import { mohr, mohrWindow } from './measure-view.js';
 
 function setup(canvas) {
   const dpr = Math.min(2, window.devicePixelRatio || 1);
@@ -198,5 +199,112 @@ export class StressPlot {
     ctx.beginPath();
     ctx.arc(X(sp.p * k), Y(sp.q * k), 5, 0, 2 * Math.PI);
     ctx.fill();
+  }
+}
+
+/// The Mohr circles of the inspected particle (normal stress σ against shear stress τ, kPa,
+/// compression positive): in 2D plane strain the in-plane circle (the out-of-plane stress a
+/// point on the σ axis), in 3D the three principal circles; for sand the Mohr–Coulomb envelope
+/// τ = c + σ tan φ at the current φ and c, and the trace of the Drucker–Prager cone (plane
+/// strain: the line at φ_ps; 3D: the circle it allows in triaxial compression at the
+/// particle's pressure).
+export class MohrPlot {
+  constructor(canvas) {
+    this.canvas = canvas;
+    this.clear();
+  }
+
+  clear() {
+    this.point = null;
+    this.drawn = null; // what the last draw showed, for tests
+  }
+
+  set(sp, dim) {
+    this.point = sp;
+    this.dim = dim;
+  }
+
+  draw() {
+    const { ctx, w, h } = setup(this.canvas);
+    const sp = this.point;
+    if (!sp || !sp.principal) {
+      this.drawn = null;
+      ctx.fillStyle = '#5b6577';
+      ctx.font = '13px system-ui, sans-serif';
+      ctx.textAlign = 'center';
+      ctx.fillText('Mohr circles of the inspected particle', w / 2, h / 2);
+      return;
+    }
+    if (w < 80 || h < 60) {
+      this.drawn = null; // hidden (the plots are off)
+      return;
+    }
+    const m = mohr(sp, this.dim);
+    const big = Math.max(...sp.principal.map(Math.abs)) >= 1e3;
+    const k = big ? 1e-3 : 1;
+    const unit = big ? 'kPa' : 'Pa';
+    const win = mohrWindow(m);
+    const box = { x0: 60, y0: 8, x1: w - 10, y1: h - 34 };
+    // equal scales on σ and τ where the box allows (circles stay round)
+    const sx = (box.x1 - box.x0) / (win.sMax - win.sMin);
+    const tMax = Math.max(win.tMax, (box.y1 - box.y0) / sx);
+    const sy = (box.y1 - box.y0) / tMax;
+    const s = Math.min(sx, sy);
+    const X = (v) => box.x0 + (v - win.sMin) * s;
+    const Y = (t) => box.y1 - t * s;
+    const tick = (v) => `${+(v * k).toPrecision(3)}`;
+    axes(ctx, box, [win.sMin, win.sMin + (box.x1 - box.x0) / s], [0, (box.y1 - box.y0) / s],
+      `normal stress σ (${unit})`, `τ (${unit})`, tick, tick);
+    ctx.save();
+    ctx.beginPath();
+    ctx.rect(box.x0, box.y0, box.x1 - box.x0, box.y1 - box.y0);
+    ctx.clip();
+    const sMax = win.sMin + (box.x1 - box.x0) / s;
+    const envelopeLine = (angle, cohesion, colour, dash) => {
+      const t = Math.tan((angle * Math.PI) / 180);
+      const s0 = t > 0 ? Math.max(win.sMin, -cohesion / t) : win.sMin;
+      ctx.strokeStyle = colour;
+      ctx.lineWidth = 2;
+      ctx.setLineDash(dash);
+      ctx.beginPath();
+      ctx.moveTo(X(s0), Y(cohesion + t * s0));
+      ctx.lineTo(X(sMax), Y(cohesion + t * sMax));
+      ctx.stroke();
+      ctx.setLineDash([]);
+    };
+    if (m.envelope) envelopeLine(m.envelope.angle, m.envelope.cohesion, '#e03131', []);
+    if (m.cone?.kind === 'line') envelopeLine(m.cone.angle, m.cone.cohesion, '#862e9c', [6, 4]);
+    if (m.cone?.kind === 'circle') {
+      ctx.strokeStyle = '#862e9c';
+      ctx.setLineDash([6, 4]);
+      ctx.lineWidth = 2;
+      ctx.beginPath();
+      ctx.arc(X(m.cone.centre), Y(0), Math.max(0.5, m.cone.radius * s), Math.PI, 2 * Math.PI);
+      ctx.stroke();
+      ctx.setLineDash([]);
+    }
+    ctx.strokeStyle = '#1c7ed6';
+    ctx.lineWidth = 2;
+    for (const c of m.circles) {
+      ctx.beginPath();
+      ctx.arc(X(c.centre), Y(0), Math.max(0.5, c.radius * s), Math.PI, 2 * Math.PI);
+      ctx.stroke();
+    }
+    ctx.fillStyle = '#d81b8c';
+    for (const p of m.points) {
+      ctx.beginPath();
+      ctx.arc(X(p), Y(0), 4, 0, 2 * Math.PI);
+      ctx.fill();
+    }
+    ctx.restore();
+    ctx.font = '12px system-ui, sans-serif';
+    ctx.textAlign = 'left';
+    let y = box.y0 + 12;
+    const note = (text, colour) => { ctx.fillStyle = colour; ctx.fillText(text, box.x0 + 6, y); y += 15; };
+    note(this.dim === 2 ? 'in-plane circle (plane strain); dot: σ_zz' : 'the three principal circles', '#1c7ed6');
+    if (m.envelope) note(`Mohr–Coulomb: φ ${m.envelope.angle}°, c ${+(m.envelope.cohesion * k).toPrecision(3)} ${unit}`, '#c92a2a');
+    if (m.cone) note(m.cone.kind === 'line' ? `Drucker–Prager cone, plane strain: φ_ps ${m.cone.angle.toFixed(1)}°`
+      : 'Drucker–Prager cone at this p (triaxial compression)', '#862e9c');
+    this.drawn = { circles: m.circles.length, envelope: !!m.envelope, cone: m.cone?.kind ?? null };
   }
 }

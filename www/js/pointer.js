@@ -6,19 +6,41 @@ import { Gestures } from './touch.js';
 /// Wires `canvas`: drags turn `camera`, the wheel and a pinch zoom, a click or tap (a press
 /// that did not move) calls `onClick(x, y)` with the position in CSS pixels from the canvas'
 /// top-left corner.
-export function setupPointer(canvas, camera, onClick) {
+///
+/// With `measure` {active(), drag(from, to, done)}: while `active()`, a one-finger drag
+/// measures instead of turning the view: `drag` gets its start and end (CSS pixels on the
+/// canvas) as it moves, and `done` when it ends.
+export function setupPointer(canvas, camera, onClick, measure = null) {
   const g = new Gestures();
+  let start = null; // the hand tool's drag
+  const local = (e) => {
+    const r = canvas.getBoundingClientRect();
+    return [e.clientX - r.left, e.clientY - r.top];
+  };
   canvas.addEventListener('pointerdown', (e) => {
-    g.down(e.pointerId, e.clientX, e.clientY);
     canvas.setPointerCapture(e.pointerId);
+    if (measure?.active() && e.isPrimary) {
+      start = local(e);
+      return;
+    }
+    g.down(e.pointerId, e.clientX, e.clientY);
   });
   canvas.addEventListener('pointermove', (e) => {
+    if (start) {
+      measure.drag(start, local(e), false);
+      return;
+    }
     const a = g.move(e.pointerId, e.clientX, e.clientY);
     if (a?.orbit) camera.orbit(a.orbit[0], a.orbit[1]);
     if (a?.zoom) camera.zoomBy(a.zoom);
     canvas.classList.toggle('dragging', g.dragging);
   });
   canvas.addEventListener('pointerup', (e) => {
+    if (start) {
+      measure.drag(start, local(e), true);
+      start = null;
+      return;
+    }
     const a = g.up(e.pointerId, e.clientX, e.clientY);
     canvas.classList.toggle('dragging', g.dragging);
     if (a?.tap) {
@@ -27,6 +49,7 @@ export function setupPointer(canvas, camera, onClick) {
     }
   });
   canvas.addEventListener('pointercancel', (e) => {
+    start = null;
     g.cancel(e.pointerId);
     canvas.classList.toggle('dragging', g.dragging);
   });

@@ -157,6 +157,8 @@ export class Session {
   setQuality(quality) { return this.request('setQuality', { quality }); }
   /// The stable id of the particle nearest `point`, or null.
   pick(point) { return this.request('pick', { point }); }
+  /// What a ruler and a protractor read between points `a` and `b` (m), by the core.
+  handMeasure(a, b) { return this.request('handMeasure', { a, b }); }
 
   play(playing) { this.tell('play', { playing }); }
   step() { this.tell('step'); }

@@ -12,7 +12,7 @@
 // per frame); a frame is only sent when the page has drawn the one before. On the page's thread
 // the frame is a view into wasm memory (no copy at all), valid until the next command.
 
-import init, { Playground, assetPaths, checkLesson, parameterTable, qualityLevels, sandboxScene } from '../pkg/mpm.js';
+import init, { Playground, assetPaths, checkLesson, handMeasure, parameterTable, qualityLevels, sandboxScene } from '../pkg/mpm.js';
 
 /// The longest a slice of stepping takes (ms): a command waits at most this plus one step.
 export const SLICE_MS = 8;
@@ -187,6 +187,11 @@ export class SimHost {
     this.probe = id;
     this.dirty = true;
   }
+  /// What a ruler and a protractor read between points `a` and `b` (m): {length,
+  /// inclination} (the core's `mpm::measure`).
+  cmd_handMeasure({ a, b }) {
+    return JSON.parse(handMeasure(new Float64Array(a), new Float64Array(b)));
+  }
   /// The stable id of the particle nearest `point` (where the page saw the particle picked).
   cmd_pick({ point }) {
     const i = this.pg.nearestParticle(new Float64Array(point));
@@ -307,6 +312,8 @@ export class SimHost {
     const message = {
       type: 'frame', seq: ++this.seq, positions, values, stride, count, range,
       time: pg.time(), stableDt: pg.stableDt(), report, stress,
+      // each sand body's flank angles, run-out and the experiments' markers (mpm::measure)
+      measures: JSON.parse(pg.measures()),
       diagnostics: JSON.parse(pg.diagnostics()),
       failure: this.failed,
       state: this.stateChanged ? this.state() : undefined,

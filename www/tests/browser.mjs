@@ -12,7 +12,7 @@ export const FLAGS = [
 
 /// Opens the playground at `url` in a new page of `context` (an init script `init` first),
 /// collecting console errors and uncaught exceptions, and console warnings; resolves when the
-/// simulation has drawn a few frames.
+/// simulation has drawn a few frames (one, for a lesson waiting for Play behind its question).
 export async function openPage(context, url, init) {
   const page = await context.newPage();
   const errors = [], warnings = [];
@@ -23,7 +23,9 @@ export async function openPage(context, url, init) {
   page.on('pageerror', (e) => errors.push(e.message));
   if (init) await page.addInitScript(init);
   await page.goto(url);
-  await page.waitForFunction(() => window.mpm?.sim && window.mpm.stats.frames > 5, null, { timeout: 60_000 });
+  // A lesson that asks before it shows waits paused for Play: its first frame is enough.
+  await page.waitForFunction(() => window.mpm?.sim && (window.mpm.stats.frames > 5
+    || (window.mpm.lessonPanel.question && !window.mpm.playing && window.mpm.stats.frames > 0)), null, { timeout: 60_000 });
   return { page, errors, warnings };
 }
 

@@ -633,6 +633,21 @@ fn test() -> Result<(), String> {
         .env("CHROMIUM", &chromium)
         .env("MPM_OUT", root().join("target/e2e"));
     run_cmd(class)?;
+    // Measuring on the page: the HUD's layouts, the readouts, the law markers, Mohr circles,
+    // the lessons' questions.
+    let mut measure = command(
+        "node",
+        &[
+            "--test",
+            "--test-reporter=spec",
+            "www/tests/measure.test.mjs",
+        ],
+    );
+    measure
+        .env("MPM_URL", &url)
+        .env("CHROMIUM", &chromium)
+        .env("MPM_OUT", root().join("target/e2e"));
+    run_cmd(measure)?;
     // The static folder alone, served by a plain static server under a sub-path.
     write_dist(&dist_dir())?;
     let mut dist = command(

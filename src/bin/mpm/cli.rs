@@ -3,6 +3,7 @@
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use mpm::io::{Camera, ColorBy, RenderOptions, Snapshot, Summary, ply, render};
+use mpm::measure::Footprints;
 use mpm::{AnySimulation, Dim, Error, SceneConfig, Simulation};
 use std::fs;
 use std::io::{BufWriter, Write};
@@ -285,19 +286,34 @@ fn run(a: RunArgs) -> Result<(), Failure> {
         );
         bar
     };
+    let mut footprints = Footprints::default();
+    footprints.update_any(&sim);
     let started = Instant::now();
     let mut last_draw = Instant::now() - Duration::from_secs(1);
     let segments = frames.max(1);
     let mut result: Result<(), Failure> = Ok(());
     for k in 1..=segments {
         let target = a.time * k as f64 / segments as f64;
-        let stepped = sim.advance_until(target, |d| {
-            if last_draw.elapsed() > Duration::from_millis(50) {
-                last_draw = Instant::now();
-                progress(&bar, d, a.time, started);
+        // step to each body's appearance on the way, so that its footprint (for the
+        // summary's run-outs) is where it entered
+        let mut stepped = Ok(0);
+        while stepped.is_ok() {
+            let stop = sim
+                .next_appearance()
+                .filter(|&t| t > sim.time() && t < target)
+                .unwrap_or(target);
+            stepped = sim.advance_until(stop, |d| {
+                if last_draw.elapsed() > Duration::from_millis(50) {
+                    last_draw = Instant::now();
+                    progress(&bar, d, a.time, started);
+                }
+                true
+            });
+            footprints.update_any(&sim);
+            if stop == target {
+                break;
             }
-            true
-        });
+        }
         if let Err(e) = stepped {
             result = Err(Failure(format!(
                 "{}: the simulation stopped at t = {:.6} s: {e}",
@@ -318,7 +334,7 @@ fn run(a: RunArgs) -> Result<(), Failure> {
     bar.finish();
     let wall = started.elapsed().as_secs_f64();
     if let Some(path) = &a.summary {
-        let summary = Summary::of(&sim, wall);
+        let summary = Summary::of(&sim, wall, &footprints);
         let text = serde_json::to_string_pretty(&summary).expect("the summary serialises") + "\n";
         if path.as_os_str() == "-" {
             std::io::Write::write_all(&mut std::io::stdout().lock(), text.as_bytes())

@@ -1,0 +1,195 @@
+// The measuring overlay, drawn on a transparent canvas over the view (it takes no pointer
+// events): for each sand body the angle of its flanks (the core's least-squares fit, drawn as
+// the fitted line with an arc and its value; in 3D on the radial profile, in the vertical
+// plane through the heap's axis along x), its run-out from its initial footprint as a ruler
+// on the floor, and where the experiments apply the published laws as floor markers naming
+// their source (a column's run-out and final height, Lube et al.; in 2D the line at the
+// plane-strain friction angle φ_ps of the sand's cone); and the hand tool's line with what
+// the core reads of it. Every number drawn is the core's (`mpm::measure`, `mpm::laws`).
+
+import { arcAngles } from './measure-view.js';
+
+const INK = '#0b5394';
+const LAW = '#2b8a3e';
+const HAND = '#d81b8c';
+
+export class Overlay {
+  constructor(canvas) {
+    this.canvas = canvas;
+    this.ctx = canvas.getContext('2d');
+    this.labels = []; // what was drawn last, for tests: [{kind, text, x, y}]
+  }
+
+  /// Draws `measures` (the frame's deposits) and `hand` ({a, b, reading} in world
+  /// coordinates, or null) with `camera`; `show` {readouts, laws}.
+  draw({ camera, dim, measures = [], hand = null, show = { readouts: true, laws: true } }) {
+    const c = this.canvas;
+    const dpr = Math.min(2, window.devicePixelRatio || 1);
+    const w = c.clientWidth, h = c.clientHeight;
+    if (c.width !== Math.round(w * dpr) || c.height !== Math.round(h * dpr)) {
+      c.width = Math.round(w * dpr);
+      c.height = Math.round(h * dpr);
+    }
+    const ctx = this.ctx;
+    ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
+    ctx.clearRect(0, 0, w, h);
+    this.labels = [];
+    const P = (x, y, z = 0) => camera.project(x, y, dim === 3 ? z : 0);
+    for (const d of measures) {
+      // 3D: the radial profile drawn in the plane through the axis, along +x
+      const at = (r, y) => (dim === 3 ? P(d.axis[0] + r, y, d.axis[1]) : P(r, y));
+      if (show.laws && d.column) this.column(d, dim, P);
+      if (show.readouts) {
+        this.flanks(d, dim, at, show.laws);
+        if (d.runout) this.ruler(d, dim, P);
+      }
+    }
+    if (hand?.a && hand?.b) this.hand(hand, dim, P);
+  }
+
+  label(kind, text, p, colour, align = 'left') {
+    if (!p) return;
+    const ctx = this.ctx;
+    ctx.font = '600 13px system-ui, sans-serif';
+    ctx.textAlign = align;
+    ctx.textBaseline = 'middle';
+    ctx.lineWidth = 3;
+    ctx.strokeStyle = 'rgba(255,255,255,0.9)';
+    ctx.strokeText(text, p[0], p[1]);
+    ctx.fillStyle = colour;
+    ctx.fillText(text, p[0], p[1]);
+    this.labels.push({ kind, text, x: p[0], y: p[1] });
+  }
+
+  line(a, b, colour, width = 2, dash = []) {
+    if (!a || !b) return;
+    const ctx = this.ctx;
+    ctx.strokeStyle = colour;
+    ctx.lineWidth = width;
+    ctx.setLineDash(dash);
+    ctx.beginPath();
+    ctx.moveTo(a[0], a[1]);
+    ctx.lineTo(b[0], b[1]);
+    ctx.stroke();
+    ctx.setLineDash([]);
+  }
+
+  /// Each fitted flank: the line, an arc at its foot and the angle; in 2D also the line at
+  /// φ_ps from the same foot (the plane-strain friction angle of the sand's cone).
+  flanks(d, dim, at, laws) {
+    d.heap.flanks.forEach((f, k) => {
+      if (!f) return;
+      // the foot is the lower end of the fit
+      const [foot, top] = f.from[1] <= f.to[1] ? [f.from, f.to] : [f.to, f.from];
+      const A = at(...foot), B = at(...top);
+      if (!A || !B) return;
+      this.line(A, B, INK, 3);
+      const [a0, a1] = arcAngles(A, B);
+      const ctx = this.ctx;
+      ctx.strokeStyle = INK;
+      ctx.lineWidth = 2;
+      ctx.beginPath();
+      ctx.arc(A[0], A[1], 28, a0, a1);
+      ctx.stroke();
+      const out = top[0] >= foot[0] ? 1 : -1;
+      this.label('angle', `${f.angle.toFixed(1)}°`, [A[0] + out * 34, A[1] - 10], INK, out > 0 ? 'left' : 'right');
+      if (laws && dim === 2 && d.plane_strain_angle) {
+        const run = Math.abs(top[0] - foot[0]) || 0.05;
+        const rise = run * Math.tan((d.plane_strain_angle * Math.PI) / 180);
+        const C = at(foot[0] + out * run, foot[1] + rise);
+        this.line(A, C, LAW, 2, [6, 4]);
+        if (C) this.label('law', `φ_ps ${d.plane_strain_angle.toFixed(1)}°, plane-strain cone`, [(A[0] + C[0]) / 2 - out * 14, (A[1] + C[1]) / 2 - 14], LAW, 'center');
+      }
+    });
+  }
+
+  /// The run-out ruler: on the floor from the footprint's edge to the front, with the
+  /// distance and its ratio to L0 (R0).
+  ruler(d, dim, P) {
+    const r = d.runout;
+    const ends = [];
+    if (dim === 2) {
+      const [xc, l0] = [r.centre[0], r.footprint];
+      if (r.runout[0] > d.spacing) ends.push([xc - l0, r.front[0], r.runout[0]]);
+      if (r.runout[1] > d.spacing) ends.push([xc + l0, r.front[1], r.runout[1]]);
+      for (const [x0, x1, dist] of ends) {
+        const A = P(x0, 0), B = P(x1, 0);
+        this.line(A, B, INK, 3);
+        for (const e of [A, B]) if (e) this.line([e[0], e[1] - 7], [e[0], e[1] + 7], INK, 2);
+        // L0 as the experiments take it: a column against a wall is half of a symmetric one
+        const L0 = d.column?.column.half_width ?? l0;
+        if (A && B) this.label('runout', `run-out ${dist.toFixed(2)} m (${(dist / L0).toFixed(1)} L0)`, [(A[0] + B[0]) / 2, A[1] + 16], INK, 'center');
+      }
+    } else if (r.runout[0] > d.spacing) {
+      const [xc, zc] = r.centre;
+      const A = P(xc + r.footprint, 0, zc), B = P(xc + r.front[0], 0, zc);
+      this.line(A, B, INK, 3);
+      if (A && B) this.label('runout', `run-out ${r.runout[0].toFixed(2)} m (${(r.runout[0] / r.footprint).toFixed(1)} R0)`, [(A[0] + B[0]) / 2, A[1] + 16], INK, 'center');
+    }
+  }
+
+  /// A column's markers: where the experiments put the front (a band where the law gives a
+  /// range) and the final height, naming the source.
+  column(d, dim, P) {
+    const m = d.column;
+    const col = m.column;
+    const ctx = this.ctx;
+    const post = (A) => A && this.line([A[0], A[1]], [A[0], A[1] - 18], LAW, 2);
+    if (dim === 2) {
+      for (const [near, far] of m.fronts) {
+        const A = P(near, 0), B = P(far, 0);
+        if (!A || !B) continue;
+        ctx.fillStyle = 'rgba(43, 138, 62, 0.25)';
+        ctx.fillRect(Math.min(A[0], B[0]) - 1, A[1] - 6, Math.abs(B[0] - A[0]) + 2, 12);
+        post(A);
+        post(B);
+      }
+      const x0 = col.wall === 0 ? col.centre[0] - col.half_width : col.wall < 0 ? 0 : col.centre[0] - col.half_width;
+      const x1 = col.wall === 0 ? col.centre[0] + col.half_width : col.wall < 0 ? col.half_width : col.centre[0];
+      this.line(P(x0, m.height), P(x1, m.height), LAW, 2, [8, 5]);
+      const far = m.fronts[m.fronts.length - 1];
+      const F = P((far[0] + far[1]) / 2, 0);
+      const who = m.law.source.split(',')[0];
+      this.label('law', `${who}: run-out${far[0] === far[1] ? '' : ' range'}, a = ${col.aspect_ratio.toFixed(1)}`, F && [F[0], F[1] - 40], LAW, 'center');
+      const H = P(x1, m.height);
+      this.label('law', `final height, ${who}`, H && [H[0] + 8, H[1] - 10], LAW);
+    } else {
+      const [xc, zc] = col.centre;
+      const ring = (r, y) => {
+        ctx.beginPath();
+        for (let i = 0; i <= 64; i++) {
+          const t = (i / 64) * 2 * Math.PI;
+          const p = P(xc + r * Math.cos(t), y, zc + r * Math.sin(t));
+          if (!p) continue;
+          if (i) ctx.lineTo(p[0], p[1]); else ctx.moveTo(p[0], p[1]);
+        }
+        ctx.stroke();
+      };
+      ctx.strokeStyle = LAW;
+      ctx.lineWidth = 2;
+      ctx.setLineDash([8, 5]);
+      ring(m.fronts[0][0], 0);
+      if (m.fronts[0][1] !== m.fronts[0][0]) ring(m.fronts[0][1], 0);
+      ring(0.3 * col.half_width, m.height);
+      ctx.setLineDash([]);
+      const F = P(xc, 0, zc + m.fronts[0][1]);
+      this.label('law', `${m.law.source.split(',')[0]}: run-out, a = ${col.aspect_ratio.toFixed(1)}`, F && [F[0], F[1] + 16], LAW, 'center');
+      const H = P(xc - 0.3 * col.half_width, m.height, zc);
+      this.label('law', `final height, ${m.law.source.split(',')[0]}`, H && [H[0] - 8, H[1] - 8], LAW, 'right');
+    }
+  }
+
+  /// The hand tool: the dragged line and what the core reads of it.
+  hand({ a, b, reading }, dim, P) {
+    const A = P(...a), B = P(...b);
+    if (!A || !B) return;
+    this.line(A, B, HAND, 3);
+    for (const e of [A, B]) {
+      this.ctx.fillStyle = HAND;
+      this.ctx.beginPath();
+      this.ctx.arc(e[0], e[1], 4, 0, 2 * Math.PI);
+      this.ctx.fill();
+    }
+    if (reading) this.label('hand', `${reading.length.toFixed(3)} m, ${reading.inclination.toFixed(1)}° to the horizontal`, [B[0] + 10, B[1] - 12], HAND);
+  }
+}
