@@ -45,6 +45,11 @@ fn main() -> Result<(), String> {
                 "plane-strain" => n.plane_strain(),
                 "steady-flow" => n.steady_flow(),
                 "ppc3" => n.ppc(3),
+                v if v.starts_with("mu_i") => n.mu_i(
+                    v[4..]
+                        .parse()
+                        .map_err(|_| format!("variant `{v}`: mu_i<d in m>"))?,
+                ),
                 "bspline" => Numerics {
                     kernel: KernelKind::QuadraticBspline,
                     ..n
