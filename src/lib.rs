@@ -35,6 +35,7 @@ pub mod kernel;
 pub mod lesson;
 pub mod material;
 pub mod math;
+pub mod measure;
 pub mod params;
 pub mod playground;
 pub mod sim;

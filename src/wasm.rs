@@ -11,12 +11,8 @@ use wasm_bindgen::prelude::*;
 // The page reads positions as f32: the wasm build must keep the default precision.
 const _: () = assert!(std::mem::size_of::<crate::math::Real>() == 4);
 
-#[wasm_bindgen]
-extern "C" {
-    /// `performance.now()`: in browsers and in Node ≥ 16 alike.
-    #[wasm_bindgen(js_namespace = performance, js_name = now)]
-    fn performance_now() -> f64;
-}
+mod browser;
+use browser::now_ms;
 
 fn js_err(e: impl std::fmt::Display) -> JsError {
     JsError::new(&e.to_string())
@@ -29,7 +25,7 @@ fn json(v: &impl serde::Serialize) -> String {
 /// Installs the panic hook (a Rust panic shows in the console with its message).
 #[wasm_bindgen(start)]
 pub fn start() {
-    console_error_panic_hook::set_once();
+    browser::log_panics();
 }
 
 /// The scene JSON of an empty box of dimension 2 or 3 to drop things into.
@@ -178,13 +174,13 @@ impl Playground {
     pub fn frame(&mut self, sim_time: f64, budget_ms: f64) -> Result<String, JsError> {
         let r = self
             .core
-            .frame(sim_time, budget_ms, performance_now)
+            .frame(sim_time, budget_ms, now_ms)
             .map_err(js_err)?;
         Ok(json(&r))
     }
     /// One time step; returns the JSON report of `frame`.
     pub fn step(&mut self) -> Result<String, JsError> {
-        Ok(json(&self.core.step(performance_now).map_err(js_err)?))
+        Ok(json(&self.core.step(now_ms).map_err(js_err)?))
     }
 
     /// Sets a live parameter (a name of `parameterTable`, or `bodies[i].<model>.<field>`),

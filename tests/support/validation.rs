@@ -442,11 +442,7 @@ pub fn wave_speed(n: &Numerics) -> Wave {
 
 /// Least-squares slope of y(x).
 pub fn slope(x: &[f64], y: &[f64]) -> f64 {
-    let n = x.len() as f64;
-    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
-    let sxy: f64 = x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum();
-    let sxx: f64 = x.iter().map(|a| (a - mx).powi(2)).sum();
-    sxy / sxx
+    mpm::measure::slope(x, y)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -710,16 +706,8 @@ fn run_until_rest<D: Dim>(sim: &mut Simulation<D>, h0: f64, g: f64, t_max: f64) 
 /// `s` beyond `from` (gaps nearer the centre are ignored: an axisymmetric run's narrow
 /// sectors hold few particles near the axis), and the last particle stands for half a
 /// spacing of material beyond its centre.
-pub fn deposit_front(mut d: Vec<f64>, s: f64, from: f64) -> f64 {
-    d.sort_by(|a, b| a.partial_cmp(b).unwrap());
-    let mut end = d.first().copied().unwrap_or(0.0);
-    for w in d.windows(2) {
-        if w[1] - w[0] > 2.0 * s && w[0] >= from {
-            break;
-        }
-        end = w[1];
-    }
-    end + 0.5 * s
+pub fn deposit_front(d: Vec<f64>, s: f64, from: f64) -> f64 {
+    mpm::measure::deposit_front(d, s, from)
 }
 
 /// Width of the window over which the deposit's thickness is averaged for its edge (m; at
@@ -736,39 +724,19 @@ pub const EDGE_THICKNESS: f64 = 0.025;
 /// floor area; the edge is the first r, stepping out from the axis by an eighth of a spacing
 /// `s`, where it drops below `min_thickness`.
 fn deposit_edge(
-    mut d: Vec<f64>,
+    d: Vec<f64>,
     s: f64,
     amount: f64,
     band: impl Fn(f64, f64) -> f64,
     min_thickness: f64,
 ) -> f64 {
-    d.sort_by(|a, b| a.partial_cmp(b).unwrap());
-    let half = 0.5 * EDGE_WINDOW.max(2.0 * s);
-    let step = s / 8.0;
-    let (mut lo, mut hi) = (0, 0); // the particles in [r − half, r + half)
-    let mut r = 0.0;
-    loop {
-        while hi < d.len() && d[hi] < r + half {
-            hi += 1;
-        }
-        while lo < hi && d[lo] < r - half {
-            lo += 1;
-        }
-        let thickness = (hi - lo) as f64 * amount / band((r - half).max(0.0), r + half);
-        if thickness < min_thickness || lo == d.len() {
-            return r;
-        }
-        r += step;
-    }
+    mpm::measure::deposit_edge(d, s, amount, band, EDGE_WINDOW, min_thickness)
 }
 
 /// A plane column's centre x_c and half-width L0 from its particles (spacing `s`: each
 /// particle's material reaches half a spacing beyond its centre).
 pub fn column_extent<D: Dim>(sim: &Simulation<D>, s: f64) -> (f64, f64) {
-    let xs = sim.particles().x.iter().map(|x| x[0] as f64);
-    let lo = xs.clone().fold(f64::INFINITY, f64::min) - 0.5 * s;
-    let hi = xs.fold(f64::NEG_INFINITY, f64::max) + 0.5 * s;
-    (0.5 * (lo + hi), 0.5 * (hi - lo))
+    mpm::measure::column_extent(sim.particles().x.iter().map(|x| x[0] as f64), s)
 }
 
 pub fn column_collapse(file: &str, n: &Numerics, t_max: f64) -> Collapse {
@@ -1033,31 +1001,7 @@ pub fn repose_pile(n: &Numerics, t_max: f64, phi: Option<f64>, lift_speed: f64) 
 /// flanks: the surface is the highest particle in columns of width `bin`; each flank's slope
 /// is fitted between 20 % and 80 % of the height.
 pub fn flank_angles(points: &[(f64, f64)], s: f64, bin: f64, width: f64) -> (f64, [f64; 2]) {
-    let nbins = (width / bin).round() as usize;
-    let mut top = vec![f64::NAN; nbins];
-    for &(x, y) in points {
-        let b = ((x / bin) as usize).min(nbins - 1);
-        if top[b].is_nan() || y + 0.5 * s > top[b] {
-            top[b] = y + 0.5 * s;
-        }
-    }
-    let height = top
-        .iter()
-        .cloned()
-        .filter(|v| !v.is_nan())
-        .fold(0.0, f64::max);
-    let peak = top.iter().position(|&v| v == height).unwrap_or(0);
-    let mut flanks = [f64::NAN; 2];
-    for (k, range) in [(0..peak), (peak + 1..nbins)].into_iter().enumerate() {
-        let (xs, ys): (Vec<f64>, Vec<f64>) = range
-            .filter(|&b| !top[b].is_nan() && top[b] > 0.2 * height && top[b] < 0.8 * height)
-            .map(|b| ((b as f64 + 0.5) * bin, top[b]))
-            .unzip();
-        if xs.len() >= 2 {
-            flanks[k] = slope(&xs, &ys).abs().atan().to_degrees();
-        }
-    }
-    (height, flanks)
+    mpm::measure::flank_angles(points, s, bin, width)
 }
 
 // ---------------------------------------------------------------------------------------------
