@@ -1414,28 +1414,23 @@ pub fn measure_deposit(pts: &[(f64, f64)], s: f64, h: f64, l0: f64, h0: f64) -> 
     let d: Vec<f64> = pts.iter().map(|p| p.0).collect();
     let front = deposit_front(d.clone(), s, 0.0);
     let edge = deposit_edge(d, s, s * s, |r0, r1| r1 - r0, EDGE_THICKNESS * h0);
-    // the surface: the highest particle's top in bins of width h from the axis out
+    // the surface in columns of width h from the axis out; the flank falls away from it
     let width = front + 2.0 * h;
-    let (height, flanks) = flank_angles(pts, s, h, width);
-    let flank = flanks[1];
+    let heap = mpm::measure::heap(pts, s, h, 0.0, width);
+    let (flank, foot) = match heap.flanks[1] {
+        // where the fitted line meets the floor
+        Some(f) => (
+            f.angle,
+            f.to[0] + f.to[1] * (f.to[0] - f.from[0]) / (f.from[1] - f.to[1]),
+        ),
+        None => (f64::NAN, f64::NAN),
+    };
     let nbins = (width / h).round() as usize;
     let mut top = vec![0.0f64; nbins];
     for &(x, y) in pts {
         let b = ((x / h) as usize).min(nbins - 1);
         top[b] = top[b].max(y + 0.5 * s);
     }
-    let peak = top.iter().position(|&v| v == height).unwrap_or(0);
-    // the least-squares line passes through the fitted points' centroid
-    let fit: Vec<(f64, f64)> = (peak + 1..nbins)
-        .filter(|&b| top[b] > 0.2 * height && top[b] < 0.8 * height)
-        .map(|b| ((b as f64 + 0.5) * h, top[b]))
-        .collect();
-    let n = fit.len().max(1) as f64;
-    let (xm, ym) = (
-        fit.iter().map(|p| p.0).sum::<f64>() / n,
-        fit.iter().map(|p| p.1).sum::<f64>() / n,
-    );
-    let foot = xm + ym / flank.to_radians().tan();
     let toe_rows = (0..nbins)
         .filter(|&b| (b as f64 + 0.5) * h > foot)
         .map(|b| top[b] / s)
