@@ -1558,3 +1558,58 @@ pub fn plane_deposit(scene: SceneConfig, walled: bool, t_max: f64) -> LowColumn 
 pub fn low_column(phi: f64, n: &Numerics, t_max: f64) -> LowColumn {
     plane_deposit(low_column_scene(phi, n), false, t_max)
 }
+
+/// A flowing sand layer coming to rest on a slope: a layer `thickness` m thick and 0.3 m long
+/// of φ = `phi` sand sent at `v0` down a rough floor (μ = [`ROUGH_FLOOR`], above tan φ_ps)
+/// inclined at `slope` degrees (gravity tilted). The floor holds its base, so it must shear
+/// inside; sand that flows stops at φ_ps, so its centre of mass should travel about the
+/// distance v0² / (2 g (cos θ tan φ_ps − sin θ)) that a rigid block on the plane-strain
+/// friction needs.
+#[derive(Clone, Debug)]
+pub struct SlopeLayer {
+    pub travel: f64,
+    pub block_travel: f64,
+    pub stopped_at: f64,
+    pub final_speed: f64,
+    pub cost: Cost,
+}
+
+pub fn slope_layer(phi: f64, slope: f64, thickness: f64, v0: f64, n: &Numerics) -> SlopeLayer {
+    let g = 9.81;
+    let th = slope.to_radians();
+    let mu_ps = plane_strain_angle(phi).to_radians().tan();
+    let decel = g * (th.cos() * mu_ps - th.sin());
+    let block_travel = v0 * v0 / (2.0 * decel);
+    let length = ((0.6 + 3.0 * block_travel) / 0.1).ceil() * 0.1;
+    let mut scene = SceneConfig::new(2, &[length, 0.2], n.cell_size);
+    scene.boundary.friction = ROUGH_FLOOR;
+    scene.gravity = Some(vec![g * th.sin(), -g * th.cos()]);
+    scene.bodies.push(
+        mpm::BodyConfig::new(
+            "layer",
+            mpm::Shape::cuboid(&[0.1, 0.0], &[0.4, thickness]),
+            Material::drucker_prager(3.5e5, 0.3, 2200.0, phi, 0.0, 0.0),
+        )
+        .with_velocity(&[v0, 0.0]),
+    );
+    n.apply(&mut scene);
+    let mut sim = Simulation::<mpm::D2>::new(scene).expect("slope layer scene");
+    let x0 = sim.bodies()[0].stats().center_of_mass[0];
+    let start = Instant::now();
+    let t_max = 4.0 * v0 / decel;
+    let mut stopped_at = f64::NAN;
+    while sim.time() < t_max {
+        sim.advance(0.01).expect("slope layer step");
+        if sim.diagnostics().max_speed < 0.01 * v0 {
+            stopped_at = sim.time();
+            break;
+        }
+    }
+    SlopeLayer {
+        travel: sim.bodies()[0].stats().center_of_mass[0] - x0,
+        block_travel,
+        stopped_at,
+        final_speed: sim.diagnostics().max_speed,
+        cost: cost(&sim, start),
+    }
+}
