@@ -1358,3 +1358,249 @@ pub fn flip_impacts<D: Dim>(n: &Numerics, alpha: f64, two: bool, duration: f64) 
         cost: cost(&sim, start),
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// Drucker–Prager: a low column on a rough floor (how flowing sand comes to rest)
+
+/// The floor friction of the low column and of Bui et al.'s set-up: rough, above tan φ_ps of
+/// every friction angle studied (μ = 0.6 > tan 28.7°).
+pub const ROUGH_FLOOR: f64 = 0.6;
+
+/// The deposit of a plane column collapse measured as a sand deposit: its run-out two ways,
+/// its flanks, the flanks' foot, the toe beyond it, its top plateau and its height. Lengths
+/// are shares of the column's half-width (or width, against a back wall) L0.
+#[derive(Clone, Debug, Default)]
+pub struct Deposit {
+    /// (L − L0)/L0 with L the farthest particle of the deposit ([`deposit_front`]).
+    pub runout: f64,
+    /// (L − L0)/L0 with L the edge of the continuous deposit ([`deposit_edge`]: thinner
+    /// than [`EDGE_THICKNESS`] of H0).
+    pub runout_edge: f64,
+    /// The flank: least-squares slope (degrees) of the surface between 20 % and 80 % of the
+    /// deposit's height ([`flank_angles`]); one per side (one side against a back wall).
+    pub flanks: Vec<f64>,
+    /// (x_foot − L0)/L0: where the fitted flank line meets the floor.
+    pub foot: f64,
+    /// (L − x_foot)/L0 with L the farthest particle: how far the deposit reaches beyond the
+    /// flank's foot (thin material: the flank line is at the floor there).
+    pub toe: f64,
+    /// The thickest the deposit is beyond the foot, in particle rows (spacing s).
+    pub toe_rows: f64,
+    /// Half-width (or width) of the top left within one cell of H0, over L0.
+    pub plateau: f64,
+    /// H∞/H0: the highest particle within L0 of the axis (of the wall).
+    pub height: f64,
+}
+
+impl Deposit {
+    pub fn flank(&self) -> f64 {
+        self.flanks.iter().sum::<f64>() / self.flanks.len() as f64
+    }
+}
+
+/// Measures a plane deposit of particles at distances `d` ≥ 0 from the column's axis (or its
+/// back wall) and heights `y` (particle spacing `s`, cell size `h`), from a column of
+/// half-width (or width) `l0` and height `h0`. `d` and `y` are paired.
+pub fn measure_deposit(pts: &[(f64, f64)], s: f64, h: f64, l0: f64, h0: f64) -> Deposit {
+    let d: Vec<f64> = pts.iter().map(|p| p.0).collect();
+    let front = deposit_front(d.clone(), s, 0.0);
+    let edge = deposit_edge(d, s, s * s, |r0, r1| r1 - r0, EDGE_THICKNESS * h0);
+    // the surface in columns of width h from the axis out; the flank falls away from it
+    let width = front + 2.0 * h;
+    let heap = mpm::measure::heap(pts, s, h, 0.0, width);
+    let (flank, foot) = match heap.flanks[1] {
+        // where the fitted line meets the floor
+        Some(f) => (
+            f.angle,
+            f.to[0] + f.to[1] * (f.to[0] - f.from[0]) / (f.from[1] - f.to[1]),
+        ),
+        None => (f64::NAN, f64::NAN),
+    };
+    let nbins = (width / h).round() as usize;
+    let mut top = vec![0.0f64; nbins];
+    for &(x, y) in pts {
+        let b = ((x / h) as usize).min(nbins - 1);
+        top[b] = top[b].max(y + 0.5 * s);
+    }
+    let toe_rows = (0..nbins)
+        .filter(|&b| (b as f64 + 0.5) * h > foot)
+        .map(|b| top[b] / s)
+        .fold(0.0, f64::max);
+    let plateau = top
+        .iter()
+        .position(|&t| t < h0 - h)
+        .map_or(width, |b| b as f64 * h);
+    let h_inf = pts
+        .iter()
+        .filter(|p| p.0 < l0)
+        .map(|p| p.1)
+        .fold(0.0, f64::max)
+        + 0.5 * s;
+    Deposit {
+        runout: (front - l0) / l0,
+        runout_edge: (edge - l0) / l0,
+        flanks: vec![flank],
+        foot: (foot - l0) / l0,
+        toe: ((front - foot) / l0).max(0.0),
+        toe_rows,
+        plateau: plateau / l0,
+        height: h_inf / h0,
+    }
+}
+
+/// A low plane column on a rough floor: the deposit of each side, averaged, when it has come
+/// to rest ([`run_until_rest`]).
+#[derive(Clone, Debug)]
+pub struct LowColumn {
+    pub friction_angle: f64,
+    pub plane_strain_angle: f64,
+    pub aspect_ratio: f64,
+    pub deposit: Deposit,
+    pub settled_at: f64,
+    pub failure: Option<String>,
+    pub cost: Cost,
+}
+
+/// The scene of [`low_column`]: the a = 0.5 plane column of `scenes/validation/` (L0 = 0.2 m,
+/// H0 = 0.1 m, collapsing both ways) of friction angle `phi` on a floor of friction
+/// [`ROUGH_FLOOR`], under the numerics `n`.
+pub fn low_column_scene(phi: f64, n: &Numerics) -> SceneConfig {
+    let mut scene = load("column_collapse_a0.5_2d.json", n);
+    scene.boundary.friction = ROUGH_FLOOR;
+    if let Material::DruckerPrager(m) = &mut scene.bodies[0].material {
+        m.friction_angle = phi;
+    }
+    scene
+}
+
+/// Bui, Fukagawa, Sako & Ohno (2008)'s set-up: aluminium rods 0.2 m wide and 0.1 m high
+/// against the left wall, φ = 19.8°, ψ = 0, c = 0, E = 0.84 MPa, ν = 0.3, ρ = 2650 kg/m³, on a
+/// floor (and wall) of friction [`ROUGH_FLOOR`], under the numerics `n`.
+pub fn bui_scene(n: &Numerics) -> SceneConfig {
+    let mut scene = SceneConfig::new(2, &[0.8, 0.2], n.cell_size);
+    scene.boundary.friction = ROUGH_FLOOR;
+    scene.bodies.push(mpm::BodyConfig::new(
+        "aluminium rods",
+        mpm::Shape::polygon(&[[0.0, 0.0], [0.2, 0.0], [0.2, 0.1], [0.0, 0.1]]),
+        Material::drucker_prager(0.84e6, 0.3, 2650.0, 19.8, 0.0, 0.0),
+    ));
+    n.apply(&mut scene);
+    scene
+}
+
+/// Runs a plane column `scene` (its first body; `walled`: against the domain's left wall,
+/// else free on both sides about its centre) until it rests, and measures its deposit.
+pub fn plane_deposit(scene: SceneConfig, walled: bool, t_max: f64) -> LowColumn {
+    let Material::DruckerPrager(m) = scene.bodies[0].material else {
+        panic!("the column is sand");
+    };
+    let (s, h) = (spacing(&scene), scene.cell_size);
+    let g = scene.gravity_vector()[1].abs();
+    let mut sim = Simulation::<mpm::D2>::new(scene).expect("column scene");
+    let (xc, half) = column_extent(&sim, s);
+    let (x0, l0) = if walled { (0.0, xc + half) } else { (xc, half) };
+    let h0 = sim
+        .particles()
+        .x
+        .iter()
+        .map(|x| x[1] as f64)
+        .fold(0.0, f64::max)
+        + 0.5 * s;
+    let start = Instant::now();
+    let failure = run_until_rest(&mut sim, h0, g, t_max);
+    let settled_at = sim.time();
+    let cost = cost(&sim, start);
+    let sides: &[f64] = if walled { &[1.0] } else { &[1.0, -1.0] };
+    let deposits: Vec<Deposit> = sides
+        .iter()
+        .map(|&sign| {
+            let p = sim.particles();
+            let pts: Vec<(f64, f64)> = (0..p.len())
+                .map(|i| (sign * (p.x[i][0] as f64 - x0), p.x[i][1] as f64))
+                .filter(|q| q.0 >= 0.0)
+                .collect();
+            measure_deposit(&pts, s, h, l0, h0)
+        })
+        .collect();
+    let k = deposits.len() as f64;
+    let mean = |f: fn(&Deposit) -> f64| deposits.iter().map(f).sum::<f64>() / k;
+    let deposit = Deposit {
+        runout: mean(|d| d.runout),
+        runout_edge: mean(|d| d.runout_edge),
+        flanks: deposits.iter().map(|d| d.flanks[0]).collect(),
+        foot: mean(|d| d.foot),
+        toe: mean(|d| d.toe),
+        toe_rows: mean(|d| d.toe_rows),
+        plateau: mean(|d| d.plateau),
+        height: mean(|d| d.height),
+    };
+    LowColumn {
+        friction_angle: m.friction_angle,
+        plane_strain_angle: plane_strain_angle(m.friction_angle),
+        aspect_ratio: h0 / l0,
+        deposit,
+        settled_at,
+        failure,
+        cost,
+    }
+}
+
+/// The low column of [`low_column_scene`] run to rest.
+pub fn low_column(phi: f64, n: &Numerics, t_max: f64) -> LowColumn {
+    plane_deposit(low_column_scene(phi, n), false, t_max)
+}
+
+/// A flowing sand layer coming to rest on a slope: a layer `thickness` m thick and 0.3 m long
+/// of φ = `phi` sand sent at `v0` down a rough floor (μ = [`ROUGH_FLOOR`], above tan φ_ps)
+/// inclined at `slope` degrees (gravity tilted). The floor holds its base, so it must shear
+/// inside; sand that flows stops at φ_ps, so its centre of mass should travel about the
+/// distance v0² / (2 g (cos θ tan φ_ps − sin θ)) that a rigid block on the plane-strain
+/// friction needs.
+#[derive(Clone, Debug)]
+pub struct SlopeLayer {
+    pub travel: f64,
+    pub block_travel: f64,
+    pub stopped_at: f64,
+    pub final_speed: f64,
+    pub cost: Cost,
+}
+
+pub fn slope_layer(phi: f64, slope: f64, thickness: f64, v0: f64, n: &Numerics) -> SlopeLayer {
+    let g = 9.81;
+    let th = slope.to_radians();
+    let mu_ps = plane_strain_angle(phi).to_radians().tan();
+    let decel = g * (th.cos() * mu_ps - th.sin());
+    let block_travel = v0 * v0 / (2.0 * decel);
+    let length = ((0.6 + 3.0 * block_travel) / 0.1).ceil() * 0.1;
+    let mut scene = SceneConfig::new(2, &[length, 0.2], n.cell_size);
+    scene.boundary.friction = ROUGH_FLOOR;
+    scene.gravity = Some(vec![g * th.sin(), -g * th.cos()]);
+    scene.bodies.push(
+        mpm::BodyConfig::new(
+            "layer",
+            mpm::Shape::cuboid(&[0.1, 0.0], &[0.4, thickness]),
+            Material::drucker_prager(3.5e5, 0.3, 2200.0, phi, 0.0, 0.0),
+        )
+        .with_velocity(&[v0, 0.0]),
+    );
+    n.apply(&mut scene);
+    let mut sim = Simulation::<mpm::D2>::new(scene).expect("slope layer scene");
+    let x0 = sim.bodies()[0].stats().center_of_mass[0];
+    let start = Instant::now();
+    let t_max = 4.0 * v0 / decel;
+    let mut stopped_at = f64::NAN;
+    while sim.time() < t_max {
+        sim.advance(0.01).expect("slope layer step");
+        if sim.diagnostics().max_speed < 0.01 * v0 {
+            stopped_at = sim.time();
+            break;
+        }
+    }
+    SlopeLayer {
+        travel: sim.bodies()[0].stats().center_of_mass[0] - x0,
+        block_travel,
+        stopped_at,
+        final_speed: sim.diagnostics().max_speed,
+        cost: cost(&sim, start),
+    }
+}

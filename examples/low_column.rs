@@ -1,0 +1,95 @@
+//! The low plane column (a = 0.5, H0 = 0.1 m, floor μ = 0.6) and Bui et al. (2008)'s set-up
+//! with the default sand: run-out (farthest particle and deposit edge), flanks against φ_ps,
+//! the toe beyond the flanks' foot, the top plateau and the time to rest, at each cell size
+//! and friction angle asked for. See docs/validation.md, "Drucker–Prager: a low column on a
+//! rough floor".
+//!
+//! `nice cargo run --release --example low_column -- 0.01,0.005 20,30,40` (cell sizes in m,
+//! friction angles in degrees, or `bui` for Bui et al.'s set-up)
+
+#[path = "../tests/support/validation.rs"]
+mod validation;
+use mpm::KernelKind;
+use validation::*;
+
+fn main() -> Result<(), String> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let list = |i: usize, default: &str| -> Vec<String> {
+        args.get(i)
+            .map_or(default, |s| s.as_str())
+            .split(',')
+            .map(str::to_string)
+            .collect()
+    };
+    let hs: Vec<f64> = list(0, "0.01")
+        .iter()
+        .map(|a| {
+            a.parse()
+                .ok()
+                .filter(|h| (0.001..=0.05).contains(h))
+                .ok_or(format!("h: `{a}` is not a cell size in [0.001, 0.05] m"))
+        })
+        .collect::<Result<_, _>>()?;
+    let cases = list(1, "30");
+    let variant = args.get(2).cloned().unwrap_or_default();
+    for &h in &hs {
+        for case in &cases {
+            let n = Numerics::new(h, KernelKind::Gimp);
+            let n = match variant.as_str() {
+                "" => n,
+                "cfl0.1" => n.cfl(0.1),
+                "alpha0" => n.flip(0.0),
+                "alpha1" => n.flip(1.0),
+                "pic" => n.pic(),
+                "cell-average" => n.cell_average(),
+                "plane-strain" => n.plane_strain(),
+                "steady-flow" => n.steady_flow(),
+                "ppc3" => n.ppc(3),
+                v if v.starts_with("mu_i") => n.mu_i(
+                    v[4..]
+                        .parse()
+                        .map_err(|_| format!("variant `{v}`: mu_i<d in m>"))?,
+                ),
+                "bspline" => Numerics {
+                    kernel: KernelKind::QuadraticBspline,
+                    ..n
+                },
+                v => return Err(format!("variant `{v}` unknown")),
+            };
+            let r = if case == "bui" {
+                plane_deposit(bui_scene(&n), true, 4.0)
+            } else {
+                let phi: f64 = case
+                    .parse()
+                    .ok()
+                    .filter(|p| (0.0..60.0).contains(p))
+                    .ok_or(format!("φ: `{case}` is not `bui` or an angle in [0, 60)"))?;
+                low_column(phi, &n, 4.0)
+            };
+            let d = &r.deposit;
+            println!(
+                "h={h} {case} {variant}: run-out {:.3} (edge {:.3}) flank {:.1}° ({}) vs φ_ps {:.1}° ({:+.1}) foot {:+.3} toe {:.3} L0 ({:.1} rows) plateau {:.2} L0 H∞ {:.3} rest {:.2} s {} steps {:.0} s {:?}",
+                d.runout,
+                d.runout_edge,
+                d.flank(),
+                d.flanks
+                    .iter()
+                    .map(|f| format!("{f:.1}"))
+                    .collect::<Vec<_>>()
+                    .join("/"),
+                r.plane_strain_angle,
+                d.flank() - r.plane_strain_angle,
+                d.foot,
+                d.toe,
+                d.toe_rows,
+                d.plateau,
+                d.height,
+                r.settled_at,
+                r.cost.steps,
+                r.cost.wall_seconds,
+                r.failure
+            );
+        }
+    }
+    Ok(())
+}
