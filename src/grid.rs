@@ -7,8 +7,8 @@
 //! upper side along each axis (S: the kernel's nodes per axis). A particle is handled by the
 //! block that holds the first node of its stencil, so its whole stencil lies in that block's
 //! storage at fixed strides, with no lookup per node. After the particles scatter, halo values
-//! are added to the blocks that own those nodes ([`Grid::reduce_halo`]); before the particles
-//! gather, the owners' values are copied into the halos ([`Grid::fill_halo`]).
+//! are added to the blocks that own those nodes ([`BlockLayout::reduce_halo`]); before the particles
+//! gather, the owners' values are copied into the halos ([`BlockLayout::fill_halo`]).
 
 use crate::math::{Dim, Real, VectorOps, max, min};
 

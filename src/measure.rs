@@ -439,7 +439,7 @@ pub struct Deposit {
     /// The plane-strain friction angle φ_ps of its Drucker–Prager cone
     /// ([`crate::laws::plane_strain_angle`]), in 2D only.
     pub plane_strain_angle: Option<f64>,
-    /// When the body started as a column standing on the floor ([`column`]): the column and
+    /// When the body started as a column standing on the floor ([`column()`]): the column and
     /// where the experiments put its run-out and final height.
     pub column: Option<ColumnMarkers>,
 }

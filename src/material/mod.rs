@@ -23,7 +23,7 @@ use crate::error::Result;
 use crate::math::{Number, Real, SymTensor};
 use serde::{Deserialize, Serialize};
 
-/// What a stress update did besides changing the stress (`T`: [`Real`], or [`Real4`] for
+/// What a stress update did besides changing the stress (`T`: [`Real`], or [`crate::math::Real4`] for
 /// four particles at once).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StressUpdate<T = Real> {
@@ -53,7 +53,7 @@ impl<T: Number> StressUpdate<T> {
 /// time step, given the strain rate ε̇ = ½(∇v + ∇vᵀ), the spin ω = ½(∇v − ∇vᵀ) and the
 /// particle's history, its accumulated equivalent plastic strain ε_p (which a model may
 /// harden or soften with; the solver adds each update's increment to it). Generic over
-/// the tensor type, whose components may be [`Real4`]: the solver updates four particles per
+/// the tensor type, whose components may be [`crate::math::Real4`]: the solver updates four particles per
 /// call, so a model is written without branches (selects, `min`, `max`), the same arithmetic
 /// in every lane.
 pub trait Constitutive: Copy + Send + Sync + 'static {

@@ -1,5 +1,5 @@
 //! An interactive session over a simulation: the one driver of every front end. The browser
-//! page drives it through [`crate::wasm`], the terminal player (`mpm play`) directly, and any
+//! page drives it through `crate::wasm` (built for WebAssembly only), the terminal player (`mpm play`) directly, and any
 //! other front end can. Browser-free: the wall clock is passed in.
 //!
 //! - Scenes are [`SceneConfig`] JSON, exactly as the CLI reads them.

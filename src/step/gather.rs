@@ -14,7 +14,8 @@
 //!
 //! The pass also sums what the diagnostics report (mass, momentum, energies, bounds).
 
-use super::stress::{AfterGather, StressReport, StressState, StressUpdatedFirst, UpdateStressLast};
+use super::report::StressReport;
+use super::stress::{AfterGather, StressState, StressUpdatedFirst, UpdateStressLast};
 use super::transfer::Transfer;
 use super::walk::{self, CHUNK, Rates, Walker};
 use super::{BodyStep, StressOrder, constraint_dissipation, with_kernel};

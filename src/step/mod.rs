@@ -6,6 +6,7 @@
 //! | [`scatter`] | mass and momentum (and, stress updated last, forces) to the grid | 1 (4) |
 //! | [`grid_update`] | grid velocities v_i^n, then with forces and gravity v*_i | 1, 4 |
 //! | [`stress`] | velocity gradient, stress and volume, internal forces (bodies whose stress is updated first) | 2, 3, 4 |
+//! | [`volumetric`] | sand's optional cell-averaged volumetric rate, summed before the stress pass | (Coombs et al. 2018) |
 //! | [`contact`] | between bodies (Eq. 20–21) | 5 |
 //! | [`walls`] | at the domain's walls, on the grid | 5 |
 //! | [`gather`] | PIC/FLIP velocities (and, stress updated last, steps 2–3), particle-side walls, advection | 6, 7, 8 (2, 3) |
@@ -25,7 +26,8 @@
 //! from the new grid velocities blows up (for the C¹ kernels |∇w|²/w stays bounded). Sand
 //! keeps the paper's order: stress last would make it 1.07–1.22× faster but takes some
 //! granular figures past issue 16's bounds (docs/validation.md, "The order of the stress
-//! update"); its `"cell_average"` volumetric rate is computed in the stress-first pass only.
+//! update"); its `"cell_average"` volumetric rate ([`volumetric`]) is taken in the stress-first pass
+//! only.
 //!
 //! [`transfer`] holds how velocities travel between particles and grid (the PIC/FLIP blend α,
 //! APIC), as each body's recipe chooses, used by the scatter and the gather.
@@ -48,6 +50,7 @@ pub mod report;
 pub mod scatter;
 pub mod stress;
 pub mod transfer;
+pub mod volumetric;
 pub mod walk;
 pub mod walls;
 

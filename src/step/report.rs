@@ -3,14 +3,13 @@
 //! [`BodyStep`] is the step's own state, one per body, made fresh at the start of each step:
 //! whether walls or contacts changed the body's grid (the gather then caps its FLIP share,
 //! [`super::transfer::Transfer::at_constraints`]), the momentum it received through contact,
-//! and what its stress update measured. At the end [`Simulation::finish_step`] sums the
+//! and what its stress update measured. At the end `Simulation::finish_step` sums the
 //! reports into the diagnostics and keeps what the next step needs (each body's fastest
 //! compression and largest volume, for the time step).
 
 use super::gather::GatherReport;
-use super::stress::{Bad, StressReport};
 use crate::error::{Error, Result};
-use crate::math::Dim;
+use crate::math::{Dim, Real};
 use crate::sim::Simulation;
 
 /// One body's part of the step's state (see the module documentation).
@@ -82,5 +81,49 @@ impl<D: Dim> Simulation<D> {
             }
         }
         Ok(())
+    }
+}
+
+/// Why a particle's state is unusable after its update.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Bad {
+    /// A quantity went non-finite: [`crate::Error::NonFinite`].
+    NonFinite(&'static str),
+    /// A finite stress with a volume of zero: the body was compressed further than its law
+    /// can resist (the log-strain pressure stores at most about the constrained modulus per
+    /// unit volume), so J fell each step until it underflowed: [`crate::Error::Crushed`].
+    Crushed,
+}
+
+/// What the stress update measured.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct StressReport {
+    /// Stored elastic energy Σ V W(σ) after the update.
+    pub elastic: f64,
+    /// Energy removed by plastic correction in this step.
+    pub dissipated: f64,
+    /// The largest particle volume (with the body's smallest particle mass it bounds the
+    /// lowest density, for the wave speed).
+    pub max_volume: Real,
+    /// The fastest compression −tr ε̇ of the update (1/s; solids only, for the time step of the
+    /// bulk viscosity), and the viscosity's work in the step.
+    pub max_compression: Real,
+    pub viscous: f64,
+    /// Number of particles whose stress or volume went non-finite, and the first of them.
+    pub bad: usize,
+    pub first_bad: Option<(usize, Bad)>,
+}
+
+impl StressReport {
+    /// Counts particle `q` as bad (its stress or, with a finite stress, its volume `v`: zero
+    /// when the body was crushed flat).
+    pub(super) fn bad(&mut self, q: usize, stress_finite: bool, v: Real) {
+        self.bad += 1;
+        let what = match (stress_finite, v.is_finite()) {
+            (false, _) => Bad::NonFinite("stress"),
+            (true, true) => Bad::Crushed,
+            (true, false) => Bad::NonFinite("volume"),
+        };
+        self.first_bad.get_or_insert((q, what));
     }
 }

@@ -31,28 +31,20 @@
 //! q V |tr ε̇| Δt is booked as `dissipated_viscous`, and the time step resolves it
 //! ([`crate::sim::Body::signal_speed`]). Sand has none.
 //!
-//! **Sand's cell-averaged volumetric rate** (an option, `"volumetric_rate": "cell_average"`,
-//! off by default): the stress update takes ∇v_p with its volumetric part replaced by the
-//! volume-weighted mean over the body's particles in the particle's grid cell c,
-//!
-//! ∇v̄_p = ∇v_p + (⟨tr ε̇⟩_c − tr ε̇_p)/d I,   ⟨tr ε̇⟩_c = Σ_{q∈c} V_q tr ε̇_q / Σ_{q∈c} V_q,
-//!
-//! keeping each particle's deviatoric rate and spin. With ψ = 0 sand flows at constant volume,
-//! and a coarse grid's velocity field, sampled at several particles per cell, cannot shear
-//! without spurious volume changes that the bulk modulus resists: the sand grows stronger with
-//! more particles per cell (volumetric locking). One volume rate per cell leaves it as many
-//! volume constraints as cells, as Coombs et al. (2018, *Overcoming volumetric locking in
-//! material point methods*, CMAME 333) do with a cell-averaged dilatation. It costs one more
-//! walk over the particles ([`sum_cell_dilatation`]) and an array laid out like the nodes.
+//! **Sand's cell-averaged volumetric rate** (an option, off by default): with it, each
+//! gradient's volumetric part is replaced by its cell's mean before the update
+//! ([`super::volumetric`]).
 //!
 //! The update is written once, generic over the number type (`update_group`): [`update_one`]
-//! runs it for one particle and is the reference; [`update_chunk`], the one the passes run,
-//! is its SIMD specialisation: eight particles per model call in SIMD lanes
+//! runs it for one particle and is the reference; [`update_chunk`] (in `stress/lanes.rs`), the
+//! one the passes run, is its SIMD specialisation: eight particles per model call in SIMD lanes
 //! ([`super::walk::update_in_lanes`]; the update is a long dependency chain, and in lanes
 //! eight chains advance at once), with the energies and the finiteness test per chunk. A test
 //! checks that they agree bit for bit.
 
-use super::walk::{self, At, CHUNK, Chunk, Rates, Share, Walker};
+use super::report::StressReport;
+use super::volumetric::{sum_cell_dilatation, with_volumetric_rate};
+use super::walk::{self, At, CHUNK, Rates, Share, Walker};
 use super::with_kernel;
 use crate::grid::Grid;
 use crate::kernel::{Kernel, KernelKind, Stencil};
@@ -60,6 +52,9 @@ use crate::material::{Constitutive, VolumetricRate, WithModel};
 use crate::math::{Dim, Number, Real, SymTensor, exp_small, max};
 use crate::sim::Simulation;
 use std::ops::Range;
+
+mod lanes;
+pub use lanes::update_chunk;
 
 impl<D: Dim> Simulation<D> {
     /// Steps 2–4, particle side, in Sec. 4.2's order, for the bodies that take it (the
@@ -145,50 +140,6 @@ pub struct StressState<'a, D: Dim> {
     pub viscous_pressure: &'a mut [Real],
     /// The bulk viscosity's length C h ([`BULK_VISCOSITY`]): zero for none (sand).
     pub bulk_length: Real,
-}
-
-/// Why a particle's state is unusable after its update.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Bad {
-    /// A quantity went non-finite: [`crate::Error::NonFinite`].
-    NonFinite(&'static str),
-    /// A finite stress with a volume of zero: the body was compressed further than its law
-    /// can resist (the log-strain pressure stores at most about the constrained modulus per
-    /// unit volume), so J fell each step until it underflowed: [`crate::Error::Crushed`].
-    Crushed,
-}
-
-/// What the stress update measured.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct StressReport {
-    /// Stored elastic energy Σ V W(σ) after the update.
-    pub elastic: f64,
-    /// Energy removed by plastic correction in this step.
-    pub dissipated: f64,
-    /// The largest particle volume (with the body's smallest particle mass it bounds the
-    /// lowest density, for the wave speed).
-    pub max_volume: Real,
-    /// The fastest compression −tr ε̇ of the update (1/s; solids only, for the time step of the
-    /// bulk viscosity), and the viscosity's work in the step.
-    pub max_compression: Real,
-    pub viscous: f64,
-    /// Number of particles whose stress or volume went non-finite, and the first of them.
-    pub bad: usize,
-    pub first_bad: Option<(usize, Bad)>,
-}
-
-impl StressReport {
-    /// Counts particle `q` as bad (its stress or, with a finite stress, its volume `v`: zero
-    /// when the body was crushed flat).
-    fn bad(&mut self, q: usize, stress_finite: bool, v: Real) {
-        self.bad += 1;
-        let what = match (stress_finite, v.is_finite()) {
-            (false, _) => Bad::NonFinite("stress"),
-            (true, true) => Bad::Crushed,
-            (true, false) => Bad::NonFinite("volume"),
-        };
-        self.first_bad.get_or_insert((q, what));
-    }
 }
 
 /// Steps 2–4, particle side, for one body in Sec. 4.2's order, in chunks of [`CHUNK`]
@@ -277,65 +228,6 @@ pub fn update_stress_first<
     report
 }
 
-/// The first walk of sand's cell-averaged volumetric rate: for each cell holding particles of
-/// the body, Σ_p V_p tr ε̇_p and Σ_p V_p over them (tr ε̇_p = tr ∇v_p from the grid velocities
-/// v_i^n, V_p at the start of the step), into `grid.cell_dilatation` at the cell's lowest node,
-/// whose halo copies are then added into their owners and copied back, so that every particle
-/// of a cell reads the same sums whichever block it is handled by.
-#[inline(never)]
-pub fn sum_cell_dilatation<D: Dim, K: Kernel<S>, const S: usize>(
-    grid: &mut Grid<D>,
-    x: &[D::Vector],
-    volume: &[Real],
-    inv_h: Real,
-    lp: Real,
-) {
-    let Grid {
-        index,
-        layout,
-        nodes,
-        particle_node,
-        cell_dilatation: sums,
-        ..
-    } = &mut *grid;
-    sums.clear();
-    sums.resize(nodes.len(), [0.0; 2]);
-    let mut walker = Walker::<D, K, S>::new(layout, particle_node, inv_h, lp);
-    for q in 0..x.len() {
-        let at = walker.at(x, q);
-        let grad = walk::gradient::<D, K, S>(nodes, &at, |n| n.vel());
-        let v = volume[q];
-        let s = &mut sums[walk::cell_node::<D, S>(x[q], inv_h, &at)];
-        s[0] += v * divergence::<D>(&grad);
-        s[1] += v;
-    }
-    layout.reduce_halo(index, sums, |o, h| {
-        o[0] += h[0];
-        o[1] += h[1];
-    });
-    layout.fill_halo(index, sums, |h, o| *h = *o);
-}
-
-/// tr ∇v = ∇·v.
-#[inline(always)]
-pub fn divergence<D: Dim>(grad: &D::Grad) -> Real {
-    (0..D::DIM).map(|a| D::grad_entry(grad, a, a)).sum()
-}
-
-/// ∇v with its volumetric part tr ∇v / d replaced by `rate` / d: ∇v + (rate − tr ∇v)/d I
-/// (I in the plane in 2D, where plane strain has no zz rate).
-#[inline(always)]
-pub fn with_volumetric_rate<D: Dim>(grad: D::Grad, rate: Real) -> D::Grad {
-    let d = D::DIM as Real;
-    let mut g = grad;
-    g += D::from_columns([0, 1, 2].map(|a| {
-        let mut e = [0.0; 3];
-        e[a] = 1.0;
-        D::vector(e)
-    })) * ((rate - divergence::<D>(&grad)) / d);
-    g
-}
-
 /// What the gather does with the velocity gradients of each chunk of particles.
 pub trait AfterGather<D: Dim> {
     /// Whether the gather forms velocity gradients at all.
@@ -387,7 +279,7 @@ impl<D: Dim> StressState<'_, D> {
     }
 }
 
-/// Steps 2–3 for one particle (`q`: its index, for the report): [`update_group`] for one,
+/// Steps 2–3 for one particle (`q`: its index, for the report): `update_group` for one,
 /// the reference that a test compares [`update_chunk`] with.
 #[allow(clippy::too_many_arguments)]
 pub fn update_one<D: Dim, M: Constitutive>(
@@ -424,65 +316,6 @@ pub fn update_one<D: Dim, M: Constitutive>(
     report.elastic += u.elastic;
     report.dissipated += u.dissipated;
     report.max_volume = max(report.max_volume, u.max_volume);
-}
-
-/// Steps 2–3 for the particles of `ps` (at most [`CHUNK`], the first of them particle
-/// `first`), whose rates and spins are the first entries of `rates`: [`update_group`] for
-/// eight particles at once in SIMD lanes ([`walk::update_in_lanes`]), a specialisation of
-/// [`update_one`].
-#[inline(always)]
-pub fn update_chunk<D: Dim, M: Constitutive>(
-    model: &M,
-    rates: &mut Rates<D>,
-    ps: StressState<'_, D>,
-    first: usize,
-    dt: Real,
-    report: &mut StressReport,
-) {
-    let StressState {
-        stress,
-        volume,
-        mass,
-        plastic_strain,
-        viscous_pressure,
-        bulk_length: length,
-    } = ps;
-    let largest = model.max_specific_volume();
-    // The masses: for the volume bound m_p times the model's largest specific volume, and the
-    // bulk viscosity's m_p (C h)².
-    let with_mass = length > 0.0 || largest.is_some();
-    let lanes = Chunk {
-        stress: &mut *stress,
-        volume: &mut *volume,
-        mass,
-        plastic_strain: M::PLASTIC.then_some(plastic_strain),
-        viscous_pressure: (length > 0.0).then_some(viscous_pressure),
-    };
-    let u = walk::update_in_lanes(rates, lanes, with_mass, |l| {
-        let cap = largest.zip(l.mass).map(|(s, m)| m * s);
-        let bulk = l
-            .mass
-            .filter(|_| length > 0.0)
-            .map(|m| m * (length * length));
-        let q = bulk.map(|b| (b, l.viscous_pressure));
-        update_group(
-            model, l.stress, l.rate, l.spin, l.history, l.volume, cap, q, dt,
-        )
-    });
-    if u.finite {
-        report.elastic += u.elastic;
-        report.dissipated += u.dissipated;
-        report.max_volume = max(report.max_volume, u.max_volume);
-        report.viscous += u.viscous;
-        report.max_compression = max(report.max_compression, u.max_compression);
-    } else {
-        // Only a chunk that was not all finite is looked at particle by particle.
-        for (i, (s, &v)) in stress.iter().zip(volume.iter()).enumerate() {
-            if !(s.is_finite() && v.is_finite() && v > 0.0) {
-                report.bad(first + i, s.is_finite(), v);
-            }
-        }
-    }
 }
 
 pub use crate::recipe::BULK_VISCOSITY;
@@ -554,6 +387,7 @@ mod tests {
     use crate::math::VectorOps;
     use crate::math::{D2, D3, Mat2, Sym2, Vec2};
     use crate::step::test_util::noise;
+    use crate::step::volumetric::divergence;
 
     /// Made-up but plausible velocity gradients (1/s) and stresses (Pa) for `n` particles.
     fn states<D: Dim>(n: usize) -> Vec<(D::Grad, D::Sym)> {

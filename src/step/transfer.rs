@@ -78,7 +78,7 @@ impl Transfer {
 
     /// Step 6 with APIC: C_p = B_p D_p⁻¹ from B_p (with offsets in cells, as the gather sums
     /// it) and the stencil. The kernels here are products of one-axis weights, so D_p is
-    /// diagonal, D_aa = h² Σ_k w_a[k] d_a[k]² along each axis a.
+    /// diagonal, D_aa = h² Σ_k w_a\[k\] d_a\[k\]² along each axis a.
     #[inline(always)]
     pub fn affine_velocity<D: Dim, const S: usize>(
         b: D::Grad,
