@@ -655,6 +655,15 @@ pub struct InLanes<'a, D: Dim> {
     pub viscous_pressure: &'a mut Real4x2,
 }
 
+/// The stress update [`update_in_lanes`] runs on a chunk: it returns the plastic strain
+/// increments and what the report gains. A trait with an always-inlined method rather than a
+/// closure: passed as a closure, the update was compiled as a function of its own (2D sand
+/// with the linear kernel: +6 % instructions in the stress pass, +2.6 % in the step).
+pub trait LaneUpdate<D: Dim> {
+    type Report;
+    fn update(self, lanes: InLanes<'_, D>) -> (Real4x2, Self::Report);
+}
+
 /// Runs the stress update `update` on the particles of `ps`, whose rates and spins are the
 /// first entries of `rates`, in SIMD lanes, eight at a time: the two groups' dependency
 /// chains interleave. `update` returns the plastic strain increments (added to the chunk's)
@@ -665,12 +674,12 @@ pub struct InLanes<'a, D: Dim> {
 /// nothing. (Copying every chunk cost four `memcpy` calls per chunk, and the SIMD registers
 /// they clobber.)
 #[inline(always)]
-pub fn update_in_lanes<D: Dim, G>(
+pub fn update_in_lanes<D: Dim, U: LaneUpdate<D>>(
     rates: &mut Rates<D>,
     ps: Chunk<'_, D>,
     with_mass: bool,
-    update: impl FnOnce(InLanes<'_, D>) -> (Real4x2, G),
-) -> G {
+    update: U,
+) -> U::Report {
     let len = ps.stress.len();
     let lanes = |m: &[Real]| {
         Real4x2(
@@ -731,7 +740,7 @@ pub fn update_in_lanes<D: Dim, G>(
     let mut s = D::Sym::zip(s0, s1);
     let mut v = Real4x2(v0, v1);
     let mut q = Real4x2(Real4::ZERO, Real4::ZERO);
-    let (ep, u) = update(InLanes {
+    let (ep, u) = update.update(InLanes {
         stress: &mut s,
         rate: D::Sym::zip(r0, r1),
         spin: D::Sym::zip_spin(w0, w1),

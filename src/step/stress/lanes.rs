@@ -1,9 +1,9 @@
 //! The SIMD specialisation of the stress update ([`super::update_one`] is the reference; a test
 //! in [`super`] checks that they agree bit for bit).
 
-use super::{StressState, update_group};
+use super::{Group, StressState, update_group};
 use crate::material::Constitutive;
-use crate::math::{Dim, Real, SymTensor, max};
+use crate::math::{Dim, Real, Real4x2, SymTensor, max};
 use crate::step::report::StressReport;
 use crate::step::walk::{self, Chunk, Rates};
 
@@ -39,17 +39,13 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
         plastic_strain: M::PLASTIC.then_some(plastic_strain),
         viscous_pressure: (length > 0.0).then_some(viscous_pressure),
     };
-    let u = walk::update_in_lanes(rates, lanes, with_mass, |l| {
-        let cap = largest.zip(l.mass).map(|(s, m)| m * s);
-        let bulk = l
-            .mass
-            .filter(|_| length > 0.0)
-            .map(|m| m * (length * length));
-        let q = bulk.map(|b| (b, l.viscous_pressure));
-        update_group(
-            model, l.stress, l.rate, l.spin, l.history, l.volume, cap, q, dt,
-        )
-    });
+    let update = Update {
+        model,
+        largest,
+        length,
+        dt,
+    };
+    let u = walk::update_in_lanes(rates, lanes, with_mass, update);
     if u.finite {
         report.elastic += u.elastic;
         report.dissipated += u.dissipated;
@@ -63,5 +59,35 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
                 report.bad(first + i, s.is_finite(), v);
             }
         }
+    }
+}
+
+/// `update_group` on one chunk in lanes, with the chunk's volume bound and bulk viscosity.
+struct Update<'m, M> {
+    model: &'m M,
+    largest: Option<Real>,
+    length: Real,
+    dt: Real,
+}
+
+impl<D: Dim, M: Constitutive> walk::LaneUpdate<D> for Update<'_, M> {
+    type Report = Group;
+    #[inline(always)]
+    fn update(self, l: walk::InLanes<'_, D>) -> (Real4x2, Group) {
+        let Update {
+            model,
+            largest,
+            length,
+            dt,
+        } = self;
+        let cap = largest.zip(l.mass).map(|(s, m)| m * s);
+        let bulk = l
+            .mass
+            .filter(|_| length > 0.0)
+            .map(|m| m * (length * length));
+        let q = bulk.map(|b| (b, l.viscous_pressure));
+        update_group(
+            model, l.stress, l.rate, l.spin, l.history, l.volume, cap, q, dt,
+        )
     }
 }
