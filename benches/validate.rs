@@ -1,16 +1,16 @@
 //! The long validation runs: every case of `scenes/validation/` at finer resolutions than the
 //! test suite affords, compared with its closed form or published measurement. Writes
-//! `docs/validation-report.md`.
+//! `docs/reports/validation-report.md`.
 //!
 //! `taskset -c 0 cargo bench --bench validate` (or `cargo xtask validate`; about 10 minutes
 //! on one core). Arguments filter the cases: `bar`, `wave`, `squeeze`, `collapse`, `axi`,
 //! `repose`, `slopes`, `flip`, `resting`; `stopping` (where flowing sand comes to rest, with
 //! and without μ(I): about 25 minutes) runs only when named and writes
-//! `docs/validation-report-stopping.md`; so does `locking` (sand with its volumetric strain
+//! `docs/reports/validation-report-stopping.md`; so does `locking` (sand with its volumetric strain
 //! rate averaged over each cell against each particle's own: about 12 minutes), which writes
-//! `docs/validation-report-locking.md`; and `flowmatch` (the sand cases with the cone matched
+//! `docs/reports/validation-report-locking.md`; and `flowmatch` (the sand cases with the cone matched
 //! to steady flow, 3 α_φ = tan φ, against Eq. 13's, with and without the cell-averaged
-//! volumetric rate: about 20 minutes), which writes `docs/validation-report-flowmatch.md`.
+//! volumetric rate: about 20 minutes), which writes `docs/reports/validation-report-flowmatch.md`.
 //! `lowcolumn` (part of the full run, about 10 minutes) is the low column on a rough floor at
 //! φ = 20°, 30°, 40° and Bui et al. (2008)'s set-up at 10, 20 and 40 cells per height.
 
@@ -248,7 +248,7 @@ fn main() {
     let mut md = String::new();
     let _ = writeln!(
         md,
-        "# Validation report (generated)\n\nRegenerate with `taskset -c 0 cargo bench --bench validate` (or `cargo xtask validate`). Written by `benches/validate.rs`; the cases, references and discussion are in [validation.md](validation.md). Run times are wall-clock seconds on one core. Measured at {}.\n",
+        "# Validation report (generated)\n\nRegenerate with `taskset -c 0 cargo bench --bench validate` (or `cargo xtask validate`). Written by `benches/validate.rs`; the cases, references and discussion are in [validation.md](../validation.md). Run times are wall-clock seconds on one core. Measured at {}.\n",
         measured_at()
     );
     let gimp = |h: f64| Numerics::new(h, KernelKind::Gimp);
