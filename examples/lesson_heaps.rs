@@ -24,7 +24,8 @@ fn main() -> Result<(), String> {
         let r = pg.quality().clone();
         println!(
             "{level}: h = {} m, {} particles per cell, {} particles",
-            r.cell_size, r.particles_per_cell,
+            r.cell_size,
+            r.particles_per_cell,
             pg.particle_count()
         );
         pg.measures(); // the footprints, as the page records them on the first frame
@@ -46,7 +47,9 @@ fn main() -> Result<(), String> {
                     f.iter().map(|a| format!("{a:.1}")).collect::<Vec<_>>(),
                     d.friction_angle,
                     d.plane_strain_angle.unwrap_or(f64::NAN),
-                    d.runout.as_ref().map_or(f64::NAN, |r| r.runout[0].max(r.runout[1])),
+                    d.runout
+                        .as_ref()
+                        .map_or(f64::NAN, |r| r.runout[0].max(r.runout[1])),
                 );
             }
         }

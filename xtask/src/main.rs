@@ -97,7 +97,9 @@ fn main() -> ExitCode {
             eprintln!(
                 "  quality            the validation errors at each quality level's resolution"
             );
-            eprintln!("  validate [CASE..]  long validation runs -> docs/reports/validation-report.md");
+            eprintln!(
+                "  validate [CASE..]  long validation runs -> docs/reports/validation-report.md"
+            );
             eprintln!(
                 "  work-precision     run time against error -> docs/reports/work-precision-report.md, SVGs"
             );
