@@ -2,7 +2,7 @@
 //! (`Simulation::timings`) for scenes that need different work — one elastic body (no plastic
 //! return, no contact), sand (the plastic return), many bodies apart (no contact work), many
 //! bodies touching (contact), the same scene in a domain 4× larger per axis (the sparse grid
-//! keeps the cost flat), each in 2D and 3D. Writes `docs/passes-report.md`.
+//! keeps the cost flat), each in 2D and 3D. Writes `docs/reports/passes-report.md`.
 //!
 //! `taskset -c 0 cargo bench --bench passes` (or `cargo xtask passes`; about two minutes).
 
@@ -164,7 +164,7 @@ fn main() {
     let mut md = String::new();
     let _ = writeln!(
         md,
-        "# Cost of each pass (generated)\n\nRegenerate with `taskset -c 0 cargo bench --bench passes` (or `cargo xtask passes`). Nanoseconds per particle per step, the median of fifteen rounds (five on each of three fresh simulations; 100 steps in 2D, 30 in 3D, after as many warm-up steps), one core; the last column is the total against the one elastic body of the same dimension. Written by `benches/passes.rs`; the discussion is in [work-precision.md](work-precision.md#skipping-what-a-scene-does-not-need).\n\n{}",
+        "# Cost of each pass (generated)\n\nRegenerate with `taskset -c 0 cargo bench --bench passes` (or `cargo xtask passes`). Nanoseconds per particle per step, the median of fifteen rounds (five on each of three fresh simulations; 100 steps in 2D, 30 in 3D, after as many warm-up steps), one core; the last column is the total against the one elastic body of the same dimension. Written by `benches/passes.rs`; the discussion is in [work-precision.md](../work-precision.md#skipping-what-a-scene-does-not-need).\n\n{}",
         table(
             &[
                 "dim",
@@ -184,7 +184,7 @@ fn main() {
             &rows
         )
     );
-    let path = root().join("docs").join("passes-report.md");
+    let path = root().join("docs").join("reports").join("passes-report.md");
     std::fs::write(&path, md).unwrap();
     println!("wrote {}", path.display());
 }

@@ -1,6 +1,6 @@
 //! Run time against error (the work–precision study): sweeps the cell size, particles per
 //! cell, PIC/FLIP α, CFL number and kernel on three cases and writes
-//! `docs/work-precision-report.md` with the tables and convergence orders, and one log–log
+//! `docs/reports/work-precision-report.md` with the tables and convergence orders, and one log–log
 //! SVG of error against run time per case.
 //!
 //! `taskset -c 0 cargo bench --bench work_precision` (about 15 minutes on one core; the
@@ -69,7 +69,7 @@ fn main() {
     let mut md = String::new();
     let _ = writeln!(
         md,
-        "# Work–precision report (generated)\n\nRegenerate with `taskset -c 0 cargo bench --bench work_precision` (or `cargo xtask work-precision`). Run times are wall-clock seconds on one core of the shared development machine; errors are defined per case below. Written by `benches/work_precision.rs`; the discussion is in [work-precision.md](work-precision.md). Measured at {}.\n",
+        "# Work–precision report (generated)\n\nRegenerate with `taskset -c 0 cargo bench --bench work_precision` (or `cargo xtask work-precision`). Run times are wall-clock seconds on one core of the shared development machine; errors are defined per case below. Written by `benches/work_precision.rs`; the discussion is in [work-precision.md](../work-precision.md). Measured at {}.\n",
         measured_at()
     );
     let path = filters.report_path("work-precision-report");
@@ -90,7 +90,7 @@ fn main() {
 }
 
 fn save_svg(name: &str, svg: String) {
-    let path = root().join("docs").join(name);
+    let path = root().join("docs").join("reports").join(name);
     std::fs::write(&path, svg).unwrap();
     println!("wrote {}", path.display());
 }

@@ -126,9 +126,10 @@ fn von_mises_squeeze_follows_the_elastic_perfectly_plastic_curve() {
 }
 
 /// Plane granular column collapse on a rough floor against Lube et al. (2005), with the
-/// sand's defaults (APIC base, α = 0.05, the start–stop cone), at the validation resolution
-/// h = 0.01: the run-out within 20 % of the measured law, both as the farthest particle and
-/// as the edge of the continuous deposit, and the final height within 10 %. (With the plain
+/// sand's defaults (APIC base, α = 0.05, the start–stop cone), at h = 0.01 m (10 cells per
+/// H0 at a = 0.5, 20 at a = 2): the run-out within 20 % of the measured law, both as the
+/// farthest particle and as the edge of the continuous deposit, and the final height within
+/// 10 %. (With the plain
 /// PIC blend the run-out was 47 % short; with Eq. 13's cone alone the deposit of the a = 2
 /// column stood 11 % low, docs/validation.md.)
 #[test]
@@ -297,10 +298,11 @@ fn the_cell_averaged_volumetric_rate_unlocks_the_over_steep_slope() {
 }
 
 /// Axisymmetric collapse of a column with a = 1 against Lube et al. (2004), at the validation
-/// resolution (R0 = 10 cells): the farthest-particle run-out within 25 % (−23 % measured), the
-/// edge of the continuous deposit within 30 % (−27 %: it misses the 25 %,
-/// docs/validation.md), the final height within 15 % of Lube et al.'s or Lajeunesse et al.'s
-/// (2004) law, and a round deposit. (At R0 = 5 cells the run-out is 30 % short.)
+/// resolution's coarse neighbour (R0 = 10 cells), what holds there: the farthest-particle
+/// run-out within 25 % (−23 % measured), the edge of the continuous deposit within 30 %
+/// (−27 %); the ±20 % band holds only at 20 cells per R0 (−10 / −15 %, docs/validation.md).
+/// The final height within the ±15 % band of Lube et al.'s or Lajeunesse et al.'s (2004) law
+/// (−0.3 % from Lajeunesse et al.'s), and a round deposit.
 #[test]
 fn axisymmetric_column_collapse() {
     let a = 1.0;
@@ -364,6 +366,119 @@ fn sand_sheets_slide_the_coulomb_distance() {
             );
         }
     }
+}
+
+/// The low plane column (a = 0.5, H0 = 0.1 m) of φ = 30° sand on a rough floor (μ = 0.6) at
+/// 10 and 20 cells per height, what holds today: the run-out within 20 % of Lube et al.
+/// (2005)'s 1.2 a by both measures, and a flank (the surface between 20 % and 80 % of the
+/// deposit's height) that does not depend on the grid (within 1°) and stands no more than 6°
+/// under the cone's plane-strain angle φ_ps = 28.7°. The target of 3° is not met: the flank
+/// rests about 4.4° under φ_ps on every grid (docs/validation.md, the low column; the ignored
+/// test below holds the target).
+#[test]
+fn a_low_column_at_two_grids() {
+    let a = 0.5;
+    let mut flanks = Vec::new();
+    for h in [0.01, 0.005] {
+        let r = low_column(30.0, &Numerics::new(h, KernelKind::Gimp), 3.0);
+        let d = &r.deposit;
+        eprintln!("low column h = {h}: {r:?}");
+        assert!(r.failure.is_none() && r.settled_at < 3.0, "h = {h}: {r:?}");
+        for (what, runout) in [("farthest particle", d.runout), ("edge", d.runout_edge)] {
+            assert!(
+                (runout / lube_runout(a) - 1.0).abs() < 0.2,
+                "h = {h}: run-out ({what}) {runout:.3} against Lube et al.'s {:.2}",
+                lube_runout(a)
+            );
+        }
+        let gap = d.flank() - r.plane_strain_angle;
+        assert!(
+            (-6.0..3.0).contains(&gap),
+            "h = {h}: flank {:.1}° against φ_ps {:.1}°",
+            d.flank(),
+            r.plane_strain_angle
+        );
+        flanks.push(d.flank());
+    }
+    assert!(
+        (flanks[1] - flanks[0]).abs() < 1.0,
+        "the flank moved from {:.1}° to {:.1}° with the grid",
+        flanks[0],
+        flanks[1]
+    );
+}
+
+/// The plane collapse a = 2 at the validation resolution's coarse neighbour, 10 cells per
+/// column height (h = 0.02 m), against Lube et al. (2005): a = 2 lies between their two
+/// regimes, so the run-out is checked against the range 1.2 a … 1.9 a^(2/3) = 2.40 … 3.02
+/// within the ±20 % band (both measures), the final height within ±10 %.
+#[test]
+fn plane_collapse_at_ten_cells_per_height() {
+    let a = 2.0;
+    let c = column_collapse(
+        "column_collapse_a2_2d.json",
+        &Numerics::new(0.02, KernelKind::Gimp),
+        4.0,
+    );
+    eprintln!("collapse a = {a}, 10 cells per H0: {c:?}");
+    assert!(c.failure.is_none(), "{:?}", c.failure);
+    let [low, high] = mpm::laws::lube_runout_range(a);
+    for (what, x) in [("farthest particle", c.runout), ("edge", c.runout_edge)] {
+        assert!(
+            x > 0.8 * low && x < 1.2 * high,
+            "run-out ({what}) {x:.3} against Lube et al.'s {low:.2}–{high:.2}"
+        );
+    }
+    assert!(
+        (c.height / lube_height(a) - 1.0).abs() < 0.1,
+        "H∞/H0 = {:.3}, Lube et al. {:.3}",
+        c.height,
+        lube_height(a)
+    );
+}
+
+/// H∞/H0 of the plane collapse of aspect ratio `a` (scene `file`, column height `h0`) at 20
+/// and 40 cells per column height.
+fn heights_at_20_and_40_cells(file: &str, h0: f64) -> [f64; 2] {
+    [20.0, 40.0].map(|k| {
+        let c = column_collapse(file, &Numerics::new(h0 / k, KernelKind::Gimp), 4.0);
+        assert!(
+            c.failure.is_none(),
+            "{file} at {k} cells per H0: {:?}",
+            c.failure
+        );
+        c.height
+    })
+}
+
+/// Final heights converge: the plane collapses a = 1 and 2 change H∞/H0 by at most 2 points
+/// between 20 and 40 cells per column height, the two finest grids of the validation sweep
+/// (measured +1.2 and −0.1 points; `cargo xtask validate grids` checks every collapse).
+#[test]
+fn plane_collapse_heights_converge() {
+    for (file, a, h0) in [
+        ("column_collapse_a1_2d.json", 1.0, 0.15),
+        ("column_collapse_a2_2d.json", 2.0, 0.2),
+    ] {
+        let [h20, h40] = heights_at_20_and_40_cells(file, h0);
+        eprintln!("a = {a}: H∞/H0 {h20:.3} → {h40:.3}");
+        assert!(
+            (h40 - h20).abs() <= 0.02,
+            "a = {a}: H∞/H0 {h20:.3} at 20 cells per H0, {h40:.3} at 40"
+        );
+    }
+}
+
+/// The same 2-point convergence for the tallest plane column, a = 3: not met (0.476 at 20
+/// cells per H0, 0.453 at 40: −2.3 points; docs/validation.md, the plane collapse).
+#[test]
+#[ignore = "not met: a = 3 H∞/H0 0.476 → 0.453 (−2.3 points) from 20 to 40 cells per H0"]
+fn the_tallest_plane_collapse_height_converges() {
+    let [h20, h40] = heights_at_20_and_40_cells("column_collapse_a3_2d.json", 0.3);
+    assert!(
+        (h40 - h20).abs() <= 0.02,
+        "a = 3: H∞/H0 {h20:.3} at 20 cells per H0, {h40:.3} at 40"
+    );
 }
 
 /// A low plane column (a = 0.5, H0 = 0.1 m) of φ = 30° sand on a rough floor (μ = 0.6) comes

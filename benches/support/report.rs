@@ -20,7 +20,7 @@ impl Filters {
     pub fn want(&self, name: &str) -> bool {
         self.0.is_empty() || self.0.iter().any(|f| f == name)
     }
-    /// `docs/<stem>.md`, or `docs/<stem>-<filters>.md` for a partial run (so that a partial
+    /// `docs/reports/<stem>.md`, or `docs/reports/<stem>-<filters>.md` for a partial run (so that a partial
     /// run never overwrites the full report).
     pub fn report_path(&self, stem: &str) -> std::path::PathBuf {
         let name = if self.0.is_empty() {
@@ -28,7 +28,7 @@ impl Filters {
         } else {
             format!("{stem}-{}.md", self.0.join("-"))
         };
-        root().join("docs").join(name)
+        root().join("docs").join("reports").join(name)
     }
 }
 

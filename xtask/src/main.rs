@@ -22,11 +22,11 @@
 //! - `quality`   — what the page's quality levels cost in accuracy: the validation cases at
 //!   each level's cell factor and particles per cell (the figures of
 //!   `src/playground/quality.rs`).
-//! - `validate`  — the long validation runs; writes docs/validation-report.md.
+//! - `validate`  — the long validation runs; writes docs/reports/validation-report.md.
 //! - `work-precision` — the run time against error study; writes
-//!   docs/work-precision-report.md and the SVG diagrams.
+//!   docs/reports/work-precision-report.md and the SVG diagrams.
 //! - `passes`    — the cost of each pass for scenes that need different work; writes
-//!   docs/passes-report.md.
+//!   docs/reports/passes-report.md.
 //! - `screenshot` — the README's picture of the page in headless Chromium: docs/playground.jpg.
 //! - `stress`    — the long stability sweep (`MPM_LONG=1`: more random scenes, longer resting
 //!   runs, more fuzzing).
@@ -97,11 +97,13 @@ fn main() -> ExitCode {
             eprintln!(
                 "  quality            the validation errors at each quality level's resolution"
             );
-            eprintln!("  validate [CASE..]  long validation runs -> docs/validation-report.md");
             eprintln!(
-                "  work-precision     run time against error -> docs/work-precision-report.md, SVGs"
+                "  validate [CASE..]  long validation runs -> docs/reports/validation-report.md"
             );
-            eprintln!("  passes             cost of each pass -> docs/passes-report.md");
+            eprintln!(
+                "  work-precision     run time against error -> docs/reports/work-precision-report.md, SVGs"
+            );
+            eprintln!("  passes             cost of each pass -> docs/reports/passes-report.md");
             eprintln!("  stress             the long stability sweep (MPM_LONG=1)");
             eprintln!(
                 "  screenshot         the README's picture of the page -> docs/playground.jpg"
