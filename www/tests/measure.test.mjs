@@ -175,6 +175,9 @@ test('law markers: Lube et al. on the column collapses (plane and axisymmetric),
 test('the hand tool measures a dragged length and angle with the core', async () => {
   const { page, errors } = await open('#scene=sandbox&dim=2&drop=0:box:von_mises:0.2:1.5,0.2');
   await page.click('#tool-measure');
+  // The view holds its place while the HUD's figures change (the speed's words, the time).
+  const place = () => page.evaluate(() => { const r = document.getElementById('view').getBoundingClientRect(); return [r.left, r.top, r.width, r.height]; });
+  const before = await place();
   const [x0, y0] = await screenOf(page, 0.5, 0.2, 0);
   const [x1, y1] = await screenOf(page, 0.8, 0.5, 0);
   await page.mouse.move(x0, y0);
@@ -184,6 +187,7 @@ test('the hand tool measures a dragged length and angle with the core', async ()
   await page.mouse.up();
   await page.waitForFunction(() => mpm.hand?.done && mpm.hand.measured, null, { timeout: 10_000 });
   const r = await page.evaluate(() => mpm.hand.reading);
+  assert.deepEqual(await place(), before, 'the view stayed where the drag was aimed');
   assert.ok(Math.abs(r.length - 0.3 * Math.SQRT2) < 0.01, `length ${r.length}`);
   assert.ok(Math.abs(r.inclination - 45) < 1, `angle ${r.inclination}`);
   await page.waitForFunction(() => mpm.overlay.labels.some((l) => l.kind === 'hand'), null, { timeout: 5000 });
