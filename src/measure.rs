@@ -371,11 +371,18 @@ pub fn angle_at(vertex: &[f64], a: &[f64], b: &[f64]) -> f64 {
 pub struct Footprints {
     /// By id; NaN for an id not seen yet.
     start: Vec<[f64; 3]>,
+    /// The simulation's issued ids at the last update: no particle entered while it holds,
+    /// so a frame without a drop costs no pass over the particles.
+    issued: u32,
 }
 
 impl Footprints {
     /// Records the particles of `sim` not seen before at their current positions.
     pub fn update<D: Dim>(&mut self, sim: &Simulation<D>) {
+        if sim.ids_issued() == self.issued {
+            return;
+        }
+        self.issued = sim.ids_issued();
         let p = sim.particles();
         for i in 0..p.len() {
             let id = p.id[i] as usize;
@@ -397,6 +404,7 @@ impl Footprints {
     /// Forgets every position (the simulation was cleared or rebuilt).
     pub fn clear(&mut self) {
         self.start.clear();
+        self.issued = 0;
     }
     /// The recorded start of particle `id`, if any.
     pub fn start(&self, id: u32) -> Option<[f64; 3]> {

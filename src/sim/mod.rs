@@ -472,6 +472,12 @@ impl<D: Dim> Simulation<D> {
     pub fn scene(&self) -> &SceneConfig {
         &self.scene
     }
+    /// How many particle ids have been issued: every particle that ever entered has an id
+    /// below it, and a particle entering next gets this one.
+    pub fn ids_issued(&self) -> u32 {
+        self.next_id
+    }
+
     pub fn particles(&self) -> &Particles<D> {
         &self.particles
     }
