@@ -684,13 +684,27 @@ pub const REST_SPEED: f64 = 1e-3;
 /// whose time step collapses (particles flung out at high speed) is stopped after ten times
 /// the steps it would take at the initial time step.
 fn run_until_rest<D: Dim>(sim: &mut Simulation<D>, h0: f64, g: f64, t_max: f64) -> Option<String> {
+    run_until_rest_with(sim, h0, g, t_max, 0.02, |_| ())
+}
+
+/// [`run_until_rest`] advancing `interval` s at a time and calling `between` on the
+/// simulation after each interval (to act on the particles as the run goes).
+fn run_until_rest_with<D: Dim>(
+    sim: &mut Simulation<D>,
+    h0: f64,
+    g: f64,
+    t_max: f64,
+    interval: f64,
+    mut between: impl FnMut(&mut Simulation<D>),
+) -> Option<String> {
     let t_min = 4.0 * (h0 / g).sqrt();
     let rest_speed = REST_SPEED * (g * h0).sqrt();
     let budget = (10.0 * t_max / sim.stable_dt()) as u64;
     loop {
-        if let Err(e) = sim.advance(0.02) {
+        if let Err(e) = sim.advance(interval) {
             return Some(e.to_string());
         }
+        between(sim);
         let t = sim.time();
         if (t > t_min && sim.diagnostics().max_speed < rest_speed) || t >= t_max {
             return None;
@@ -1497,66 +1511,135 @@ pub fn bui_scene(n: &Numerics) -> SceneConfig {
     scene
 }
 
+/// A plane column set up to run: the simulation of its `scene` and what its deposit is
+/// measured against (the column's axis, or its back wall when `walled`; its half-width, or
+/// width, L0; its height H0).
+struct PlaneColumn {
+    sim: Simulation<mpm::D2>,
+    friction_angle: f64,
+    walled: bool,
+    s: f64,
+    h: f64,
+    g: f64,
+    x0: f64,
+    l0: f64,
+    h0: f64,
+}
+
+impl PlaneColumn {
+    fn new(scene: SceneConfig, walled: bool) -> Self {
+        let Material::DruckerPrager(m) = scene.bodies[0].material else {
+            panic!("the column is sand");
+        };
+        let (s, h) = (spacing(&scene), scene.cell_size);
+        let g = scene.gravity_vector()[1].abs();
+        let sim = Simulation::<mpm::D2>::new(scene).expect("column scene");
+        let (xc, half) = column_extent(&sim, s);
+        let (x0, l0) = if walled { (0.0, xc + half) } else { (xc, half) };
+        let h0 = sim
+            .particles()
+            .x
+            .iter()
+            .map(|x| x[1] as f64)
+            .fold(0.0, f64::max)
+            + 0.5 * s;
+        PlaneColumn {
+            sim,
+            friction_angle: m.friction_angle,
+            walled,
+            s,
+            h,
+            g,
+            x0,
+            l0,
+            h0,
+        }
+    }
+
+    /// Measures the deposit as the simulation stands, the run having started at `start` and
+    /// stopped for `failure`, if it did.
+    fn measure(&self, start: Instant, failure: Option<String>) -> LowColumn {
+        let settled_at = self.sim.time();
+        let cost = cost(&self.sim, start);
+        let sides: &[f64] = if self.walled { &[1.0] } else { &[1.0, -1.0] };
+        let deposits: Vec<Deposit> = sides
+            .iter()
+            .map(|&sign| {
+                let p = self.sim.particles();
+                let pts: Vec<(f64, f64)> = (0..p.len())
+                    .map(|i| (sign * (p.x[i][0] as f64 - self.x0), p.x[i][1] as f64))
+                    .filter(|q| q.0 >= 0.0)
+                    .collect();
+                measure_deposit(&pts, self.s, self.h, self.l0, self.h0)
+            })
+            .collect();
+        let k = deposits.len() as f64;
+        let mean = |f: fn(&Deposit) -> f64| deposits.iter().map(f).sum::<f64>() / k;
+        let deposit = Deposit {
+            runout: mean(|d| d.runout),
+            runout_edge: mean(|d| d.runout_edge),
+            flanks: deposits.iter().map(|d| d.flanks[0]).collect(),
+            foot: mean(|d| d.foot),
+            toe: mean(|d| d.toe),
+            toe_rows: mean(|d| d.toe_rows),
+            plateau: mean(|d| d.plateau),
+            height: mean(|d| d.height),
+        };
+        LowColumn {
+            friction_angle: self.friction_angle,
+            plane_strain_angle: plane_strain_angle(self.friction_angle),
+            aspect_ratio: self.h0 / self.l0,
+            deposit,
+            settled_at,
+            failure,
+            cost,
+        }
+    }
+}
+
 /// Runs a plane column `scene` (its first body; `walled`: against the domain's left wall,
 /// else free on both sides about its centre) until it rests, and measures its deposit.
 pub fn plane_deposit(scene: SceneConfig, walled: bool, t_max: f64) -> LowColumn {
-    let Material::DruckerPrager(m) = scene.bodies[0].material else {
-        panic!("the column is sand");
-    };
-    let (s, h) = (spacing(&scene), scene.cell_size);
-    let g = scene.gravity_vector()[1].abs();
-    let mut sim = Simulation::<mpm::D2>::new(scene).expect("column scene");
-    let (xc, half) = column_extent(&sim, s);
-    let (x0, l0) = if walled { (0.0, xc + half) } else { (xc, half) };
-    let h0 = sim
-        .particles()
-        .x
-        .iter()
-        .map(|x| x[1] as f64)
-        .fold(0.0, f64::max)
-        + 0.5 * s;
+    let mut c = PlaneColumn::new(scene, walled);
     let start = Instant::now();
-    let failure = run_until_rest(&mut sim, h0, g, t_max);
-    let settled_at = sim.time();
-    let cost = cost(&sim, start);
-    let sides: &[f64] = if walled { &[1.0] } else { &[1.0, -1.0] };
-    let deposits: Vec<Deposit> = sides
-        .iter()
-        .map(|&sign| {
-            let p = sim.particles();
-            let pts: Vec<(f64, f64)> = (0..p.len())
-                .map(|i| (sign * (p.x[i][0] as f64 - x0), p.x[i][1] as f64))
-                .filter(|q| q.0 >= 0.0)
-                .collect();
-            measure_deposit(&pts, s, h, l0, h0)
-        })
-        .collect();
-    let k = deposits.len() as f64;
-    let mean = |f: fn(&Deposit) -> f64| deposits.iter().map(f).sum::<f64>() / k;
-    let deposit = Deposit {
-        runout: mean(|d| d.runout),
-        runout_edge: mean(|d| d.runout_edge),
-        flanks: deposits.iter().map(|d| d.flanks[0]).collect(),
-        foot: mean(|d| d.foot),
-        toe: mean(|d| d.toe),
-        toe_rows: mean(|d| d.toe_rows),
-        plateau: mean(|d| d.plateau),
-        height: mean(|d| d.height),
-    };
-    LowColumn {
-        friction_angle: m.friction_angle,
-        plane_strain_angle: plane_strain_angle(m.friction_angle),
-        aspect_ratio: h0 / l0,
-        deposit,
-        settled_at,
-        failure,
-        cost,
-    }
+    let failure = run_until_rest(&mut c.sim, c.h0, c.g, t_max);
+    c.measure(start, failure)
 }
 
 /// The low column of [`low_column_scene`] run to rest.
 pub fn low_column(phi: f64, n: &Numerics, t_max: f64) -> LowColumn {
     plane_deposit(low_column_scene(phi, n), false, t_max)
+}
+
+/// How often [`low_column_without_momentum`] clamps the particles' speed (s of simulated
+/// time).
+pub const CAP_INTERVAL: f64 = 1e-3;
+
+/// The low column of [`low_column_scene`] collapsing without momentum: every
+/// [`CAP_INTERVAL`] each particle faster than `cap` m/s has its velocity (and its APIC affine
+/// velocity, by the same factor) scaled down to `cap`, so the column falls quasi-statically
+/// (kinetic energy per unit mass at most cap²/2, against g H0 released), then runs to rest
+/// and is measured as [`low_column`]'s deposit is. Between clamps gravity adds at most
+/// g [`CAP_INTERVAL`] ≈ 0.01 m/s.
+pub fn low_column_without_momentum(phi: f64, n: &Numerics, cap: f64, t_max: f64) -> LowColumn {
+    let mut c = PlaneColumn::new(low_column_scene(phi, n), false);
+    let start = Instant::now();
+    let cap = cap as f32;
+    let failure = run_until_rest_with(&mut c.sim, c.h0, c.g, t_max, CAP_INTERVAL, |sim| {
+        let p = sim.particles_mut();
+        let apic = p.affine.len() == p.v.len();
+        for i in 0..p.v.len() {
+            let speed = p.v[i].length();
+            if speed > cap {
+                let f = cap / speed;
+                p.v[i] *= f;
+                if apic {
+                    p.affine[i] *= f;
+                }
+            }
+        }
+    });
+    c.measure(start, failure)
 }
 
 /// A flowing sand layer coming to rest on a slope: a layer `thickness` m thick and 0.3 m long
