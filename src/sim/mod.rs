@@ -71,12 +71,20 @@ pub struct Body<D: Dim> {
     /// The fastest compression |tr ε̇| of the latest stress update (for the bulk viscosity's
     /// share of the signal speed).
     pub(crate) max_compression: Real,
+    /// Its sleeping particles (the last of its range) and what they give the grid
+    /// ([`crate::step::sleep`]).
+    pub(crate) sleep: crate::step::sleep::Sleep<D>,
 }
 
 impl<D: Dim> Body<D> {
     /// The particle indices of this body.
     pub fn range(&self) -> Range<usize> {
         self.range.clone()
+    }
+    /// The particle indices of this body that are stepped: all but the sleeping ones, which
+    /// come last in [`Body::range`] ([`crate::step::sleep`]).
+    pub fn active(&self) -> Range<usize> {
+        self.range.start..self.range.end - self.sleep.asleep
     }
     /// Figures after the latest step.
     pub fn stats(&self) -> &BodyStats {
@@ -149,6 +157,8 @@ pub struct Simulation<D: Dim> {
     pub sort_interval: u64,
     /// Wall-clock time per pass, accumulated while `Some` (native builds only).
     pub timings: Option<PassTimings>,
+    /// Whether and how material at rest sleeps ([`crate::step::sleep`]); off by default.
+    pub(crate) sleeping: Option<crate::step::sleep::SleepRule>,
 }
 
 /// Cumulative wall-clock seconds spent in each pass of the step (see
@@ -203,6 +213,7 @@ impl<D: Dim> Simulation<D> {
             next_id: 0,
             sort_interval: 16,
             timings: None,
+            sleeping: None,
         };
         // Every body is sampled first, so that an error names it by its place in the file;
         // those present from the start keep the file's order, the others follow by time.
@@ -320,6 +331,7 @@ impl<D: Dim> Simulation<D> {
             radius,
             kinematic: config.kinematic,
             max_compression: 0.0,
+            sleep: Default::default(),
         });
         self.refresh_diagnostics();
     }
@@ -464,6 +476,8 @@ impl<D: Dim> Simulation<D> {
             body.recipe = recipe;
         }
         self.scene = next;
+        // a weaker material, another gravity or wall friction may move what sleeps
+        self.wake_all();
         Ok(())
     }
 
@@ -481,8 +495,10 @@ impl<D: Dim> Simulation<D> {
     pub fn particles(&self) -> &Particles<D> {
         &self.particles
     }
-    /// Direct access to particle state (for tests and tools that set up special states).
+    /// Direct access to particle state (for tests and tools that set up special states);
+    /// wakes every sleeping particle, since the edit may move it.
     pub fn particles_mut(&mut self) -> &mut Particles<D> {
+        self.wake_all();
         &mut self.particles
     }
     pub fn bodies(&self) -> &[Body<D>] {

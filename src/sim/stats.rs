@@ -27,6 +27,9 @@ pub struct Diagnostics {
     pub dissipated_boundary: f64,
     /// Cumulative energy removed by contact between bodies.
     pub dissipated_contact: f64,
+    /// Cumulative kinetic energy of the particles brought to rest as they fell asleep
+    /// (slower than the sleep speed; see [`crate::step::sleep`]).
+    pub dissipated_sleep: f64,
     pub momentum: [f64; 3],
     pub max_speed: f64,
     /// Particles whose state went non-finite in this step (the step then fails).
@@ -46,6 +49,7 @@ impl Diagnostics {
             + self.dissipated_viscous
             + self.dissipated_boundary
             + self.dissipated_contact
+            + self.dissipated_sleep
     }
 }
 
@@ -139,6 +143,21 @@ impl<D: Dim> Measure<D> {
         self.min = self.min.min(x);
         self.max = self.max.max(x);
         self.max_speed = max(self.max_speed, v2);
+    }
+
+    /// Adds the figures of another finished measure (of other particles) to this finished one.
+    pub fn add_finished(&mut self, o: &Measure<D>) {
+        self.mass += o.mass;
+        self.kinetic += o.kinetic;
+        self.gravitational += o.gravitational;
+        for a in 0..3 {
+            self.momentum[a] += o.momentum[a];
+            self.first_moment[a] += o.first_moment[a];
+        }
+        self.min = self.min.min(o.min);
+        self.max = self.max.max(o.max);
+        self.max_speed = max(self.max_speed, o.max_speed);
+        self.max_plastic_strain = max(self.max_plastic_strain, o.max_plastic_strain);
     }
 
     /// With the largest plastic strain of the particles.

@@ -25,14 +25,19 @@ impl<D: Dim> Simulation<D> {
                 K::base(grid_coords::<D>(x[p], inv_h), D::DIM, lp)
             }));
             if sort {
+                let active = body.active();
                 let grid = &mut body.grid;
                 let padded = grid.layout.padded_nodes() as u32;
                 let blocks: Vec<u32> = grid.particle_node.iter().map(|&n| n / padded).collect();
-                if blocks.windows(2).any(|w| w[0] > w[1]) {
-                    let order = counting_sort(&blocks, grid.index.block_count());
-                    self.particles.permute(body.range.clone(), &order);
+                // the sleeping particles stay last, unsorted (no pass walks them)
+                let awake = &blocks[..active.len()];
+                if awake.windows(2).any(|w| w[0] > w[1]) {
+                    let order = counting_sort(awake, grid.index.block_count());
+                    self.particles.permute(active, &order);
                     let nodes = &grid.particle_node;
-                    grid.particle_node = order.iter().map(|&o| nodes[o as usize]).collect();
+                    let sorted = order.iter().map(|&o| nodes[o as usize]);
+                    let asleep = nodes[awake.len()..].iter().copied();
+                    grid.particle_node = sorted.chain(asleep).collect();
                 }
             }
         }

@@ -38,7 +38,7 @@ impl<D: Dim> Simulation<D> {
         let p = &mut self.particles;
         let mut reports = Vec::with_capacity(self.bodies.len());
         for (body, step) in self.bodies.iter_mut().zip(steps) {
-            let r = body.range.clone();
+            let r = body.active();
             let state = GatherState {
                 x: &mut p.x[r.clone()],
                 v: &mut p.v[r.clone()],

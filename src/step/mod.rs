@@ -48,6 +48,7 @@ pub mod gather;
 pub mod grid_update;
 pub mod report;
 pub mod scatter;
+pub mod sleep;
 pub mod stress;
 pub mod transfer;
 pub mod volumetric;
@@ -88,6 +89,7 @@ impl<D: Dim> Simulation<D> {
         self.time += dt;
         self.steps += 1;
         self.finish_step(dt, &steps, &gathered)?;
+        self.sleep_and_wake(dt);
         Ok(&self.diagnostics)
     }
 }

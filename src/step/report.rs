@@ -51,8 +51,16 @@ impl<D: Dim> Simulation<D> {
                 .contact_impulse
                 .map(|j| if dt > 0.0 { j / dt } else { 0.0 });
         }
-        let measures: Vec<_> = gathered.iter().map(|g| g.measure).collect();
-        let elastic: Vec<f64> = steps.iter().map(|s| s.stress.elastic).collect();
+        // the sleeping particles' figures, frozen, beside the stepped ones'
+        let mut measures: Vec<_> = gathered.iter().map(|g| g.measure).collect();
+        let mut elastic: Vec<f64> = steps.iter().map(|s| s.stress.elastic).collect();
+        for (i, body) in self.bodies.iter_mut().enumerate() {
+            if body.sleep.any() {
+                measures[i].add_finished(&body.sleep.measure);
+                elastic[i] += body.sleep.elastic;
+                body.max_volume = body.max_volume.max(body.sleep.max_volume);
+            }
+        }
         self.record_measures(dt, c, &measures, &elastic);
         for i in 0..self.bodies.len() {
             let bad = steps[i].stress.first_bad.or_else(|| {

@@ -24,7 +24,7 @@ impl<D: Dim> Simulation<D> {
         let inv_h = self.world.inv_h;
         for body in &mut self.bodies {
             let last = body.recipe.stress_order == super::StressOrder::Last;
-            let r = body.range.clone();
+            let r = body.active();
             let state = ScatterState {
                 x: &p.x[r.clone()],
                 v: &p.v[r.clone()],
@@ -41,6 +41,7 @@ impl<D: Dim> Simulation<D> {
             };
             let lp = body.radius * inv_h;
             with_kernel!(self.world.kernel, K, S => scatter::<D, K, S>(&mut body.grid, state, inv_h, lp));
+            body.sleep.add_to(&mut body.grid);
         }
     }
 }

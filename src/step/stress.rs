@@ -67,7 +67,7 @@ impl<D: Dim> Simulation<D> {
             if body.kinematic || body.recipe.stress_order != super::StressOrder::First {
                 continue;
             }
-            let r = body.range.clone();
+            let r = body.active();
             let x = &p.x[r.clone()];
             let state = StressState {
                 stress: &mut p.stress[r.clone()],
