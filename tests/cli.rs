@@ -577,3 +577,46 @@ fn the_summary_measures_a_collapsing_column() {
     }
     assert!(f(&end["heap"]["height"]) < 0.35, "{end}");
 }
+
+/// `--sleep` lets the collapsed column sleep once it rests, and it ends where the awake run
+/// ends (height and run-outs within 2 %); without it nothing sleeps.
+#[test]
+fn run_sleep_lets_a_resting_column_sleep_where_it_would_rest() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene: serde_json::Value = serde_json::from_str(TINY_2D).unwrap();
+    scene["cell_size"] = 0.025.into();
+    scene["bodies"][0]["shape"] =
+        serde_json::json!({"box": {"min": [0.4, 0.0], "max": [0.6, 0.4]}});
+    fs::write(dir.path().join("column.json"), scene.to_string()).unwrap();
+    let summary = |extra: &[&str]| -> serde_json::Value {
+        let mut args = vec!["run", "column.json", "-t", "3", "-q", "--summary", "-"];
+        args.extend_from_slice(extra);
+        let out = mpm(&args, dir.path());
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let (awake, asleep) = (summary(&[]), summary(&["--sleep"]));
+    let f = |v: &serde_json::Value| v.as_f64().unwrap();
+    assert_eq!(f(&awake["asleep_particles"]), 0.0);
+    let n = f(&asleep["particles"]);
+    assert!(
+        f(&asleep["asleep_particles"]) > 0.5 * n,
+        "{} of {n} asleep after 3 s",
+        asleep["asleep_particles"]
+    );
+    let (a, s) = (&awake["deposits"][0], &asleep["deposits"][0]);
+    let close = |x: f64, y: f64, what: &str| {
+        assert!(
+            (x - y).abs() <= 0.02 * y.abs(),
+            "{what}: {x} asleep, {y} awake"
+        )
+    };
+    close(f(&s["heap"]["height"]), f(&a["heap"]["height"]), "height");
+    for side in 0..2 {
+        close(
+            f(&s["runout"]["runout"][side]),
+            f(&a["runout"]["runout"][side]),
+            "run-out",
+        );
+    }
+}

@@ -19,6 +19,9 @@ pub struct Summary {
     pub nonfinite_particles: usize,
     /// Particles outside the domain.
     pub escaped_particles: usize,
+    /// Particles asleep at the end (zero unless the run let material at rest sleep).
+    #[serde(default)]
+    pub asleep_particles: usize,
     pub energy: Energy,
     pub bodies: Vec<BodySummary>,
     /// The measures of each sand body ([`crate::measure::deposits`]): its height, its flank
@@ -37,13 +40,15 @@ pub struct Energy {
     pub gravitational: f64,
     /// Stored elastic energy.
     pub elastic: f64,
-    /// Cumulative energy removed by plasticity, by the solids' bulk viscosity, by the walls
-    /// and by contact.
+    /// Cumulative energy removed by plasticity, by the solids' bulk viscosity, by the walls,
+    /// by contact and by bringing particles to rest as they fell asleep.
     pub dissipated_plastic: f64,
     #[serde(default)]
     pub dissipated_viscous: f64,
     pub dissipated_boundary: f64,
     pub dissipated_contact: f64,
+    #[serde(default)]
+    pub dissipated_sleep: f64,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -78,6 +83,7 @@ impl Summary {
             particles: snap.len(),
             nonfinite_particles: snap.nonfinite(),
             escaped_particles: snap.escaped(),
+            asleep_particles: sim.asleep(),
             energy: Energy {
                 kinetic: d.kinetic,
                 gravitational: d.gravitational,
@@ -86,6 +92,7 @@ impl Summary {
                 dissipated_viscous: d.dissipated_viscous,
                 dissipated_boundary: d.dissipated_boundary,
                 dissipated_contact: d.dissipated_contact,
+                dissipated_sleep: d.dissipated_sleep,
             },
             bodies: sim
                 .body_stats()

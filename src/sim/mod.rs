@@ -813,6 +813,19 @@ impl AnySimulation {
     pub fn clear(&mut self) {
         delegate!(self, s => s.clear())
     }
+    /// Sleeping on with the rule for the scene's grid, or off (see
+    /// [`Simulation::sleep_when_at_rest`]).
+    pub fn set_sleeping_at_rest(&mut self, on: bool) {
+        delegate!(self, s => if on { s.sleep_when_at_rest() } else { s.set_sleeping(None) })
+    }
+    /// Whether sleeping is on.
+    pub fn sleeping(&self) -> bool {
+        delegate!(self, s => s.sleeping().is_some())
+    }
+    /// How many particles sleep.
+    pub fn asleep(&self) -> usize {
+        delegate!(self, s => s.asleep())
+    }
     pub fn time(&self) -> f64 {
         delegate!(self, s => s.time())
     }

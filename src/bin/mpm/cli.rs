@@ -87,6 +87,10 @@ struct RunArgs {
     /// No progress bar.
     #[arg(long, short = 'q')]
     quiet: bool,
+    /// Let material at rest sleep until something moves the grid around it (off: every
+    /// particle is stepped; docs/method.md, "Sleeping: material at rest").
+    #[arg(long)]
+    sleep: bool,
 }
 
 #[derive(Args, Debug)]
@@ -254,6 +258,7 @@ fn run(a: RunArgs) -> Result<(), Failure> {
     }
     let scene = load_scene(&a.scene)?;
     let mut sim = build(scene, &a.scene.scene)?;
+    sim.set_sleeping_at_rest(a.sleep);
     let render_options = RenderOptions {
         width: a.size.0,
         height: a.size.1,
