@@ -200,3 +200,50 @@ fn weakening_the_sand_wakes_it_and_it_slumps_as_awake() {
     let _ = sleeping.particles_mut();
     assert_eq!(sleeping.asleep(), 0);
 }
+
+/// The shipped 2D scenes, as their files set them up, end as they would awake with sleeping
+/// on: after 2.5 s every body's centre of mass and bounding box within 2 % of the domain's
+/// height of the awake run's.
+#[test]
+fn the_shipped_2d_scenes_end_as_awake_with_sleeping_on() {
+    for file in [
+        "bunny_on_sand_ball_2d.json",
+        "column_collapse_2d.json",
+        "elastic_bunny_2d.json",
+        "notched_sand_block_2d.json",
+        "plastic_bunny_2d.json",
+    ] {
+        let s = scene(file);
+        let tolerance = 0.02 * s.domain.size[1];
+        let mut awake = Simulation::<D2>::new(s).expect("scene");
+        let mut sleeping = awake.clone();
+        sleeping.sleep_when_at_rest();
+        let mut most = 0;
+        while awake.time() < 2.5 {
+            awake.advance(0.1).unwrap();
+            sleeping.advance(0.1).unwrap();
+            most = most.max(sleeping.asleep());
+        }
+        eprintln!(
+            "{file}: at most {most} of {} asleep",
+            sleeping.particles().len()
+        );
+        for (a, s) in awake.bodies().iter().zip(sleeping.bodies()) {
+            let (a, s) = (a.stats(), s.stats());
+            for (what, x, y) in [
+                ("centre of mass", &a.center_of_mass, &s.center_of_mass),
+                ("lowest corner", &a.bbox_min, &s.bbox_min),
+                ("highest corner", &a.bbox_max, &s.bbox_max),
+            ] {
+                for k in 0..2 {
+                    assert!(
+                        (x[k] - y[k]).abs() < tolerance,
+                        "{file}: {what}[{k}] {:.4} asleep, {:.4} awake",
+                        y[k],
+                        x[k]
+                    );
+                }
+            }
+        }
+    }
+}
