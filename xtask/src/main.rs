@@ -800,7 +800,8 @@ fn fields(line: &str) -> std::collections::HashMap<&str, &str> {
 /// followed by the settled phase (stepping alone, see `www/bench/live-node.mjs`): the real-time
 /// factor at rest and during the 2 s after a bunny is dropped, with sleeping on and off
 /// (`rtf_settled rtf_settled_awake rtf_drop rtf_drop_awake`) and the fraction of particles
-/// asleep at rest (`asleep`); `--no-settled` leaves them out.
+/// asleep at rest (`asleep`), and as seen in the page with sleeping on (`rtf_seen_settled
+/// rtf_seen_drop`, see `www/bench/live-page.mjs`); `--no-settled` leaves them out.
 /// `--quality Q` measures another quality level. `--root DIR` measures another tree instead (a checkout of an earlier commit with its
 /// `www/pkg/` built, and this one's `www/bench/live-*.mjs` copied in): the figures before a
 /// change.
@@ -854,6 +855,7 @@ fn live(args: &[String]) -> Result<(), String> {
         "rtf_drop_awake",
         "asleep",
     ];
+    const SEEN_SETTLED: [&str; 2] = ["rtf_seen_settled", "rtf_seen_drop"];
     let with_settled = !args.iter().any(|a| a == "--no-settled");
     let mut table: std::collections::BTreeMap<String, Figures> = Default::default();
     let number = |f: &std::collections::HashMap<&str, &str>, k: &str| {
@@ -907,12 +909,23 @@ fn live(args: &[String]) -> Result<(), String> {
             if let Some(q) = flag(args, "--quality") {
                 page_args.extend(["--quality", q]);
             }
+            if !with_settled {
+                page_args.push("--no-settled");
+            }
             page_args.extend(scenes.iter().map(String::as_str));
             let mut c = command("node", &page_args);
             c.env("MPM_URL", url)
                 .env("CHROMIUM", chromium)
                 .current_dir(&tree);
-            for line in captured(c)?.lines().filter(|l| l.starts_with("seen ")) {
+            let out = captured(c)?;
+            for line in out.lines().filter(|l| l.starts_with("seen_settled ")) {
+                let f = fields(line);
+                let e = table.entry(f["scene"].to_string()).or_default();
+                for k in SEEN_SETTLED {
+                    e.5.entry(k).or_default().extend(number(&f, k));
+                }
+            }
+            for line in out.lines().filter(|l| l.starts_with("seen ")) {
                 let f = fields(line);
                 let e = table.entry(f["scene"].to_string()).or_default();
                 e.3.extend(number(&f, "rtf_seen"));
