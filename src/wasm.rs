@@ -163,6 +163,20 @@ impl Playground {
     pub fn diagnostics(&self) -> String {
         json(self.core.diagnostics())
     }
+    /// Switches sleeping on (material at rest stops being stepped until something touches it;
+    /// the default) or off (everything wakes). Reset, Clear and `setQuality` keep the choice.
+    #[wasm_bindgen(js_name = setSleeping)]
+    pub fn set_sleeping(&mut self, on: bool) {
+        self.core.set_sleeping(on);
+    }
+    /// Whether material at rest sleeps.
+    pub fn sleeping(&self) -> bool {
+        self.core.sleeping()
+    }
+    /// How many particles sleep.
+    pub fn asleep(&self) -> usize {
+        self.core.asleep()
+    }
     /// The error that stopped the simulation, or undefined.
     pub fn failure(&self) -> Option<String> {
         self.core.failure()
@@ -334,7 +348,7 @@ impl Playground {
         self.core.positions_len()
     }
     /// Chooses what the colour scalar shows: `body`, `speed`, `pressure`, `plastic_strain`,
-    /// `yield`.
+    /// `yield`, `sleeping` (the body index awake, −1 − it asleep).
     #[wasm_bindgen(js_name = setColourMode)]
     pub fn set_colour_mode(&mut self, mode: &str) -> Result<(), JsError> {
         self.colour = ColourMode::parse(mode).map_err(js_err)?;

@@ -1,5 +1,5 @@
-//! The per-particle colour scalar of the views: body, speed, pressure, plastic strain or yield
-//! state, with the range a colour map should span.
+//! The per-particle colour scalar of the views: body, speed, pressure, plastic strain, yield
+//! state or sleeping, with the range a colour map should span.
 
 use crate::error::{Result, not_one_of};
 use crate::material::pq;
@@ -20,15 +20,19 @@ pub enum ColourMode {
     /// 0 elastic, 0.5 on the yield surface, 1 flowing (plastic strain grew since the last
     /// colour update).
     Yield,
+    /// Awake particles: their body index (as [`ColourMode::Body`]); sleeping ones: −1 − the
+    /// body index ([`crate::step::sleep`]).
+    Sleeping,
 }
 
 impl ColourMode {
-    pub const ALL: [(&'static str, ColourMode); 5] = [
+    pub const ALL: [(&'static str, ColourMode); 6] = [
         ("body", ColourMode::Body),
         ("speed", ColourMode::Speed),
         ("pressure", ColourMode::Pressure),
         ("plastic_strain", ColourMode::PlasticStrain),
         ("yield", ColourMode::Yield),
+        ("sleeping", ColourMode::Sleeping),
     ];
 
     pub fn parse(name: &str) -> Result<Self> {
@@ -55,7 +59,7 @@ impl Colours {
     pub fn update<D: Dim>(&mut self, s: &Simulation<D>, mode: ColourMode) {
         fill(s, mode, &mut self.values, &mut self.previous_plastic);
         self.range = match mode {
-            ColourMode::Body => [0.0, s.bodies().len().max(1) as f32],
+            ColourMode::Body | ColourMode::Sleeping => [0.0, s.bodies().len().max(1) as f32],
             ColourMode::Yield => [0.0, 1.0],
             _ => {
                 let hi = percentile(&self.values, 0.99).max(match mode {
@@ -95,6 +99,13 @@ fn fill<D: Dim>(
         ColourMode::Body => {
             for (b, body) in s.bodies().iter().enumerate() {
                 out[body.range()].fill(b as f32);
+            }
+        }
+        ColourMode::Sleeping => {
+            for (b, body) in s.bodies().iter().enumerate() {
+                let (range, active) = (body.range(), body.active());
+                out[range.start..active.end].fill(b as f32);
+                out[active.end..range.end].fill(-1.0 - b as f32);
             }
         }
         ColourMode::Speed => out.iter_mut().enumerate().for_each(|(i, c)| {

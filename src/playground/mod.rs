@@ -172,6 +172,9 @@ pub struct Playground {
     bunny: BunnyAssets,
     /// Where each particle entered (for the run-outs of [`Playground::measures`]).
     footprints: Footprints,
+    /// Whether material at rest sleeps ([`crate::step::sleep`]): on unless switched off, kept
+    /// through Reset, Clear and quality changes.
+    sleeping: bool,
 }
 
 impl Playground {
@@ -231,7 +234,9 @@ impl Playground {
             ms_per_step: 0.0,
             bunny: BunnyAssets::default(),
             footprints: Footprints::default(),
+            sleeping: false,
         };
+        pg.set_sleeping(true);
         pg.footprints.update_any(&pg.sim);
         pg.update_colours(ColourMode::Body);
         Ok(pg)
@@ -272,6 +277,30 @@ impl Playground {
     /// The error that stopped the simulation, if any (a reset or clear starts again).
     pub fn failure(&self) -> Option<String> {
         self.sim.failure().map(|e| e.to_string())
+    }
+
+    /// Switches sleeping on (material at rest stops being stepped until something touches it,
+    /// with the rule for the scene's grid, [`Simulation::sleep_when_at_rest`]) or off (everything
+    /// wakes). On by default.
+    pub fn set_sleeping(&mut self, on: bool) {
+        self.sleeping = on;
+        match &mut self.sim {
+            AnySimulation::D2(s) if on => s.sleep_when_at_rest(),
+            AnySimulation::D3(s) if on => s.sleep_when_at_rest(),
+            AnySimulation::D2(s) => s.set_sleeping(None),
+            AnySimulation::D3(s) => s.set_sleeping(None),
+        }
+    }
+    /// Whether material at rest sleeps.
+    pub fn sleeping(&self) -> bool {
+        self.sleeping
+    }
+    /// How many particles sleep.
+    pub fn asleep(&self) -> usize {
+        match &self.sim {
+            AnySimulation::D2(s) => s.asleep(),
+            AnySimulation::D3(s) => s.asleep(),
+        }
     }
 
     /// Advances by up to `sim_time` seconds of simulated time, stopping early when
@@ -364,6 +393,10 @@ impl Playground {
     pub fn set_parameter(&mut self, name: &str, value: f64) -> Result<()> {
         let (scene, presets) = self.with_parameter(name, value)?;
         self.sim.configure(|s| *s = scene)?;
+        if self.sleeping {
+            // The rule follows the grid and gravity (the change woke everything).
+            self.set_sleeping(true);
+        }
         self.presets = presets;
         self.overrides.retain(|(n, _)| n != name);
         self.overrides.push((name.to_string(), value));
@@ -634,6 +667,7 @@ impl Playground {
             match Quality::find(q).and_then(|q| Self::with_quality(self.initial.clone(), q)) {
                 Ok(mut next) => {
                     next.bunny = std::mem::take(&mut self.bunny);
+                    next.set_sleeping(self.sleeping);
                     *self = next;
                 }
                 Err(e) => rejected.push(e.to_string()),
@@ -682,6 +716,7 @@ impl Playground {
         }
         next.ms_per_step = self.ms_per_step;
         next.bunny = std::mem::take(&mut self.bunny);
+        next.set_sleeping(self.sleeping);
         *self = next;
         Ok(())
     }
@@ -723,6 +758,7 @@ impl Playground {
         session.quality = None;
         let mut next = Playground::with_quality(self.initial.clone(), q)?;
         next.bunny = std::mem::take(&mut self.bunny);
+        next.set_sleeping(self.sleeping);
         let (_, refused) = next.replay(session);
         *self = next;
         Ok(refused)
@@ -1278,6 +1314,53 @@ mod tests {
         );
         pg.reset().unwrap();
         assert_eq!(pg.parameter(name).unwrap(), 20.0);
+    }
+
+    /// Sleeping is on by default: a sand block left to settle falls asleep (the colour mode
+    /// marks exactly those particles); switched off, everything wakes and stays awake. Reset,
+    /// Clear and another quality level keep the choice.
+    #[test]
+    fn a_settled_scene_sleeps_unless_sleeping_is_off() {
+        let live = Quality::find("live").unwrap();
+        for dim in [2, 3] {
+            let mut on = Playground::with_quality(sand_scene(dim), live).unwrap();
+            let mut off = on.clone();
+            off.set_sleeping(false);
+            assert!(on.sleeping() && !off.sleeping());
+            for pg in [&mut on, &mut off] {
+                while pg.time() < 2.0 {
+                    pg.frame(0.05, 1e9, clock()).unwrap();
+                }
+            }
+            let n = on.particle_count();
+            let asleep = on.asleep();
+            assert!(asleep > n / 2, "{dim}D: {asleep} of {n} asleep");
+            assert_eq!(off.asleep(), 0, "{dim}D: off keeps all awake");
+            on.update_colours(ColourMode::Sleeping);
+            let marked = on.colours().iter().filter(|&&c| c < 0.0).count();
+            assert_eq!(marked, asleep);
+            assert!(on.colours().iter().all(|&c| c == 0.0 || c == -1.0));
+            // The sand at rest: the awake run's particles are as slow as those asleep.
+            let fast = |pg: &Playground| match &pg.sim {
+                AnySimulation::D2(s) => (0..n).filter(|&i| s.particles().speed(i) > 0.05).count(),
+                AnySimulation::D3(s) => (0..n).filter(|&i| s.particles().speed(i) > 0.05).count(),
+            };
+            assert_eq!(fast(&off), 0, "{dim}D: settled");
+            // Switched off, everything wakes; Reset and quality keep the choice off.
+            on.set_sleeping(false);
+            assert_eq!(on.asleep(), 0);
+            on.reset().unwrap();
+            assert!(!on.sleeping());
+            on.set_sleeping(true);
+            on.set_quality("balanced").unwrap();
+            assert!(
+                on.sleeping() && on.asleep() == 0,
+                "a new simulation: nothing asleep"
+            );
+            on.clear();
+            assert!(on.sleeping() && on.asleep() == 0);
+            assert!(on.simulation().scene().bodies.is_empty());
+        }
     }
 
     #[test]

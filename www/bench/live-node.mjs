@@ -10,6 +10,17 @@
 // of the bunny scenes, the collapse of the sand) or S wall-clock seconds (default 12),
 // whichever comes first, after a warm-up on a separate copy of the scene (V8 runs wasm in its
 // baseline compiler first and tiers hot functions up). `--quality` picks another level.
+//
+// Then the settled phase (unless `--no-settled`): the scene runs on to 3 s simulated (sleeping
+// on, the page's default), and four windows are timed, each a real-time factor of stepping:
+//   rtf_settled        1 s at rest, sleeping on;
+//   rtf_settled_awake  1 s at rest, sleeping off (everything stepped);
+//   rtf_drop           2 s after a bunny (elastic, the page's default size) is dropped on the
+//                      middle of the floor through the session's drop API, sleeping on;
+//   rtf_drop_awake     the same drop on a second copy settled the same way, sleeping off.
+// printed on one line per scene:
+//   settled scene=<path> rtf_settled=<x> rtf_settled_awake=<x> rtf_drop=<x> rtf_drop_awake=<x> asleep=<fraction at rest>
+// Each window stops early after `--seconds` of wall-clock time.
 import { readFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
 import { performance } from 'node:perf_hooks';
@@ -24,6 +35,9 @@ const option = (name, fallback) => {
   return v;
 };
 const seconds = option('--seconds', 12);
+const noSettled = args.indexOf('--no-settled');
+const settled = noSettled < 0;
+if (!settled) args.splice(noSettled, 1);
 const simSeconds = option('--sim', 1.5);
 const q = args.indexOf('--quality');
 const asked = q >= 0 ? args.splice(q, 2)[1] : null;
@@ -41,7 +55,62 @@ function load(path) {
   const assets = files.length
     ? JSON.stringify(Object.fromEntries(files.map((f) => [f, readFileSync(`${root}${dir}${f}`, 'utf8')])))
     : undefined;
-  return quality === null ? new wasm.Playground(text, assets) : new wasm.Playground(text, assets, quality);
+  const pg = quality === null ? new wasm.Playground(text, assets) : new wasm.Playground(text, assets, quality);
+  pg.setBunny?.(readFileSync(`${root}scenes/bunny.obj`, 'utf8'), readFileSync(`${root}scenes/bunny2d.txt`, 'utf8'));
+  return pg;
+}
+
+/// Steps `pg` for `t` simulated seconds (at most `seconds` of wall-clock time); returns the
+/// real-time factor of that window.
+function timed(pg, t) {
+  const end = pg.time() + t;
+  const start = performance.now();
+  let wall = 0;
+  const t0 = pg.time();
+  while (pg.time() < end && wall < seconds * 1000) {
+    pg.step();
+    wall = performance.now() - start;
+  }
+  return (pg.time() - t0) / Math.max(1e-9, wall / 1000);
+}
+
+/// Runs `pg` on to 3 s simulated, sleeping on (no figure taken).
+function settle(pg) {
+  pg.setSleeping(true);
+  while (pg.time() < 3) pg.step();
+}
+
+/// Drops the page's default bunny on the middle of the floor.
+function dropBunny(pg) {
+  const scene = JSON.parse(pg.sceneJson());
+  const size = JSON.parse(pg.sizeRange()).default;
+  const [w, , d] = scene.domain.size;
+  const point = pg.dim() === 3 ? [w / 2, 0, d / 2] : [w / 2, 0];
+  pg.dropAt('bunny', 'elastic', new Float64Array(point), 0, size);
+}
+
+/// The settled-phase figures of `pg` (already run from its start) and a second copy of `path`.
+function settledPhase(pg, path) {
+  settle(pg);
+  const rest = timed(pg, 1);
+  const asleep = pg.asleep() / Math.max(1, pg.particleCount());
+  pg.setSleeping(false);
+  const restAwake = timed(pg, 1);
+  pg.setSleeping(true);
+  timed(pg, 0.5); // back to sleep
+  dropBunny(pg);
+  const drop = timed(pg, 2);
+  const other = load(path);
+  settle(other);
+  other.setSleeping(false);
+  dropBunny(other);
+  const dropAwake = timed(other, 2);
+  other.free();
+  const f = (x) => x.toFixed(3);
+  console.log(
+    `settled scene=${path} rtf_settled=${f(rest)} rtf_settled_awake=${f(restAwake)} rtf_drop=${f(drop)} ` +
+      `rtf_drop_awake=${f(dropAwake)} asleep=${asleep.toFixed(3)}`,
+  );
 }
 
 for (const path of scenes) {
@@ -65,5 +134,6 @@ for (const path of scenes) {
       `wall=${(wall / 1000).toFixed(3)} steps=${steps} ms_per_step=${(wall / steps).toFixed(3)} ` +
       `rtf_step=${(sim / (wall / 1000)).toFixed(3)}`,
   );
+  if (settled && pg.setSleeping) settledPhase(pg, path);
   pg.free();
 }

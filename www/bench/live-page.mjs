@@ -10,6 +10,12 @@
 // frames drawn are counted, then how long 20 commands wait for an answer while it runs
 // (`cargo xtask live` serves the page and runs this). `--quality`
 // picks another level.
+//
+// Then the settled phase as seen (unless `--no-settled`; the page's default, sleeping on): once
+// the scene has run 3 s simulated, `rtf_seen_settled` over 3 wall-clock seconds at rest, then
+// `rtf_seen_drop` from dropping an elastic bunny of the default size on the middle of the floor
+// (the session's `dropAt`) until 2 s simulated or 15 wall-clock seconds have passed, printed on
+//   seen_settled scene=<path> rtf_seen_settled=<x> rtf_seen_drop=<y> asleep=<fraction at rest>
 import { launch } from '../tests/browser.mjs';
 
 const url = process.env.MPM_URL || 'http://127.0.0.1:8080/';
@@ -17,6 +23,9 @@ const args = process.argv.slice(2);
 let seconds = 8;
 const i = args.indexOf('--seconds');
 if (i >= 0) seconds = Number(args.splice(i, 2)[1]);
+const noSettled = args.indexOf('--no-settled');
+const settled = noSettled < 0;
+if (!settled) args.splice(noSettled, 1);
 const q = args.indexOf('--quality');
 const quality = q >= 0 ? `&quality=${args.splice(q, 2)[1]}` : '';
 const width = Number(process.env.MPM_WIDTH || 1280), height = Number(process.env.MPM_HEIGHT || 720);
@@ -65,6 +74,26 @@ for (const scene of args) {
         `frame_send_ms=${b.flush.toFixed(2)} draw_js_ms=${b.render.toFixed(2)}`) +
       (waits ? ` command_wait_ms=${waits[10].toFixed(1)} command_wait_max_ms=${waits[19].toFixed(1)}` : ''),
   );
+  if (settled && (await page.evaluate(() => !!window.mpm.session?.dropAt))) {
+    const now = () => page.evaluate(() => ({
+      t: performance.now(), sim: window.mpm.simTime,
+      asleep: (window.mpm.session.frame?.asleep ?? 0) / Math.max(1, window.mpm.session.frame?.count ?? 1),
+    }));
+    await page.waitForFunction(() => window.mpm.simTime >= 3, null, { timeout: 300_000 });
+    const r0 = await now();
+    await page.waitForTimeout(3000);
+    const r1 = await now();
+    await page.evaluate(() => {
+      const m = window.mpm, [w, , d] = m.sim.scene.domain.size;
+      const point = m.domain.length === 3 ? [w / 2, 0, d / 2] : [w / 2, 0];
+      return m.session.dropAt('bunny', 'elastic', point, 0, m.session.sizeRange().default);
+    });
+    const d0 = await now();
+    await page.waitForFunction((t) => window.mpm.simTime >= t, d0.sim + 2, { timeout: 15_000 }).catch(() => {});
+    const d1 = await now();
+    const rtf = (a, b) => ((b.sim - a.sim) / ((b.t - a.t) / 1000)).toFixed(3);
+    console.log(`seen_settled scene=${scene} rtf_seen_settled=${rtf(r0, r1)} rtf_seen_drop=${rtf(d0, d1)} asleep=${r1.asleep.toFixed(3)}`);
+  }
   if (errors.length) console.log(`page errors (${scene}): ${errors.join('; ')}`);
   await page.close();
 }

@@ -12,6 +12,9 @@ export const BODY_COLOURS = [
   [0.55, 0.55, 0.58], // grey
 ];
 
+/// Sleeping particles (colour mode `sleeping`; awake ones take their body's colour).
+export const SLEEP_COLOUR = [0.40, 0.43, 0.50];
+
 /// Elastic, on the yield surface, flowing.
 export const YIELD_COLOURS = [
   [0.55, 0.66, 0.80],
@@ -59,6 +62,7 @@ vec3 viridis(float t) {
 /// renderer and the legend).
 export function colourOf(mode, v, range) {
   if (mode === 'body') return BODY_COLOURS[Math.round(v) % BODY_COLOURS.length];
+  if (mode === 'sleeping') return v < 0 ? SLEEP_COLOUR : BODY_COLOURS[Math.round(v) % BODY_COLOURS.length];
   if (mode === 'yield') return YIELD_COLOURS[Math.min(2, Math.max(0, Math.round(v * 2)))];
   return viridis((v - range[0]) / Math.max(1e-30, range[1] - range[0]));
 }

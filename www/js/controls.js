@@ -54,6 +54,7 @@ export function buildControls(app) {
     app.session.timeScale(Number(app.view.time));
     app.updateHash();
   });
+  $('sleeping').addEventListener('change', () => app.session.sleeping($('sleeping').checked));
   $('colour').addEventListener('change', () => {
     app.view.colour = $('colour').value;
     app.session.colour(app.view.colour);
@@ -105,6 +106,7 @@ export function syncControls(app, values = true) {
     if (w.spec.at_most) w.setMax(boundedMax(w.spec, current));
   }
   $('colour').value = app.view.colour;
+  $('sleeping').checked = app.session.isSleeping;
   $('timescale').value = app.view.time;
   $('quality').value = app.session.quality.quality;
   const q = app.session.quality;

@@ -1,7 +1,7 @@
 // What the page tells the user over the view: the HUD of figures, the colour legend, banners
 // (warnings that stay while they hold) and toasts (messages that fade).
 
-import { BODY_COLOURS, YIELD_COLOURS, YIELD_LABELS, css, viridis } from './colours.js';
+import { BODY_COLOURS, SLEEP_COLOUR, YIELD_COLOURS, YIELD_LABELS, css, viridis } from './colours.js';
 import { format, formatTime } from './params.js';
 import { el } from './widgets.js';
 import { accuracyNote, pct, speedWords } from './measure-view.js';
@@ -75,8 +75,9 @@ export function hud(rows, slow, details) {
 /// a class needs: the simulated time, the real-time factor in words, the quality level with
 /// what its resolution costs in accuracy (the validation cases' errors at that cell size and
 /// particles per cell, `resolution.accuracy`). `tech`, behind Details: frame rate, particles,
-/// steps per frame, time step, CFL number, cost per step, the resolution, renderer, solver.
-export function hudRows(st, d, { particles, playing, stableDt, time, renderer, quality, thread, resolution, label, dim }) {
+/// particles asleep, steps per frame, time step, CFL number, cost per step, the resolution,
+/// renderer, solver.
+export function hudRows(st, d, { particles, asleep = 0, playing, stableDt, time, renderer, quality, thread, resolution, label, dim }) {
   const a = resolution.accuracy;
   return {
     main: [
@@ -90,6 +91,7 @@ export function hudRows(st, d, { particles, playing, stableDt, time, renderer, q
     tech: [
       ['fps', st.fps.toFixed(0)],
       ['particles', particles.toLocaleString('en')],
+      ['asleep', asleep.toLocaleString('en'), 'Particles at rest that are not stepped until something touches them (Sleep at rest, under More)'],
       ['steps / frame', String(st.substeps)],
       ['dt', formatTime(d.dt || stableDt)],
       ['CFL', (d.cfl || 0).toFixed(2)],
@@ -111,6 +113,11 @@ export function legend(mode, scene, range) {
     box.replaceChildren(...scene.bodies.slice(0, 8).map((b, i) =>
       el('span', { class: 'sw' }, el('i', { style: `background:${css(BODY_COLOURS[i % BODY_COLOURS.length])}` }), b.name || `body ${i + 1}`)));
     if (!scene.bodies.length) box.textContent = 'no bodies yet: drop one';
+    return;
+  }
+  if (mode === 'sleeping') {
+    box.replaceChildren(el('span', { class: 'sw' }, el('i', { style: `background:${css(BODY_COLOURS[0])}` }), 'awake (body colour)'),
+      el('span', { class: 'sw' }, el('i', { style: `background:${css(SLEEP_COLOUR)}` }), 'asleep'));
     return;
   }
   if (mode === 'yield') {

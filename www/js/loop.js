@@ -128,7 +128,7 @@ function refresh(app, f) {
   app.energyPlot.draw(app.domain.length === 2 ? 'energy (J/m)' : 'energy (J)');
   app.stressPlot.draw();
   const rows = hudRows(app.stats, f.diagnostics, {
-    particles: f.count, playing: app.playing, stableDt: f.stableDt, time: f.time,
+    particles: f.count, asleep: f.asleep, playing: app.playing, stableDt: f.stableDt, time: f.time,
     renderer: app.renderer.kind, quality: app.quality, thread: s.kind,
     resolution: s.quality, label: app.qualityLabel(s.quality.quality), dim: app.domain.length,
   });

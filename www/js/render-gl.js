@@ -2,9 +2,9 @@
 // the sphere they show), soft contact shadows on the floor in 3D, the domain box and a floor
 // grid. Positions and colour scalars come straight from views into wasm memory.
 
-import { BODY_COLOURS, YIELD_COLOURS, VIRIDIS_GLSL } from './colours.js';
+import { BODY_COLOURS, SLEEP_COLOUR, YIELD_COLOURS, VIRIDIS_GLSL } from './colours.js';
 
-const MODE = { body: 0, yield: 1, speed: 2, pressure: 2, plastic_strain: 2 };
+const MODE = { body: 0, yield: 1, speed: 2, pressure: 2, plastic_strain: 2, sleeping: 3 };
 
 const PARTICLE_VS = `#version 300 es
 layout(location = 0) in vec3 a_pos;
@@ -26,6 +26,7 @@ void main() {
   float w = u_ortho ? 1.0 : max(1e-4, -vp.z);
   gl_PointSize = clamp(2.0 * u_radius * u_pxPerUnit / w, 1.5, u_maxPoint);
   if (u_mode == 0) v_colour = u_body[int(a_val + 0.5) % ${BODY_COLOURS.length}];
+  else if (u_mode == 3) v_colour = a_val < 0.0 ? vec3(${SLEEP_COLOUR.join(', ')}) : u_body[int(a_val + 0.5) % ${BODY_COLOURS.length}];
   else if (u_mode == 1) v_colour = u_yield[clamp(int(a_val * 2.0 + 0.5), 0, 2)];
   else v_colour = viridis((a_val - u_range.x) / max(1e-30, u_range.y - u_range.x));
 }`;

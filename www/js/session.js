@@ -124,6 +124,8 @@ export class Session {
   session() { return this.state.session; }
   sizeRange() { return this.state.sizeRange; }
   get quality() { return this.state.quality; }
+  /// Whether material at rest sleeps.
+  get isSleeping() { return this.state.sleeping; }
 
   // --- commands -------------------------------------------------------------------------------
 
@@ -164,6 +166,8 @@ export class Session {
   step() { this.tell('step'); }
   timeScale(scale) { this.tell('timeScale', { scale }); }
   colour(mode) { this.tell('colour', { mode }); }
+  /// Material at rest sleeps (on) or is stepped every step (off); kept for scenes loaded after.
+  sleeping(on) { this.tell('sleeping', { on }); }
   probe(id) { this.tell('probe', { id }); }
 
   /// A command whose answer is '' or the error message.

@@ -36,6 +36,7 @@ export class SimHost {
     this.stepOnce = false;
     this.scale = 1; // simulated per real time asked for
     this.colour = 'body';
+    this.sleeping = true; // material at rest sleeps (kept through loads, Clear, Reset)
     this.probe = null; // stable id of the inspected particle
     this.wanted = true; // the page drew the last frame sent and takes another
     this.dirty = true; // something to show that was not sent
@@ -183,6 +184,12 @@ export class SimHost {
     this.colour = mode;
     this.dirty = true;
   }
+  /// Sleeping on or off (Playground.setSleeping); kept for every scene loaded after.
+  cmd_sleeping({ on }) {
+    this.sleeping = !!on;
+    this.pg?.setSleeping(this.sleeping);
+    this.changed();
+  }
   cmd_probe({ id }) {
     this.probe = id;
     this.dirty = true;
@@ -219,6 +226,7 @@ export class SimHost {
       sizeRange: JSON.parse(pg.sizeRange()),
       particles: pg.particleCount(),
       bodies: pg.bodyCount(),
+      sleeping: pg.sleeping(),
       failure: this.failed,
     };
   }
@@ -232,6 +240,7 @@ export class SimHost {
   restarted() {
     this.failed = '';
     this.pg.setColourMode(this.colour);
+    if (this.pg.sleeping() !== this.sleeping) this.pg.setSleeping(this.sleeping);
     this.pending = fresh();
     this.last = performance.now();
     this.owed = 0;
@@ -311,7 +320,7 @@ export class SimHost {
     this.particles = count;
     const message = {
       type: 'frame', seq: ++this.seq, positions, values, stride, count, range,
-      time: pg.time(), stableDt: pg.stableDt(), report, stress,
+      time: pg.time(), stableDt: pg.stableDt(), report, stress, asleep: pg.asleep(),
       // each sand body's flank angles, run-out and the experiments' markers (mpm::measure)
       measures: JSON.parse(pg.measures()),
       diagnostics: JSON.parse(pg.diagnostics()),

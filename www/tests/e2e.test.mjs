@@ -273,3 +273,29 @@ test('without a worker the simulation steps on the page\'s thread', async () => 
   assert.deepEqual(errors, []);
   await page.close();
 });
+
+test('2D: sleeping is on by default, the settled sand falls asleep and shows in the sleeping colours; off wakes it', async () => {
+  const { page, errors } = await open('#scene=notched_sand_block&dim=2&quality=live&colour=sleeping');
+  assert.equal(await page.evaluate(() => mpm.sim.sleeping), true);
+  assert.equal(await page.$eval('#sleeping', (c) => c.checked), true);
+  // At rest the sand falls asleep: the frame counts it and the colour scalars mark it (< 0).
+  await page.waitForFunction(() => (mpm.session.frame?.asleep ?? 0) > 0, null, { timeout: 90_000 });
+  const marked = await page.evaluate(() => {
+    const f = mpm.session.frame;
+    return { asleep: f.asleep, negative: Array.from(f.values.subarray(0, f.count)).filter((v) => v < 0).length };
+  });
+  assert.equal(marked.negative, marked.asleep, 'the colour scalars mark the particles asleep');
+  await page.screenshot({ path: join(OUT, 'playground-sleeping.png') });
+  await page.evaluate(() => {
+    const c = document.getElementById('sleeping');
+    c.checked = false;
+    c.dispatchEvent(new Event('change'));
+  });
+  await page.waitForFunction(() => mpm.sim.sleeping === false && mpm.session.frame?.asleep === 0, null, { timeout: 10_000 });
+  // Reset keeps the choice.
+  await page.click('#reset');
+  await page.waitForFunction(() => mpm.sim.sleeping === false && mpm.simTime > 0.3, null, { timeout: 60_000 });
+  assert.equal(await page.evaluate(() => mpm.session.frame.asleep), 0);
+  assert.deepEqual(errors, []);
+  await page.close();
+});

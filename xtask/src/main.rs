@@ -796,7 +796,12 @@ fn fields(line: &str) -> std::collections::HashMap<&str, &str> {
 /// wall-clock second of stepping alone (the release wasm in Node, pinned to one core with
 /// `taskset -c 0` where it exists) and as seen in headless Chromium (stepping and rendering),
 /// each the median of `--runs` runs (default 3). Prints one line per scene:
-/// `live scene=<name> dim=<d> particles=<n> rtf_step=<x> rtf_seen=<y> fps=<z> quality=<q>`.
+/// `live scene=<name> dim=<d> particles=<n> rtf_step=<x> rtf_seen=<y> fps=<z> quality=<q>`,
+/// followed by the settled phase (stepping alone, see `www/bench/live-node.mjs`): the real-time
+/// factor at rest and during the 2 s after a bunny is dropped, with sleeping on and off
+/// (`rtf_settled rtf_settled_awake rtf_drop rtf_drop_awake`) and the fraction of particles
+/// asleep at rest (`asleep`), and as seen in the page with sleeping on (`rtf_seen_settled
+/// rtf_seen_drop`, see `www/bench/live-page.mjs`); `--no-settled` leaves them out.
 /// `--quality Q` measures another quality level. `--root DIR` measures another tree instead (a checkout of an earlier commit with its
 /// `www/pkg/` built, and this one's `www/bench/live-*.mjs` copied in): the figures before a
 /// change.
@@ -833,8 +838,25 @@ fn live(args: &[String]) -> Result<(), String> {
     if scenes.is_empty() {
         return Err(format!("no scene file matches {words:?}"));
     }
-    // Per scene: (dim, particles and quality, rtf_step runs, rtf_seen runs, fps runs).
-    type Figures = (String, String, Vec<f64>, Vec<f64>, Vec<f64>);
+    // Per scene: (dim, particles and quality, rtf_step runs, rtf_seen runs, fps runs, settled
+    // figures' runs by name).
+    type Figures = (
+        String,
+        String,
+        Vec<f64>,
+        Vec<f64>,
+        Vec<f64>,
+        std::collections::BTreeMap<&'static str, Vec<f64>>,
+    );
+    const SETTLED: [&str; 5] = [
+        "rtf_settled",
+        "rtf_settled_awake",
+        "rtf_drop",
+        "rtf_drop_awake",
+        "asleep",
+    ];
+    const SEEN_SETTLED: [&str; 2] = ["rtf_seen_settled", "rtf_seen_drop"];
+    let with_settled = !args.iter().any(|a| a == "--no-settled");
     let mut table: std::collections::BTreeMap<String, Figures> = Default::default();
     let number = |f: &std::collections::HashMap<&str, &str>, k: &str| {
         f.get(k).and_then(|v| v.parse::<f64>().ok())
@@ -855,6 +877,9 @@ fn live(args: &[String]) -> Result<(), String> {
         if let Some(q) = flag(args, "--quality") {
             node_args.extend(["--quality", q]);
         }
+        if !with_settled {
+            node_args.push("--no-settled");
+        }
         node_args.extend(scenes.iter().map(String::as_str));
         let mut c = if pinned {
             let mut all = vec!["-c", "0"];
@@ -864,24 +889,43 @@ fn live(args: &[String]) -> Result<(), String> {
             command(node_args[0], &node_args[1..])
         };
         c.current_dir(&tree);
-        for line in captured(c)?.lines().filter(|l| l.starts_with("step ")) {
+        let out = captured(c)?;
+        for line in out.lines().filter(|l| l.starts_with("step ")) {
             let f = fields(line);
             let e = table.entry(f["scene"].to_string()).or_default();
             e.0 = f["dim"].to_string();
             e.1 = format!("{} quality={}", f["particles"], f["quality"]);
             e.2.extend(number(&f, "rtf_step"));
         }
+        for line in out.lines().filter(|l| l.starts_with("settled ")) {
+            let f = fields(line);
+            let e = table.entry(f["scene"].to_string()).or_default();
+            for k in SETTLED {
+                e.5.entry(k).or_default().extend(number(&f, k));
+            }
+        }
         if let (Some(chromium), Some(url)) = (&chromium, &url) {
             let mut page_args = vec!["www/bench/live-page.mjs", "--seconds", seconds];
             if let Some(q) = flag(args, "--quality") {
                 page_args.extend(["--quality", q]);
+            }
+            if !with_settled {
+                page_args.push("--no-settled");
             }
             page_args.extend(scenes.iter().map(String::as_str));
             let mut c = command("node", &page_args);
             c.env("MPM_URL", url)
                 .env("CHROMIUM", chromium)
                 .current_dir(&tree);
-            for line in captured(c)?.lines().filter(|l| l.starts_with("seen ")) {
+            let out = captured(c)?;
+            for line in out.lines().filter(|l| l.starts_with("seen_settled ")) {
+                let f = fields(line);
+                let e = table.entry(f["scene"].to_string()).or_default();
+                for k in SEEN_SETTLED {
+                    e.5.entry(k).or_default().extend(number(&f, k));
+                }
+            }
+            for line in out.lines().filter(|l| l.starts_with("seen ")) {
                 let f = fields(line);
                 let e = table.entry(f["scene"].to_string()).or_default();
                 e.3.extend(number(&f, "rtf_seen"));
@@ -899,7 +943,7 @@ fn live(args: &[String]) -> Result<(), String> {
         commit.trim(),
         if pinned { " under taskset -c 0" } else { "" }
     );
-    for (path, (dim, particles, mut step, mut seen, mut fps)) in table {
+    for (path, (dim, particles, mut step, mut seen, mut fps, mut settled)) in table {
         let name = path.trim_start_matches("scenes/").trim_end_matches(".json");
         let show = |v: &mut Vec<f64>, digits: usize| {
             if v.is_empty() {
@@ -909,8 +953,13 @@ fn live(args: &[String]) -> Result<(), String> {
             }
         };
         let (particles, quality) = particles.split_once(' ').unwrap_or((&particles, ""));
+        let settled: String = settled
+            .iter_mut()
+            .filter(|(_, v)| !v.is_empty())
+            .map(|(k, v)| format!(" {k}={}", show(v, 3)))
+            .collect();
         println!(
-            "live scene={name} dim={dim} particles={particles} rtf_step={} rtf_seen={} fps={} {quality}",
+            "live scene={name} dim={dim} particles={particles} rtf_step={} rtf_seen={} fps={} {quality}{settled}",
             show(&mut step, 3),
             show(&mut seen, 3),
             show(&mut fps, 1),
