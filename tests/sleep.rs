@@ -107,7 +107,8 @@ fn sleeping_that_never_triggers_changes_nothing() {
     assert!(a.x == b.x && a.v == b.v && a.stress == b.stress);
 }
 
-/// A settled sand ball falls asleep, keeps its energy (what the sleepers lost is the kinetic
+/// A settled sand ball falls asleep (and, wholly asleep, steps at more than twice the awake
+/// step), keeps its energy (what the sleepers lost is the kinetic
 /// energy of their last mm/s, booked as dissipated), and a bunny dropped on it wakes it; the
 /// crater, the heap's height and width and the bunny's rebound end within 2 % of the awake
 /// run's, and the ball falls asleep again once everything rests.
@@ -126,6 +127,8 @@ fn a_dropped_bunny_wakes_the_settled_ball_and_both_end_as_awake() {
         "{} of {n} particles asleep a second after the ball settled",
         sleeping.asleep()
     );
+    // wholly asleep, the sand's waves no longer bound the step
+    assert!(awake.stable_dt() < 0.5 * sleeping.stable_dt());
     let e = sleeping.diagnostics();
     let drift = budget(&sleeping) - before;
     assert!(
