@@ -284,12 +284,7 @@ impl Playground {
     /// wakes). On by default.
     pub fn set_sleeping(&mut self, on: bool) {
         self.sleeping = on;
-        match &mut self.sim {
-            AnySimulation::D2(s) if on => s.sleep_when_at_rest(),
-            AnySimulation::D3(s) if on => s.sleep_when_at_rest(),
-            AnySimulation::D2(s) => s.set_sleeping(None),
-            AnySimulation::D3(s) => s.set_sleeping(None),
-        }
+        self.sim.set_sleeping_at_rest(on);
     }
     /// Whether material at rest sleeps.
     pub fn sleeping(&self) -> bool {
@@ -297,10 +292,7 @@ impl Playground {
     }
     /// How many particles sleep.
     pub fn asleep(&self) -> usize {
-        match &self.sim {
-            AnySimulation::D2(s) => s.asleep(),
-            AnySimulation::D3(s) => s.asleep(),
-        }
+        self.sim.asleep()
     }
 
     /// Advances by up to `sim_time` seconds of simulated time, stopping early when
