@@ -14,22 +14,8 @@ use validation::*;
 
 fn main() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let list = |i: usize, default: &str| -> Vec<String> {
-        args.get(i)
-            .map_or(default, |s| s.as_str())
-            .split(',')
-            .map(str::to_string)
-            .collect()
-    };
-    let hs: Vec<f64> = list(0, "0.01")
-        .iter()
-        .map(|a| {
-            a.parse()
-                .ok()
-                .filter(|h| (0.001..=0.05).contains(h))
-                .ok_or(format!("h: `{a}` is not a cell size in [0.001, 0.05] m"))
-        })
-        .collect::<Result<_, _>>()?;
+    let list = |i: usize, default: &str| arg_list(&args, i, default);
+    let hs = cell_sizes(&list(0, "0.01"))?;
     let cases = list(1, "30");
     let variant = args.get(2).cloned().unwrap_or_default();
     for &h in &hs {

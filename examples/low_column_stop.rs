@@ -19,23 +19,14 @@ const T_MAX: f64 = 30.0;
 
 fn main() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let list = |i: usize, default: &str| -> Vec<String> {
-        args.get(i)
-            .map_or(default, |s| s.as_str())
-            .split(',')
-            .map(str::to_string)
-            .collect()
-    };
+    let list = |i: usize, default: &str| arg_list(&args, i, default);
     let number = |a: &str, what: &str, range: std::ops::Range<f64>| -> Result<f64, String> {
         a.parse().ok().filter(|x| range.contains(x)).ok_or(format!(
             "{what}: `{a}` is not in [{}, {})",
             range.start, range.end
         ))
     };
-    let hs: Vec<f64> = list(0, "0.01")
-        .iter()
-        .map(|a| number(a, "h (m)", 0.001..0.05))
-        .collect::<Result<_, _>>()?;
+    let hs = cell_sizes(&list(0, "0.01"))?;
     let phis: Vec<f64> = list(1, "30")
         .iter()
         .map(|a| number(a, "φ (degrees)", 0.0..60.0))

@@ -537,17 +537,24 @@ fn a_saved_playground_session_runs_in_the_cli() {
     assert!(saved.contains("\"friction_angle\": 22.0"), "{saved}");
 }
 
-/// The summary measures each sand body as the page does (`mpm::measure`): a column that
-/// collapses runs out on both sides of its footprint and ends lower, with flanks of a sand
-/// heap's slope; at the start it has run out nowhere and stands at its height.
-#[test]
-fn the_summary_measures_a_collapsing_column() {
+/// A folder holding `column.json`: the tiny 2D scene's sand as a column 0.2 m wide and 0.4 m
+/// high on cells of 0.025 m.
+fn column_dir() -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
     let mut scene: serde_json::Value = serde_json::from_str(TINY_2D).unwrap();
     scene["cell_size"] = 0.025.into();
     scene["bodies"][0]["shape"] =
         serde_json::json!({"box": {"min": [0.4, 0.0], "max": [0.6, 0.4]}});
     fs::write(dir.path().join("column.json"), scene.to_string()).unwrap();
+    dir
+}
+
+/// The summary measures each sand body as the page does (`mpm::measure`): a column that
+/// collapses runs out on both sides of its footprint and ends lower, with flanks of a sand
+/// heap's slope; at the start it has run out nowhere and stands at its height.
+#[test]
+fn the_summary_measures_a_collapsing_column() {
+    let dir = column_dir();
     let deposit = |t: &str| -> serde_json::Value {
         let out = mpm(
             &["run", "column.json", "-t", t, "-q", "--summary", "-"],
@@ -582,12 +589,7 @@ fn the_summary_measures_a_collapsing_column() {
 /// ends (height and run-outs within 2 %); without it nothing sleeps.
 #[test]
 fn run_sleep_lets_a_resting_column_sleep_where_it_would_rest() {
-    let dir = tempfile::tempdir().unwrap();
-    let mut scene: serde_json::Value = serde_json::from_str(TINY_2D).unwrap();
-    scene["cell_size"] = 0.025.into();
-    scene["bodies"][0]["shape"] =
-        serde_json::json!({"box": {"min": [0.4, 0.0], "max": [0.6, 0.4]}});
-    fs::write(dir.path().join("column.json"), scene.to_string()).unwrap();
+    let dir = column_dir();
     let summary = |extra: &[&str]| -> serde_json::Value {
         let mut args = vec!["run", "column.json", "-t", "3", "-q", "--summary", "-"];
         args.extend_from_slice(extra);

@@ -172,9 +172,6 @@ pub struct Playground {
     bunny: BunnyAssets,
     /// Where each particle entered (for the run-outs of [`Playground::measures`]).
     footprints: Footprints,
-    /// Whether material at rest sleeps ([`crate::step::sleep`]): on unless switched off, kept
-    /// through Reset, Clear and quality changes.
-    sleeping: bool,
 }
 
 impl Playground {
@@ -234,7 +231,6 @@ impl Playground {
             ms_per_step: 0.0,
             bunny: BunnyAssets::default(),
             footprints: Footprints::default(),
-            sleeping: false,
         };
         pg.set_sleeping(true);
         pg.footprints.update_any(&pg.sim);
@@ -283,12 +279,11 @@ impl Playground {
     /// with the rule for the scene's grid, [`Simulation::sleep_when_at_rest`]) or off (everything
     /// wakes). On by default.
     pub fn set_sleeping(&mut self, on: bool) {
-        self.sleeping = on;
         self.sim.set_sleeping_at_rest(on);
     }
     /// Whether material at rest sleeps.
     pub fn sleeping(&self) -> bool {
-        self.sleeping
+        self.sim.sleeping()
     }
     /// How many particles sleep.
     pub fn asleep(&self) -> usize {
@@ -385,7 +380,7 @@ impl Playground {
     pub fn set_parameter(&mut self, name: &str, value: f64) -> Result<()> {
         let (scene, presets) = self.with_parameter(name, value)?;
         self.sim.configure(|s| *s = scene)?;
-        if self.sleeping {
+        if self.sleeping() {
             // The rule follows the grid and gravity (the change woke everything).
             self.set_sleeping(true);
         }
@@ -659,7 +654,7 @@ impl Playground {
             match Quality::find(q).and_then(|q| Self::with_quality(self.initial.clone(), q)) {
                 Ok(mut next) => {
                     next.bunny = std::mem::take(&mut self.bunny);
-                    next.set_sleeping(self.sleeping);
+                    next.set_sleeping(self.sleeping());
                     *self = next;
                 }
                 Err(e) => rejected.push(e.to_string()),
@@ -708,7 +703,7 @@ impl Playground {
         }
         next.ms_per_step = self.ms_per_step;
         next.bunny = std::mem::take(&mut self.bunny);
-        next.set_sleeping(self.sleeping);
+        next.set_sleeping(self.sleeping());
         *self = next;
         Ok(())
     }
@@ -750,7 +745,7 @@ impl Playground {
         session.quality = None;
         let mut next = Playground::with_quality(self.initial.clone(), q)?;
         next.bunny = std::mem::take(&mut self.bunny);
-        next.set_sleeping(self.sleeping);
+        next.set_sleeping(self.sleeping());
         let (_, refused) = next.replay(session);
         *self = next;
         Ok(refused)

@@ -217,6 +217,27 @@ fn rest_positions<D: Dim>(sim: &Simulation<D>) -> Vec<[f64; 3]> {
     rest
 }
 
+/// The comma-separated list at position `i` of an example's arguments, or `default`'s.
+pub fn arg_list(args: &[String], i: usize, default: &str) -> Vec<String> {
+    args.get(i)
+        .map_or(default, |s| s.as_str())
+        .split(',')
+        .map(str::to_string)
+        .collect()
+}
+
+/// The cell sizes of such a list, each in [0.001, 0.05] m.
+pub fn cell_sizes(list: &[String]) -> Result<Vec<f64>, String> {
+    list.iter()
+        .map(|a| {
+            a.parse()
+                .ok()
+                .filter(|h| (0.001..=0.05).contains(h))
+                .ok_or(format!("h: `{a}` is not a cell size in [0.001, 0.05] m"))
+        })
+        .collect()
+}
+
 /// The particle spacing of body 0 (cell size / particles per cell).
 pub fn spacing(scene: &SceneConfig) -> f64 {
     scene.cell_size / scene.bodies[0].particles_per_cell as f64
