@@ -90,11 +90,11 @@ fn every_lesson_loads_validates_and_runs() {
     }
 }
 
-/// The friction-angle lesson as the page opens it (the default quality level, the page's own
-/// flank readout): the sand column at 20° runs out further and leaves a flatter heap than at
-/// 40°; both heaps rest well below their plane-strain friction angles φ_ps (19.6° and 37.1°),
-/// at the angles the caption quotes (about 12° and 27°; 11.6° and 27.2° measured), which the
-/// caption names as a shortcoming of the model: real sand stands near its friction angle.
+/// The friction-angle lesson as the page opens it (the default quality level, sleeping on, the
+/// page's own flank readout): sand at 20° and 40° released between slowly lifted walls comes to
+/// rest as two heaps within 3° of their plane-strain friction angles φ_ps (19.6° and 37.1°), at
+/// the angles the caption quotes (about 21° and 34°; 21.1° and 34.4° measured), the 40° heap
+/// at least 8° steeper and the 20° heap spreading further.
 #[test]
 fn friction_angle_sets_the_heap() {
     let (lesson, scene) = load("friction_angle.json");
@@ -105,7 +105,7 @@ fn friction_angle_sets_the_heap() {
     let d = pg.measures();
     let flank = |b: usize| {
         let f: Vec<f64> = d[b].heap.flanks.iter().flatten().map(|f| f.angle).collect();
-        assert!(!f.is_empty(), "body {b}: no flank fitted");
+        assert_eq!(f.len(), 2, "body {b}: a heap has two flanks");
         f.iter().sum::<f64>() / f.len() as f64
     };
     let runout = |b: usize| {
@@ -115,16 +115,16 @@ fn friction_angle_sets_the_heap() {
     let (a20, a40) = (flank(0), flank(1));
     let (r20, r40) = (runout(0), runout(1));
     println!("heap angles {a20:.1}° and {a40:.1}°, run-outs {r20:.3} and {r40:.3} m");
-    assert!(a40 > a20 + 5.0, "{a20} {a40}");
-    for (b, a, quoted) in [(0, a20, 12.0), (1, a40, 27.0)] {
+    assert!(a40 > a20 + 8.0, "{a20} {a40}");
+    for (b, a, quoted) in [(0, a20, 21.0), (1, a40, 34.0)] {
         let phi_ps = d[b].plane_strain_angle.unwrap();
         assert!(
             (a - quoted).abs() < 1.5,
             "body {b}: the heap stands at {a:.1}°, the caption quotes about {quoted}°"
         );
         assert!(
-            a < phi_ps - 5.0,
-            "body {b}: the heap stands at {a:.1}°, φ_ps {phi_ps:.1}°: the caption's shortcoming is gone, rewrite it"
+            (a - phi_ps).abs() < 3.0,
+            "body {b}: the heap stands at {a:.1}°, φ_ps {phi_ps:.1}°: the caption says within 3°"
         );
     }
     assert!(r20 > 1.5 * r40, "{r20} {r40}");
