@@ -5,7 +5,8 @@
 //! rough floor".
 //!
 //! `nice cargo run --release --example low_column -- 0.01,0.005 20,30,40` (cell sizes in m,
-//! friction angles in degrees, or `bui` for Bui et al.'s set-up)
+//! friction angles in degrees, or `bui` for Bui et al.'s set-up; a third argument names a
+//! variant of the numerics, or `floor<μ>` for another floor friction)
 
 #[path = "../tests/support/validation.rs"]
 mod validation;
@@ -18,10 +19,21 @@ fn main() -> Result<(), String> {
     let hs = cell_sizes(&list(0, "0.01"))?;
     let cases = list(1, "30");
     let variant = args.get(2).cloned().unwrap_or_default();
+    // `floor<μ>`: the default numerics on a floor of friction μ instead of the rough floor's
+    let floor: Option<f64> = match variant.strip_prefix("floor") {
+        Some(m) => Some(
+            m.parse()
+                .ok()
+                .filter(|m: &f64| (0.0..=2.0).contains(m))
+                .ok_or(format!("variant `{variant}`: floor<μ in [0, 2]>"))?,
+        ),
+        None => None,
+    };
     for &h in &hs {
         for case in &cases {
             let n = Numerics::new(h, KernelKind::Gimp);
             let n = match variant.as_str() {
+                _ if floor.is_some() => n,
                 "" => n,
                 "cfl0.1" => n.cfl(0.1),
                 "alpha0" => n.flip(0.0),
@@ -50,7 +62,14 @@ fn main() -> Result<(), String> {
                     .ok()
                     .filter(|p| (0.0..60.0).contains(p))
                     .ok_or(format!("φ: `{case}` is not `bui` or an angle in [0, 60)"))?;
-                low_column(phi, &n, 4.0)
+                match floor {
+                    Some(mu) => {
+                        let mut scene = low_column_scene(phi, &n);
+                        scene.boundary.friction = mu;
+                        plane_deposit(scene, false, 4.0)
+                    }
+                    None => low_column(phi, &n, 4.0),
+                }
             };
             let d = &r.deposit;
             println!(
