@@ -162,6 +162,7 @@ export class App {
     if (lesson && model) this.view.material = model;
     this.restarted();
     this.session.timeScale(Number(this.view.time));
+    this.session.sleeping(this.view.sleep !== '0');
     this.session.colour(this.view.colour);
     this.session.play(this.playing);
     buildDropControls(this);
@@ -208,6 +209,7 @@ export class App {
     const { view, session, errors } = readHash(location.hash, this.session.table.names);
     Object.assign(this.view, view);
     this.view.lesson = view.lesson;
+    this.view.sleep = view.sleep; // on unless the link says sleep=0
     this.lessonColours = !!view.lesson && !view.colour; // the lesson's, unless the link names others
     return this.loadScene(session, errors);
   }
@@ -224,6 +226,7 @@ export class App {
   /// The state of the link: the view, and the session the solver recorded.
   updateHash() {
     const view = { ...this.view, size: +this.size.toPrecision(3) };
+    if (view.sleep !== '0') view.sleep = undefined; // on, the default
     if (view.lesson) view.scene = view.dim = undefined; // the lesson's
     writeHash(view, this.session.session());
   }

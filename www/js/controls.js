@@ -54,7 +54,11 @@ export function buildControls(app) {
     app.session.timeScale(Number(app.view.time));
     app.updateHash();
   });
-  $('sleeping').addEventListener('change', () => app.session.sleeping($('sleeping').checked));
+  $('sleeping').addEventListener('change', () => {
+    app.view.sleep = $('sleeping').checked ? '1' : '0';
+    app.session.sleeping($('sleeping').checked);
+    app.updateHash();
+  });
   $('colour').addEventListener('change', () => {
     app.view.colour = $('colour').value;
     app.session.colour(app.view.colour);
@@ -106,7 +110,7 @@ export function syncControls(app, values = true) {
     if (w.spec.at_most) w.setMax(boundedMax(w.spec, current));
   }
   $('colour').value = app.view.colour;
-  $('sleeping').checked = app.session.isSleeping;
+  $('sleeping').checked = app.view.sleep !== '0';
   $('timescale').value = app.view.time;
   $('quality').value = app.session.quality.quality;
   const q = app.session.quality;

@@ -1,8 +1,9 @@
 // The page state in the URL hash, so that a link reproduces a demo exactly:
-// #scene=column_collapse&dim=3&colour=speed&object=bunny&material=drucker_prager&time=1
+// #scene=column_collapse&dim=3&colour=speed&object=bunny&material=drucker_prager&time=1&sleep=0
 //  &quality=live&drucker_prager.friction_angle=25&gravity=9.81&drop=0.0412:ball:elastic:0.25:0.8,0.55,0.5
 // (or #lesson=friction_angle&… for a lesson of lessons/, whose scene it is).
-// The view settings, then the session the solver records (`Playground::session`): the quality
+// The view settings (`sleep=0` when material at rest is stepped, not put to sleep; on when
+// absent, the page's default), then the session the solver records (`Playground::session`): the quality
 // level the scene is sampled at, parameters in the order they were set (ψ ≤ φ checks depend on it), `cleared=1` when the scene's own
 // bodies were removed with Clear, and each body dropped by a click as a `drop` entry, in the
 // order they were dropped:
@@ -13,7 +14,7 @@
 // left out when zero. The drop entries are written unescaped (`:` and `,` are allowed in a
 // fragment) to keep links short. Pure (tested under `node --test`) but for `writeHash`.
 
-const VIEW_KEYS = ['lesson', 'scene', 'dim', 'colour', 'object', 'material', 'time', 'size'];
+const VIEW_KEYS = ['lesson', 'scene', 'dim', 'colour', 'object', 'material', 'time', 'size', 'sleep'];
 const NUMBER = /^-?\d+(\.\d+)?(e[-+]?\d+)?$/;
 /// A material parameter of one body: `bodies[i].<model>.<field>` (captures `<model>.<field>`).
 const BODY_PARAM = /^bodies\[\d+\]\.(.+)$/;
@@ -34,7 +35,8 @@ export function readHash(hash, names) {
     ? (k) => names.includes(k) || ((m) => !!m && m[1].includes('.') && names.includes(m[1]))(k.match(BODY_PARAM))
     : (k) => /^(bodies\[\d+\]\.)?[a-z_]+(\.[a-z_]+)?$/.test(k);
   for (const [k, v] of q) {
-    if (VIEW_KEYS.includes(k)) view[k] = v;
+    if (k === 'sleep' && v !== '0' && v !== '1') errors.push(`sleep=${v}: 0 (material at rest is stepped) or 1 (it sleeps)`);
+    else if (VIEW_KEYS.includes(k)) view[k] = v;
     else if (k === 'drop') {
       try {
         drops.push(parseDrop(v));

@@ -296,6 +296,14 @@ test('2D: sleeping is on by default, the settled sand falls asleep and shows in 
   await page.click('#reset');
   await page.waitForFunction(() => mpm.sim.sleeping === false && mpm.simTime > 0.3, null, { timeout: 60_000 });
   assert.equal(await page.evaluate(() => mpm.session.frame.asleep), 0);
+  // The link keeps the choice, and opens with it.
+  const hash = await page.evaluate(() => location.hash);
+  assert.match(hash, /[#&]sleep=0(&|$)/);
   assert.deepEqual(errors, []);
   await page.close();
+  const again = await open(hash);
+  await again.page.waitForFunction(() => mpm.sim.sleeping === false && mpm.simTime > 0.3, null, { timeout: 60_000 });
+  assert.equal(await again.page.$eval('#sleeping', (c) => c.checked), false);
+  assert.deepEqual(again.errors, []);
+  await again.page.close();
 });

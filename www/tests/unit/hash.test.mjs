@@ -64,3 +64,13 @@ test('a lesson link: the lesson, and parameters of one body of its scene', () =>
   assert.equal(bad.session.params.length, 0);
   assert.equal(bad.errors.length, 3, bad.errors.join('; '));
 });
+
+test('sleeping in the link: sleep=0 when off, nothing when on (the default), anything else refused', () => {
+  assert.equal(formatHash({ scene: 'sandbox', sleep: '0' }, {}), '#scene=sandbox&sleep=0');
+  assert.equal(formatHash({ scene: 'sandbox' }, {}), '#scene=sandbox');
+  assert.deepEqual(readHash('#scene=sandbox&sleep=0', NAMES).view, { scene: 'sandbox', sleep: '0' });
+  assert.deepEqual(readHash('#scene=sandbox&sleep=1', NAMES).view, { scene: 'sandbox', sleep: '1' });
+  const bad = readHash('#scene=sandbox&sleep=off', NAMES);
+  assert.deepEqual(bad.view, { scene: 'sandbox' });
+  assert.match(bad.errors[0], /^sleep=off: 0 \(material at rest is stepped\) or 1/);
+});
