@@ -454,7 +454,7 @@ pub struct Deposit {
 
 /// A sand body that started as a column standing on the floor: in 2D a full rectangle
 /// (free, or against one side wall: then half of a symmetric collapse), in 3D a cylinder
-/// clear of the walls.
+/// clear of the walls; with no other body against its free sides ([`held`]).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Column {
     /// Its axis: `[x, 0]` in 2D (the wall's x against a wall), `[x, z]` in 3D.
@@ -546,6 +546,32 @@ pub fn column(start: &[[f64; 3]], s: f64, domain: &[f64]) -> Option<Column> {
     }
 }
 
+/// Whether another body stood against column `c`'s free sides at the start (`others`: those
+/// bodies' particles where they started; `h` the cell size, `s` the column's particle
+/// spacing): a particle within a cell outside a side, below the column's top. A column held
+/// between walls that are then lifted, say, is no collapse, and the laws of a released column
+/// do not apply to it.
+pub fn held(
+    c: &Column,
+    others: impl Iterator<Item = [f64; 3]>,
+    dim: usize,
+    h: f64,
+    s: f64,
+) -> bool {
+    others.into_iter().any(|x| {
+        if x[1] > c.height + h {
+            return false;
+        }
+        let from_axis = if dim == 2 {
+            (x[0] - c.centre[0]).abs()
+        } else {
+            (x[0] - c.centre[0]).hypot(x[2] - c.centre[1])
+        };
+        let gap = from_axis - c.half_width;
+        gap > -0.5 * s && gap <= h
+    })
+}
+
 /// The experiments' markers for column `c` in dimension `dim`.
 pub fn column_markers(c: Column, dim: usize) -> ColumnMarkers {
     let law = crate::laws::collapse_law(dim, c.aspect_ratio);
@@ -604,9 +630,17 @@ pub fn deposits<D: Dim>(sim: &Simulation<D>, footprints: &Footprints) -> Vec<Dep
                 .map(|start| radial_runout(start, &now, s, SECTORS));
             (heap, runout)
         };
+        let others = sim
+            .bodies()
+            .iter()
+            .enumerate()
+            .filter(|&(o, _)| o != b)
+            .flat_map(|(_, o)| o.range())
+            .filter_map(|i| footprints.start(p.id[i]));
         let column = start
             .as_deref()
             .and_then(|start| column(start, s, &scene.domain.size))
+            .filter(|c| !held(c, others, D::DIM, h, s))
             .map(|c| column_markers(c, D::DIM));
         out.push(Deposit {
             body: b,
@@ -857,6 +891,16 @@ mod tests {
         let mut l = block(0.4, 0.6, 0.0, 0.05);
         l.extend(block(0.4, 0.45, 0.05, 0.4));
         assert!(column(&l, s, &[1.0, 0.5]).is_none());
+        // held: a wall against a free side (within a cell, below the top); not one a cell
+        // and more away, nor one above the column
+        let c = column(&block(0.4, 0.6, 0.0, 0.2), s, &[1.0, 0.5]).unwrap();
+        let h = 0.02;
+        let wall = |x0: f64, x1: f64, y0: f64| block(x0, x1, y0, y0 + 0.24);
+        assert!(held(&c, wall(0.36, 0.4, 0.0).into_iter(), 2, h, s));
+        assert!(held(&c, wall(0.6, 0.64, 0.0).into_iter(), 2, h, s));
+        assert!(!held(&c, wall(0.63, 0.67, 0.0).into_iter(), 2, h, s));
+        assert!(!held(&c, wall(0.36, 0.4, 0.25).into_iter(), 2, h, s));
+        assert!(!held(&c, std::iter::empty(), 2, h, s));
     }
 
     #[test]

@@ -75,9 +75,11 @@ export class Overlay {
   }
 
   /// Each fitted flank: the line, an arc at its foot and the angle; in 2D also the line at
-  /// φ_ps from the same foot (the plane-strain friction angle of the sand's cone).
+  /// φ_ps from the same foot (the plane-strain friction angle of the sand's cone), named once
+  /// per heap (the two names of a narrow heap would overlap).
   flanks(d, dim, at, laws) {
-    d.heap.flanks.forEach((f, k) => {
+    let named = false;
+    d.heap.flanks.forEach((f) => {
       if (!f) return;
       // the foot is the lower end of the fit
       const [foot, top] = f.from[1] <= f.to[1] ? [f.from, f.to] : [f.to, f.from];
@@ -98,7 +100,8 @@ export class Overlay {
         const rise = run * Math.tan((d.plane_strain_angle * Math.PI) / 180);
         const C = at(foot[0] + out * run, foot[1] + rise);
         this.line(A, C, LAW, 2, [6, 4]);
-        if (C) this.label('law', `φ_ps ${d.plane_strain_angle.toFixed(1)}°, plane-strain cone`, [(A[0] + C[0]) / 2 - out * 14, (A[1] + C[1]) / 2 - 14], LAW, 'center');
+        if (C && !named) this.label('law', `φ_ps ${d.plane_strain_angle.toFixed(1)}°, plane-strain cone`, [(A[0] + C[0]) / 2 - out * 14, (A[1] + C[1]) / 2 - 14], LAW, 'center');
+        named ||= !!C;
       }
     });
   }
