@@ -97,7 +97,6 @@ fn sleeping_that_never_triggers_changes_nothing() {
     on.set_sleeping(Some(SleepRule {
         speed: 0.0,
         after: f64::INFINITY,
-        wake_distance: 0.0,
         wake_speed: 0.0,
     }));
     off.advance(0.3).unwrap();

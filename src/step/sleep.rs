@@ -19,15 +19,10 @@
 //!
 //! Sleeping material wakes
 //! - when the grid around it moves: after the walls (step 5), a sleeping particle wakes if a
-//!   node its block owns, or owned by a block its stencil spills into, has moved farther than
-//!   [`SleepRule::wake_distance`] (3 % of a cell) since it fell asleep, or moves faster than
-//!   [`SleepRule::wake_speed`] (15 times the sleep speed: a direct hit). Both count the
-//!   node's motion beyond its motion at rest, the equilibrium residual Δt (f_i/m_i + g) of its
-//!   first step asleep, and the distance is the sum of v*_i Δt over the steps as a vector, so
-//!   the back and forth of a wave cancels: an impact's elastic wave runs past far material
-//!   without waking it, while a load that stays (a body come to rest on it, a slope sliding
-//!   past it) moves its nodes on until they wake it. An impact, a body dropped into it,
-//!   contact with another body or a wall all move those nodes;
+//!   node its block owns, or owned by a block its stencil spills into, has |v*_i| above
+//!   [`SleepRule::wake_speed`] (twice the sleep speed: the hysteresis that keeps a block
+//!   from flickering between the states). An impact, a body dropped into it, contact with
+//!   another body or a wall all move those nodes;
 //! - all at once on anything that could move it without moving the grid first: a parameter
 //!   change ([`Simulation::configure`]: a lower friction angle or yield stress, gravity), an
 //!   edit of the particle state ([`Simulation::particles_mut`]), or sleeping switched off.
@@ -51,35 +46,23 @@ pub struct SleepRule {
     pub speed: Real,
     /// ... for this long (s).
     pub after: f64,
-    /// A sleeping particle wakes when a node of its blocks has moved this far (m) since it
-    /// fell asleep, counted beyond the node's motion at rest (the sum of its velocity over
-    /// the steps, as a vector: a wave's back and forth cancels) ...
-    pub wake_distance: Real,
-    /// ... or moves faster than this (m/s) beyond its motion at rest: a direct hit.
+    /// A sleeping particle wakes when a node of its blocks moves faster than this (m/s).
     pub wake_speed: Real,
 }
 
 impl SleepRule {
     /// The rule for a grid of cell size `h` under gravity `g`: sleep below 1 % of √(g h), the
     /// speed a particle gains falling one cell (3 mm/s at h = 1 cm), held for 0.25 s; wake
-    /// once a node has moved 3 % of a cell, or at once above 15 times the sleep speed.
+    /// above twice that.
     pub fn for_grid(h: f64, g: f64) -> Self {
         let speed = (0.01 * (g.abs().max(1e-3) * h).sqrt()) as Real;
         SleepRule {
             speed,
             after: 0.25,
-            wake_distance: (WAKE_DISTANCE * h) as Real,
-            wake_speed: WAKE_SPEED * speed,
+            wake_speed: 2.0 * speed,
         }
     }
 }
-
-/// How far a node of sleeping material moves, in cells, before it wakes ([`SleepRule`]).
-const WAKE_DISTANCE: f64 = 0.03;
-
-/// How much faster than the sleep speed a node of sleeping material must move to wake it at
-/// once ([`SleepRule`]).
-const WAKE_SPEED: Real = 15.0;
 
 /// A block's owned nodes as the sleeping particles fill them.
 #[derive(Clone, Debug)]
@@ -87,13 +70,6 @@ struct Frozen<D: Dim> {
     mass: Vec<Real>,
     force: Vec<D::Vector>,
     mass_grad: Vec<D::Vector>,
-    /// Each node's acceleration v*_i/Δt at rest, taken on its first step with this share
-    /// (empty until then): the equilibrium residual Δt (f_i/m_i + g), which its motion is
-    /// counted beyond.
-    rest: Vec<D::Vector>,
-    /// How far each node has moved beyond its motion at rest since it fell asleep:
-    /// Σ (v*_i − Δt a_rest) Δt over the steps.
-    moved: Vec<D::Vector>,
 }
 
 /// One body's sleeping particles and what they give the grid.
@@ -218,12 +194,12 @@ impl<D: Dim> Simulation<D> {
             let slots = grid.index.block_count();
             let r = body.range.clone();
             let awake = r.len() - body.sleep.asleep;
-            // Waking: the blocks whose owned nodes moved, and the blocks below them whose
+            // Waking: the blocks whose owned nodes move, and the blocks below them whose
             // stencils spill into them.
             let mut woken = Vec::new();
             let mut spilled = vec![false; slots];
             if body.sleep.any() {
-                let fast = moved_blocks(grid, &mut body.sleep.frozen, &rule, dt as Real);
+                let fast = moving_blocks(grid, rule.wake_speed);
                 if fast.iter().any(|&f| f) {
                     spilled = spill_down(&grid.index, &fast);
                     woken = (awake..r.len())
@@ -305,45 +281,20 @@ impl<D: Dim> Simulation<D> {
 }
 
 /// Per slot: whether a node the block owns, carrying at least [`FULL_NODE_SHARE`] of the
-/// heaviest node's mass, has moved, in a block holding sleeping material: farther than
-/// [`SleepRule::wake_distance`] since it fell asleep, or faster than [`SleepRule::wake_speed`]
-/// this step, both beyond its motion at rest ([`Frozen::rest`], taken on its first step).
-/// Adds this step's motion to each sleeping block's [`Frozen::moved`]. The lighter nodes at
-/// the material's edge (the kernel's tail) carry large accelerations f_i/m_i at rest and move
-/// no particle by much.
-fn moved_blocks<D: Dim>(
-    grid: &Grid<D>,
-    frozen: &mut HashMap<[i32; 3], Frozen<D>>,
-    rule: &SleepRule,
-    dt: Real,
-) -> Vec<bool> {
-    let (far, fast) = (
-        rule.wake_distance * rule.wake_distance,
-        rule.wake_speed * rule.wake_speed,
-    );
+/// heaviest node's mass, moves faster than `speed`. The lighter nodes at the material's edge
+/// (the kernel's tail) carry large accelerations f_i/m_i at rest and move no particle by much.
+fn moving_blocks<D: Dim>(grid: &Grid<D>, speed: Real) -> Vec<bool> {
+    let limit = speed * speed;
     let heaviest = grid.nodes.iter().map(|n| n.mass()).fold(0.0, Real::max);
     let light = FULL_NODE_SHARE * heaviest;
-    let inv_dt = 1.0 / dt;
     (0..grid.index.block_count())
         .map(|slot| {
-            let Some(f) = frozen.get_mut(&grid.index.blocks()[slot]) else {
-                return false;
-            };
-            let first = f.rest.is_empty();
-            let mut k = 0;
-            let mut moved = false;
+            let mut fast = false;
             grid.layout.for_each_owned(&grid.index, slot, |_, i| {
                 let n = &grid.nodes[i];
-                if first {
-                    f.rest.push(n.new_vel * inv_dt);
-                } else if n.mass() >= light {
-                    let v = n.new_vel - f.rest[k] * dt;
-                    f.moved[k] += v * dt;
-                    moved |= v.length_squared() > fast || f.moved[k].length_squared() > far;
-                }
-                k += 1;
+                fast |= n.mass() >= light && n.new_vel.length_squared() > limit
             });
-            moved
+            fast
         })
         .collect()
 }
@@ -380,7 +331,7 @@ fn freeze<D: Dim, K: Kernel<S>, const S: usize>(
     law: &crate::material::Elastic,
     gravity: D::Vector,
 ) {
-    let before = std::mem::take(&mut sleep.frozen);
+    sleep.frozen.clear();
     sleep.measure = Measure::empty();
     sleep.elastic = 0.0;
     sleep.max_volume = 0.0;
@@ -412,8 +363,6 @@ fn freeze<D: Dim, K: Kernel<S>, const S: usize>(
             mass: Vec::with_capacity(b),
             force: Vec::with_capacity(b),
             mass_grad: Vec::with_capacity(b),
-            rest: Vec::new(),
-            moved: vec![D::Vector::ZERO; b],
         };
         grid.layout.for_each_owned(&grid.index, slot, |_, i| {
             f.mass.push(grid.nodes[i].mass());
@@ -421,16 +370,7 @@ fn freeze<D: Dim, K: Kernel<S>, const S: usize>(
             f.mass_grad.push(grid.mass_grad[i]);
         });
         if f.mass.iter().any(|&m| m > 0.0) {
-            let block = grid.index.blocks()[slot];
-            // a block that slept before keeps how far it moved, and its motion at rest if
-            // its share is the same
-            if let Some(old) = before.get(&block) {
-                f.moved.clone_from(&old.moved);
-                if old.mass == f.mass {
-                    f.rest.clone_from(&old.rest);
-                }
-            }
-            sleep.frozen.insert(block, f);
+            sleep.frozen.insert(grid.index.blocks()[slot], f);
         }
     }
     for i in range.clone() {
