@@ -2,7 +2,7 @@
 //! in time: every 0.05 s the deposit's front (the farthest particle before a gap of two
 //! particle spacings, right side) as a share of Lube et al.'s run-out, the mean speed of the
 //! ten particles at the front, and the fastest particle. It shows when the run-out is set and
-//! how fast the front arrives. See docs/validation.md, "Drucker–Prager: starting and stopping".
+//! how fast the front arrives. See docs/validation.md, "The sand model behind the figures".
 //!
 //! `taskset -c 0 cargo run --release --example collapse_front -- 0.005 1` (h in m, a one of
 //! 0.5, 1, 2, 3; optional duration in s, default 1)

@@ -1,8 +1,8 @@
 //! The plane column collapse a = 0.5 at h = 0.005 m with the steady-flow friction match (the
 //! friction-match study's slow run): every 500 steps, the time step, the largest particle speed
 //! and the particle of largest volume (V/V0, position, velocity, stress, APIC C_p, neighbours
-//! within one cell). See docs/validation.md, "Drucker–Prager: the angle at which sand stops
-//! flowing", and the test `a_lone_stretching_sand_grain_stops_growing_and_keeps_its_time_step`.
+//! within one cell). See docs/validation.md, "The sand model behind
+//! the figures", and the test `a_lone_stretching_sand_grain_stops_growing_and_keeps_its_time_step`.
 //!
 //! `taskset -c 1 cargo run --release --example collapse_volume` (a minute; five before sand's
 //! volume was bounded)

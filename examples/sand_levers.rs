@@ -4,7 +4,7 @@
 //! d in m), GIMP at the CFL numbers 0.4, 0.2 and 0.1 (`sand_levers h all cfl`, or `cfl-flip1`
 //! with α = 1), or GIMP with the cell-averaged volumetric rate (`sand_levers h all
 //! cell-average`). `slopes`, `heaps` or `collapse` in place of `all` runs one family. See
-//! docs/validation.md, "Drucker–Prager: starting and stopping".
+//! docs/validation.md, "The sand model behind the figures".
 //!
 //! `taskset -c 0 cargo run --release --example sand_levers -- 0.01` (about 4 minutes; 0.005:
 //! about 10)

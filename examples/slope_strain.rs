@@ -1,7 +1,7 @@
 //! The over-steep slope (φ = 32°, θ = 40°, the default start–stop sand) at h = 0.01, 0.005 and
 //! 0.0025 m: after 2 s, how far the cone of the particles that moved has widened (their plastic
 //! strain ε_p against `FLOWING_STRAIN` = 1), beside the flank angle. See docs/validation.md,
-//! "Drucker–Prager: starting and stopping".
+//! "The sand model behind the figures".
 //!
 //! `taskset -c 0 cargo run --release --example slope_strain [φ θ]` (about a minute)
 

@@ -966,8 +966,8 @@ fn mutated_scenes_never_panic() {
 }
 
 /// A lone grain of cohesionless sand on the floor with a stretching APIC affine velocity, as a
-/// plane collapse once left one beyond its front (docs/validation.md, *the angle at which sand
-/// stops flowing*). Nothing acts on its C_p (APIC gives a lone particle back the affine field
+/// plane collapse once left one beyond its front (docs/validation.md, *the sand model
+/// behind the figures*). Nothing acts on its C_p (APIC gives a lone particle back the affine field
 /// it scattered) and past the cone's apex it carries no stress, so with V̇ = V tr ε̇ alone its
 /// volume grew as exp(t tr C_p), 286-fold in a second, and the time step, set by the wave
 /// speed at the body's lowest density, fell 17-fold. Sand's volume stops at twice its volume

@@ -272,7 +272,7 @@ fn a_slope_steeper_than_the_friction_angle_fails() {
 /// φ = 32° sand (φ_ps = 30.4°) is held up by the grid when each particle takes its own
 /// volumetric strain rate (it does not come halfway down to φ_ps in a second), and fails
 /// within half a second, down to below φ_ps, when the rate is averaged over each cell
-/// (docs/validation.md, "Drucker–Prager: where flowing sand stops").
+/// (docs/validation.md, "The sand model behind the figures").
 #[test]
 fn the_cell_averaged_volumetric_rate_unlocks_the_over_steep_slope() {
     let n = Numerics::new(0.01, KernelKind::Gimp).ppc(3);

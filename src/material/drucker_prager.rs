@@ -19,7 +19,7 @@
 //! [`LOOSEST`] times its volume at the material's density (`max_specific_volume`): a lone grain
 //! whose APIC affine velocity stretches (nothing acts on it there) would otherwise inflate
 //! exponentially, and with it the wave speed at the body's lowest density that sets everyone's
-//! time step (docs/validation.md, *the angle at which sand stops flowing*). A granular packing
+//! time step (docs/validation.md, *the sand model behind the figures*). A granular packing
 //! loosens by a few percent before its grains part; twice the volume is far beyond that, so
 //! the bound touches only grains that have left the flow.
 //!
@@ -359,7 +359,7 @@ impl Widening {
 /// The accumulated equivalent plastic strain √(2/3 e_p : e_p) at which a particle with the
 /// start–stop friction match is flowing, its cone widened to the steady-flow one (in simple
 /// shear, a shear strain γ = √3 ε_p ≈ 1.7). Measured, not derived (docs/validation.md,
-/// "Drucker–Prager: starting and stopping"): 0.5 let over-steep slopes harden before they
+/// "The sand model behind the figures"): 0.5 let over-steep slopes harden before they
 /// failed; 2 left heaps at φ = 45° 4–5° low.
 pub const FLOWING_STRAIN: f64 = 1.0;
 
