@@ -62,14 +62,11 @@ fn main() -> Result<(), String> {
                     .ok()
                     .filter(|p| (0.0..60.0).contains(p))
                     .ok_or(format!("φ: `{case}` is not `bui` or an angle in [0, 60)"))?;
-                match floor {
-                    Some(mu) => {
-                        let mut scene = low_column_scene(phi, &n);
-                        scene.boundary.friction = mu;
-                        plane_deposit(scene, false, 4.0)
-                    }
-                    None => low_column(phi, &n, 4.0),
+                let mut scene = low_column_scene(phi, &n);
+                if let Some(mu) = floor {
+                    scene.boundary.friction = mu;
                 }
+                plane_deposit(scene, false, 4.0)
             };
             let d = &r.deposit;
             println!(

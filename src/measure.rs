@@ -553,7 +553,7 @@ pub fn column(start: &[[f64; 3]], s: f64, domain: &[f64]) -> Option<Column> {
 /// do not apply to it.
 pub fn held(
     c: &Column,
-    others: impl Iterator<Item = [f64; 3]>,
+    others: impl IntoIterator<Item = [f64; 3]>,
     dim: usize,
     h: f64,
     s: f64,
@@ -896,10 +896,10 @@ mod tests {
         let c = column(&block(0.4, 0.6, 0.0, 0.2), s, &[1.0, 0.5]).unwrap();
         let h = 0.02;
         let wall = |x0: f64, x1: f64, y0: f64| block(x0, x1, y0, y0 + 0.24);
-        assert!(held(&c, wall(0.36, 0.4, 0.0).into_iter(), 2, h, s));
-        assert!(held(&c, wall(0.6, 0.64, 0.0).into_iter(), 2, h, s));
-        assert!(!held(&c, wall(0.63, 0.67, 0.0).into_iter(), 2, h, s));
-        assert!(!held(&c, wall(0.36, 0.4, 0.25).into_iter(), 2, h, s));
+        assert!(held(&c, wall(0.36, 0.4, 0.0), 2, h, s));
+        assert!(held(&c, wall(0.6, 0.64, 0.0), 2, h, s));
+        assert!(!held(&c, wall(0.63, 0.67, 0.0), 2, h, s));
+        assert!(!held(&c, wall(0.36, 0.4, 0.25), 2, h, s));
         assert!(!held(&c, std::iter::empty(), 2, h, s));
     }
 

@@ -209,7 +209,7 @@ export class App {
     const { view, session, errors } = readHash(location.hash, this.session.table.names);
     Object.assign(this.view, view);
     this.view.lesson = view.lesson;
-    this.view.sleep = view.sleep; // on unless the link says sleep=0
+    this.view.sleep = view.sleep === '0' ? '0' : undefined; // on unless the link says sleep=0
     this.lessonColours = !!view.lesson && !view.colour; // the lesson's, unless the link names others
     return this.loadScene(session, errors);
   }
@@ -226,7 +226,6 @@ export class App {
   /// The state of the link: the view, and the session the solver recorded.
   updateHash() {
     const view = { ...this.view, size: +this.size.toPrecision(3) };
-    if (view.sleep !== '0') view.sleep = undefined; // on, the default
     if (view.lesson) view.scene = view.dim = undefined; // the lesson's
     writeHash(view, this.session.session());
   }

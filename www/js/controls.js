@@ -55,7 +55,7 @@ export function buildControls(app) {
     app.updateHash();
   });
   $('sleeping').addEventListener('change', () => {
-    app.view.sleep = $('sleeping').checked ? '1' : '0';
+    app.view.sleep = $('sleeping').checked ? undefined : '0'; // on, the default, stays out of the link
     app.session.sleeping($('sleeping').checked);
     app.updateHash();
   });

@@ -124,8 +124,6 @@ export class Session {
   session() { return this.state.session; }
   sizeRange() { return this.state.sizeRange; }
   get quality() { return this.state.quality; }
-  /// Whether material at rest sleeps.
-  get isSleeping() { return this.state.sleeping; }
 
   // --- commands -------------------------------------------------------------------------------
 
