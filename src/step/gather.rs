@@ -14,7 +14,7 @@
 //!
 //! The pass also sums what the diagnostics report (mass, momentum, energies, bounds).
 
-use super::report::StressReport;
+use super::report::{GatherReport, StressReport};
 use super::stress::{AfterGather, StressState, StressUpdatedFirst, UpdateStressLast};
 use super::transfer::Transfer;
 use super::walk::{self, CHUNK, Rates, Walker};
@@ -24,7 +24,7 @@ use crate::grid::{Grid, Node};
 use crate::kernel::{Kernel, KernelKind};
 use crate::material::{Constitutive, WithModel};
 use crate::math::{Dim, Real, VectorOps};
-use crate::sim::{Measure, Simulation};
+use crate::sim::Simulation;
 
 impl<D: Dim> Simulation<D> {
     /// Steps 6–8 (and 2–3 when the stress is updated last) for every body; `steps` says
@@ -263,46 +263,4 @@ pub fn advect_kinematic<D: Dim>(
     }
     r.finish(gravity);
     r
-}
-
-/// What the gather pass measured (after the step): the figures of the particle state it
-/// recorded ([`Measure`], which it dereferences to) and what it did itself.
-#[derive(Clone, Copy, Debug)]
-pub struct GatherReport<D: Dim> {
-    pub measure: Measure<D>,
-    /// Kinetic energy removed by the particle-side wall projection.
-    pub dissipated_walls: f64,
-    pub bad: usize,
-    pub first_bad: Option<usize>,
-}
-
-impl<D: Dim> GatherReport<D> {
-    /// Nothing recorded yet.
-    pub fn empty() -> Self {
-        GatherReport {
-            measure: Measure::empty(),
-            dissipated_walls: 0.0,
-            bad: 0,
-            first_bad: None,
-        }
-    }
-
-    /// With the largest plastic strain of the particles.
-    pub fn with_plastic_strain(mut self, plastic_strain: &[Real]) -> Self {
-        self.measure = self.measure.with_plastic_strain(plastic_strain);
-        self
-    }
-}
-
-impl<D: Dim> std::ops::Deref for GatherReport<D> {
-    type Target = Measure<D>;
-    fn deref(&self) -> &Measure<D> {
-        &self.measure
-    }
-}
-
-impl<D: Dim> std::ops::DerefMut for GatherReport<D> {
-    fn deref_mut(&mut self) -> &mut Measure<D> {
-        &mut self.measure
-    }
 }

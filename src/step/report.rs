@@ -7,10 +7,9 @@
 //! reports into the diagnostics and keeps what the next step needs (each body's fastest
 //! compression and largest volume, for the time step).
 
-use super::gather::GatherReport;
 use crate::error::{Error, Result};
 use crate::math::{Dim, Real};
-use crate::sim::Simulation;
+use crate::sim::{Measure, Simulation};
 
 /// One body's part of the step's state (see the module documentation).
 #[derive(Clone, Copy, Debug, Default)]
@@ -133,5 +132,47 @@ impl StressReport {
             (true, false) => Bad::NonFinite("volume"),
         };
         self.first_bad.get_or_insert((q, what));
+    }
+}
+
+/// What the gather pass measured (after the step): the figures of the particle state it
+/// recorded ([`Measure`], which it dereferences to) and what it did itself.
+#[derive(Clone, Copy, Debug)]
+pub struct GatherReport<D: Dim> {
+    pub measure: Measure<D>,
+    /// Kinetic energy removed by the particle-side wall projection.
+    pub dissipated_walls: f64,
+    pub bad: usize,
+    pub first_bad: Option<usize>,
+}
+
+impl<D: Dim> GatherReport<D> {
+    /// Nothing recorded yet.
+    pub fn empty() -> Self {
+        GatherReport {
+            measure: Measure::empty(),
+            dissipated_walls: 0.0,
+            bad: 0,
+            first_bad: None,
+        }
+    }
+
+    /// With the largest plastic strain of the particles.
+    pub fn with_plastic_strain(mut self, plastic_strain: &[Real]) -> Self {
+        self.measure = self.measure.with_plastic_strain(plastic_strain);
+        self
+    }
+}
+
+impl<D: Dim> std::ops::Deref for GatherReport<D> {
+    type Target = Measure<D>;
+    fn deref(&self) -> &Measure<D> {
+        &self.measure
+    }
+}
+
+impl<D: Dim> std::ops::DerefMut for GatherReport<D> {
+    fn deref_mut(&mut self) -> &mut Measure<D> {
+        &mut self.measure
     }
 }

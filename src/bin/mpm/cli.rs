@@ -196,12 +196,14 @@ impl From<Error> for Failure {
     }
 }
 
-pub fn main() -> ExitCode {
+/// Parses the command line and runs its command; `play` runs the terminal player (its own
+/// module, which takes the scene arguments and failures from this one).
+pub fn main(play: fn(PlayArgs) -> Result<(), Failure>) -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(a) => run(a),
         Command::Check(a) => check(a),
-        Command::Play(a) => crate::play::play(a),
+        Command::Play(a) => play(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -7,7 +7,7 @@ mod play;
 
 #[cfg(not(target_arch = "wasm32"))]
 fn main() -> std::process::ExitCode {
-    cli::main()
+    cli::main(play::play)
 }
 
 #[cfg(target_arch = "wasm32")]
