@@ -9,6 +9,30 @@ use crate::math::Real;
 use serde::{Deserialize, Serialize};
 use std::ops::{Add, Mul, Sub};
 
+/// Runs `$body` with the type `$k` and const `$s` set to the kernel `$kind` and its support.
+macro_rules! with_kernel {
+    ($kind:expr, $k:ident, $s:ident => $body:expr) => {
+        match $kind {
+            $crate::kernel::KernelKind::Linear => {
+                type $k = $crate::kernel::Linear;
+                const $s: usize = 2;
+                $body
+            }
+            $crate::kernel::KernelKind::QuadraticBspline => {
+                type $k = $crate::kernel::QuadraticBspline;
+                const $s: usize = 3;
+                $body
+            }
+            $crate::kernel::KernelKind::Gimp => {
+                type $k = $crate::kernel::Gimp;
+                const $s: usize = 3;
+                $body
+            }
+        }
+    };
+}
+pub(crate) use with_kernel;
+
 /// ⌊x⌋ for 0 ≤ x ≤ 2^22 (other values, NaN included, are clamped into that range first), as a
 /// truncating cast (grid coordinates are never negative: the domain starts
 /// [`crate::grid::GHOST`] nodes in). On baseline x86-64 `f32::floor` is a library call, and a

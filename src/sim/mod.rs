@@ -1,126 +1,23 @@
 //! The simulation: particles, bodies with their grids, and the time step of Sec. 4.2.
 
-mod particles;
-mod stats;
+pub(crate) mod body;
+pub(crate) mod particles;
+pub(crate) mod stats;
 
+pub use body::Body;
+pub(crate) use body::World;
 pub use particles::Particles;
-pub use stats::{BodyStats, Diagnostics, Measure};
+pub use stats::{BodyStats, Diagnostics, Measure, PassTimings};
 
-use crate::boundary::{ContactRule, STICKING_CFL, WallRule, Walls};
+use crate::boundary::STICKING_CFL;
 use crate::config::{BodyConfig, MAX_PARTICLES, SceneConfig};
 use crate::error::{Error, Result};
 use crate::grid::Grid;
 use crate::kernel::KernelKind;
-use crate::material::Model;
 use crate::math::{D2, D3, Dim, Real, VectorOps};
-use crate::recipe::{BULK_VISCOSITY, Recipe};
-use std::ops::Range;
-
-/// Runtime constants derived from the scene's world settings.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct World<D: Dim> {
-    pub(crate) h: Real,
-    pub(crate) inv_h: Real,
-    pub(crate) gravity: D::Vector,
-    pub(crate) cfl: f64,
-    pub(crate) max_dt: f64,
-    pub(crate) walls: Walls<D>,
-    pub(crate) kernel: KernelKind,
-    pub(crate) contact: ContactRule,
-}
-
-impl<D: Dim> World<D> {
-    fn new(scene: &SceneConfig) -> Self {
-        let h = scene.cell_size as Real;
-        let g = scene.gravity_vector();
-        let size = D::Vector::from_fn(|a| scene.domain.size[a] as Real);
-        World {
-            h,
-            inv_h: 1.0 / h,
-            gravity: D::Vector::from_fn(|a| g[a] as Real),
-            cfl: scene.cfl,
-            max_dt: scene.max_dt,
-            walls: Walls::new(WallRule::from_config(&scene.boundary), size, h),
-            kernel: scene.kernel,
-            contact: match scene.contact.friction {
-                None => ContactRule::Stick,
-                Some(mu) => ContactRule::Friction(mu as Real),
-            },
-        }
-    }
-}
-
-/// One body: a contiguous range of particles, its material and its own grid.
-#[derive(Clone, Debug)]
-pub struct Body<D: Dim> {
-    pub(crate) model: Model,
-    /// How the step treats it: transfer, FLIP share, stress order, volumetric rate, bulk
-    /// viscosity.
-    pub(crate) recipe: Recipe,
-    pub(crate) range: Range<usize>,
-    pub(crate) grid: Grid<D>,
-    pub(crate) stats: BodyStats,
-    /// The largest particle volume and the smallest particle mass, which bound the lowest
-    /// density (for the wave speed).
-    pub(crate) max_volume: Real,
-    pub(crate) min_mass: Real,
-    /// Half the particle spacing: how far a particle's material reaches (for the walls).
-    pub(crate) radius: Real,
-    /// Moves at its initial velocity whatever acts on it (see [`BodyConfig::kinematic`]).
-    pub(crate) kinematic: bool,
-    /// The fastest compression |tr ε̇| of the latest stress update (for the bulk viscosity's
-    /// share of the signal speed).
-    pub(crate) max_compression: Real,
-    /// Its sleeping particles (the last of its range) and what they give the grid
-    /// ([`crate::step::sleep`]).
-    pub(crate) sleep: crate::step::sleep::Sleep<D>,
-}
-
-impl<D: Dim> Body<D> {
-    /// The particle indices of this body.
-    pub fn range(&self) -> Range<usize> {
-        self.range.clone()
-    }
-    /// The particle indices of this body that are stepped: all but the sleeping ones, which
-    /// come last in [`Body::range`] ([`crate::step::sleep`]).
-    pub fn active(&self) -> Range<usize> {
-        self.range.start..self.range.end - self.sleep.asleep
-    }
-    /// Figures after the latest step.
-    pub fn stats(&self) -> &BodyStats {
-        &self.stats
-    }
-    /// The body's grid (blocks allocated in the latest step).
-    pub fn grid(&self) -> &Grid<D> {
-        &self.grid
-    }
-    /// The dilatational wave speed √((K + 4G/3)/ρ) at the body's lowest density (m/s); zero for
-    /// a kinematic body, which carries no stress.
-    pub fn wave_speed(&self) -> f64 {
-        if self.kinematic {
-            return 0.0;
-        }
-        let lowest_density = self.min_mass as f64 / self.max_volume as f64;
-        self.model.elastic().wave_speed(lowest_density)
-    }
-
-    /// The speed the time step must resolve (m/s): the wave speed c, raised by the bulk
-    /// viscosity to Q + √(Q² + c²) with Q = C² h |tr ε̇|max (the explicit limit of a
-    /// von Neumann–Richtmyer viscosity, as in the hydrocodes: a lone particle squeezed fast
-    /// has a viscous pressure ρ (C h tr ε̇)² that grows without bound).
-    pub fn signal_speed(&self) -> f64 {
-        let c = self.wave_speed();
-        // the fastest compression of the latest stress update
-        let fastest = self.max_compression;
-        let q = (BULK_VISCOSITY * self.recipe.bulk_length * fastest) as f64;
-        q + (q * q + c * c).sqrt()
-    }
-
-    /// How the step treats this body.
-    pub fn recipe(&self) -> &Recipe {
-        &self.recipe
-    }
-}
+use crate::recipe::Recipe;
+use crate::step::sleep::{SleepRule, Sleeping};
+use crate::step::{Bad, Step};
 
 /// A body's shape sampled into particle positions (3 components, unused ones zero) and the
 /// volume of each.
@@ -157,31 +54,9 @@ pub struct Simulation<D: Dim> {
     pub sort_interval: u64,
     /// Wall-clock time per pass, accumulated while `Some` (native builds only).
     pub timings: Option<PassTimings>,
-    /// Whether and how material at rest sleeps ([`crate::step::sleep`]); off by default.
-    pub(crate) sleeping: Option<crate::step::sleep::SleepRule>,
-}
-
-/// Cumulative wall-clock seconds spent in each pass of the step (see
-/// [`Simulation::timings`]); always zero in WebAssembly, which has no clock here.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
-pub struct PassTimings {
-    pub steps: u64,
-    /// Grid blocks where the particles are, particle sorting, contact pair search.
-    pub allocate: f64,
-    /// Step 1: mass and momentum to the grid (and, stress updated last, the internal forces).
-    pub scatter: f64,
-    /// Steps 2–3 and the particle side of 4 with the stress updated first (the linear kernel);
-    /// with the stress updated last they run in the gather and count there.
-    pub stress: f64,
-    /// Grid velocities, and step 4 on the grid: forces and gravity.
-    pub grid: f64,
-    /// Step 5 between bodies (Eq. 20–21).
-    pub contact: f64,
-    /// Step 5 at the walls.
-    pub walls: f64,
-    /// Steps 6–8: PIC/FLIP gather, particle collisions, advection, diagnostics (and, stress
-    /// updated last, the velocity gradient and steps 2–3).
-    pub gather: f64,
+    /// Whether and how material at rest sleeps, the step's own state ([`crate::step::sleep`]);
+    /// off by default.
+    pub(crate) sleeping: Sleeping<D>,
 }
 
 impl<D: Dim> Simulation<D> {
@@ -213,7 +88,7 @@ impl<D: Dim> Simulation<D> {
             next_id: 0,
             sort_interval: 16,
             timings: None,
-            sleeping: None,
+            sleeping: Sleeping::default(),
         };
         // Every body is sampled first, so that an error names it by its place in the file;
         // those present from the start keep the file's order, the others follow by time.
@@ -331,7 +206,7 @@ impl<D: Dim> Simulation<D> {
             radius,
             kinematic: config.kinematic,
             max_compression: 0.0,
-            sleep: Default::default(),
+            asleep: 0,
         });
         self.refresh_diagnostics();
     }
@@ -387,6 +262,7 @@ impl<D: Dim> Simulation<D> {
         let r = self.bodies[i].range.clone();
         self.particles.remove(r.clone());
         self.bodies.remove(i);
+        self.sleeping.remove(i);
         self.scene.bodies.remove(i);
         for b in &mut self.bodies[i..] {
             b.range = b.range.start - r.len()..b.range.end - r.len();
@@ -400,6 +276,7 @@ impl<D: Dim> Simulation<D> {
         self.to_come.clear();
         self.particles.clear();
         self.bodies.clear();
+        self.wake_all();
         self.scene.bodies.clear();
         self.solids_stuck = false;
         self.failed = None;
@@ -522,6 +399,87 @@ impl<D: Dim> Simulation<D> {
         self.failed.as_ref()
     }
 
+    /// One time step, no longer than `limit` seconds: the eight steps of Sec. 4.2
+    /// ([`crate::step`]).
+    pub fn step_at_most(&mut self, limit: f64) -> Result<&Diagnostics> {
+        if let Some(e) = &self.failed {
+            return Err(e.clone());
+        }
+        if limit.is_nan() || limit <= 0.0 {
+            return Err(Error::invalid("step limit", limit, "must be > 0 (s)"));
+        }
+        let dt = self.stable_dt().min(limit);
+        let (mut step, sleeping) = self.lend();
+        let done = step.run(dt, sleeping);
+        self.time += dt;
+        self.steps += 1;
+        self.record_measures(dt, done.signal_speed, &done.measures, &done.elastic);
+        if let Some((i, particle, bad)) = done.bad {
+            let body = self.scene.bodies[i].name.clone();
+            let step = self.steps;
+            let e = match bad {
+                Bad::Crushed => Error::Crushed {
+                    body,
+                    particle,
+                    step,
+                },
+                Bad::NonFinite(quantity) => Error::NonFinite {
+                    body,
+                    particle,
+                    quantity,
+                    step,
+                },
+            };
+            self.failed = Some(e.clone());
+            return Err(e);
+        }
+        let (mut step, sleeping) = self.lend();
+        step.sleep_and_wake(sleeping, dt);
+        Ok(&self.diagnostics)
+    }
+
+    /// The state the step works on, lent to it, and sleeping's state, the step's own.
+    fn lend(&mut self) -> (Step<'_, D>, &mut Sleeping<D>) {
+        let step = Step {
+            world: &self.world,
+            particles: &mut self.particles,
+            bodies: &mut self.bodies,
+            diagnostics: &mut self.diagnostics,
+            timings: &mut self.timings,
+            steps: self.steps,
+            sort_interval: self.sort_interval,
+            solids_stuck: &mut self.solids_stuck,
+        };
+        (step, &mut self.sleeping)
+    }
+
+    /// Switches sleeping on with `rule` (or with [`SleepRule::for_grid`] for this scene's
+    /// grid), or off with `None` (everything wakes).
+    pub fn set_sleeping(&mut self, rule: Option<SleepRule>) {
+        self.sleeping.set(rule, &mut self.bodies);
+    }
+
+    /// Sleeping on with the rule for this scene's grid ([`SleepRule::for_grid`]).
+    pub fn sleep_when_at_rest(&mut self) {
+        let g = self.world.gravity.length() as f64;
+        self.set_sleeping(Some(SleepRule::for_grid(self.world.h as f64, g)));
+    }
+
+    /// The rule material sleeps by, if sleeping is on.
+    pub fn sleeping(&self) -> Option<SleepRule> {
+        self.sleeping.rule()
+    }
+
+    /// Wakes every sleeping particle.
+    pub fn wake_all(&mut self) {
+        self.sleeping.wake_all(&mut self.bodies);
+    }
+
+    /// How many particles sleep.
+    pub fn asleep(&self) -> usize {
+        self.bodies.iter().map(|b| b.asleep).sum()
+    }
+
     /// Bytes of particle and grid state.
     pub fn memory_bytes(&self) -> usize {
         self.particles.x.capacity() * Particles::<D>::bytes_per_particle()
@@ -534,12 +492,7 @@ impl<D: Dim> Simulation<D> {
 
     /// The largest signal speed of the bodies (m/s), see [`Body::signal_speed`].
     pub fn max_wave_speed(&self) -> f64 {
-        // a body wholly asleep updates no stress: its waves do not bound the step
-        self.bodies
-            .iter()
-            .filter(|b| b.sleep.asleep < b.range.len() || b.range.is_empty())
-            .map(|b| b.signal_speed())
-            .fold(0.0, f64::max)
+        body::max_signal_speed(&self.bodies)
     }
 
     /// The time step the next step will take: dt = CFL · h / max(c + |v|), capped by max_dt,

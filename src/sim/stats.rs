@@ -196,3 +196,26 @@ impl<D: Dim> Measure<D> {
         }
     }
 }
+
+/// Cumulative wall-clock seconds spent in each pass of the step (see
+/// [`crate::Simulation::timings`]); always zero in WebAssembly, which has no clock here.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct PassTimings {
+    pub steps: u64,
+    /// Grid blocks where the particles are, particle sorting, contact pair search.
+    pub allocate: f64,
+    /// Step 1: mass and momentum to the grid (and, stress updated last, the internal forces).
+    pub scatter: f64,
+    /// Steps 2–3 and the particle side of 4 with the stress updated first (the linear kernel);
+    /// with the stress updated last they run in the gather and count there.
+    pub stress: f64,
+    /// Grid velocities, and step 4 on the grid: forces and gravity.
+    pub grid: f64,
+    /// Step 5 between bodies (Eq. 20–21).
+    pub contact: f64,
+    /// Step 5 at the walls.
+    pub walls: f64,
+    /// Steps 6–8: PIC/FLIP gather, particle collisions, advection, diagnostics (and, stress
+    /// updated last, the velocity gradient and steps 2–3).
+    pub gather: f64,
+}

@@ -4,21 +4,20 @@
 //! touch the same nodes and the transfers stay in cache. Then the pairs of bodies whose grids
 //! share blocks are found, for the contact of step 5.
 
+use super::Step;
 use super::contact::ContactPair;
 use super::walk::grid_coords;
-use super::with_kernel;
 use crate::grid::GridIndex;
-use crate::kernel::Kernel;
+use crate::kernel::{Kernel, with_kernel};
 use crate::math::Dim;
-use crate::sim::Simulation;
 
-impl<D: Dim> Simulation<D> {
+impl<D: Dim> Step<'_, D> {
     /// Allocates each body's grid blocks where its particles are, reorders particles by block
     /// now and then, and finds the bodies whose grids overlap (into `contacts`).
     pub(super) fn allocate_grids(&mut self, contacts: &mut Vec<ContactPair>) {
         let (kernel, inv_h) = (self.world.kernel, self.world.inv_h);
         let sort = self.sort_interval > 0 && self.steps.is_multiple_of(self.sort_interval);
-        for body in &mut self.bodies {
+        for body in self.bodies.iter_mut() {
             let x = &self.particles.x[body.range.clone()];
             let lp = body.radius * inv_h;
             with_kernel!(kernel, K, S => body.grid.rebuild(x.len(), S, |p| {

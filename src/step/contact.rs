@@ -10,18 +10,18 @@
 //! Only pairs of bodies whose block sets overlap are visited, and only their shared blocks:
 //! one body, or bodies apart, cost nothing.
 
-use super::{BodyStep, StressOrder, constraint_dissipation};
+use super::{BodyStep, Step, StressOrder, constraint_dissipation};
 pub use crate::boundary::{ContactRule, STICKING_CFL};
 use crate::grid::{Grid, GridIndex};
 use crate::math::{Dim, VectorOps, min};
-use crate::sim::{Body, Simulation};
+use crate::sim::body::Body;
 
-impl<D: Dim> Simulation<D> {
+impl<D: Dim> Step<'_, D> {
     /// Step 5 between every pair of bodies whose grids share blocks (`contacts`), recording
     /// in `steps` which bodies it changed and the momentum each received.
     pub(super) fn resolve_contacts(&mut self, contacts: &[ContactPair], steps: &mut [BodyStep]) {
         let sticks = self.world.contact.sticks();
-        self.solids_stuck = false;
+        *self.solids_stuck = false;
         for pair in contacts {
             let (left, right) = self.bodies.split_at_mut(pair.b);
             let (a, b) = (&mut left[pair.a], &mut right[0]);
@@ -35,7 +35,7 @@ impl<D: Dim> Simulation<D> {
             self.diagnostics.dissipated_contact += r.dissipated;
             // (a kinematic body's grid is never changed: both changed means both deform)
             let last = |b: &Body<D>| b.recipe.stress_order == StressOrder::Last;
-            self.solids_stuck |= sticks && r.changed_a && r.changed_b && last(a) && last(b);
+            *self.solids_stuck |= sticks && r.changed_a && r.changed_b && last(a) && last(b);
             steps[pair.a].constrained |= r.changed_a;
             steps[pair.b].constrained |= r.changed_b;
             for k in 0..3 {

@@ -18,15 +18,14 @@ use super::report::{GatherReport, StressReport};
 use super::stress::{AfterGather, StressState, StressUpdatedFirst, UpdateStressLast};
 use super::transfer::Transfer;
 use super::walk::{self, CHUNK, Rates, Walker};
-use super::{BodyStep, StressOrder, constraint_dissipation, with_kernel};
+use super::{BodyStep, Step, StressOrder, constraint_dissipation};
 use crate::boundary::Walls;
 use crate::grid::{Grid, Node};
-use crate::kernel::{Kernel, KernelKind};
+use crate::kernel::{Kernel, KernelKind, with_kernel};
 use crate::material::{Constitutive, WithModel};
 use crate::math::{Dim, Real, VectorOps};
-use crate::sim::Simulation;
 
-impl<D: Dim> Simulation<D> {
+impl<D: Dim> Step<'_, D> {
     /// Steps 6–8 (and 2–3 when the stress is updated last) for every body; `steps` says
     /// which bodies walls or contacts constrained, and takes the stress reports.
     pub(super) fn gather_and_update(
@@ -35,7 +34,7 @@ impl<D: Dim> Simulation<D> {
         steps: &mut [BodyStep],
     ) -> Vec<GatherReport<D>> {
         let w = self.world;
-        let p = &mut self.particles;
+        let p = &mut *self.particles;
         let mut reports = Vec::with_capacity(self.bodies.len());
         for (body, step) in self.bodies.iter_mut().zip(steps) {
             let r = body.active();

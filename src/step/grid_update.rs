@@ -6,16 +6,16 @@
 //! the explicit update of Dv/Dt = −(1/ρ) ∇·σ + g on the nodes. A kinematic body's grid keeps
 //! the velocities its particles brought.
 
+use super::Step;
 use super::StressOrder;
 use crate::grid::Grid;
 use crate::math::{Dim, Real, VectorOps};
-use crate::sim::Simulation;
 
-impl<D: Dim> Simulation<D> {
+impl<D: Dim> Step<'_, D> {
     /// v_i^n on every body's grid (for bodies whose stress is updated first, the halos too:
     /// the stress pass reads them).
     pub(super) fn grid_velocities(&mut self) {
-        for body in &mut self.bodies {
+        for body in self.bodies.iter_mut() {
             grid_velocities(&mut body.grid);
             if body.recipe.stress_order == StressOrder::First {
                 body.grid.fill_nodes(|h, o| h.vm = o.vm);
@@ -25,7 +25,7 @@ impl<D: Dim> Simulation<D> {
 
     /// Step 4 on every body's grid.
     pub(super) fn grid_forces(&mut self, dt: Real) {
-        for body in &mut self.bodies {
+        for body in self.bodies.iter_mut() {
             if body.kinematic {
                 hold_velocities(&mut body.grid);
             } else {

@@ -29,6 +29,16 @@
 //! update"); its `"cell_average"` volumetric rate ([`volumetric`]) is taken in the stress-first pass
 //! only.
 //!
+//! **Who owns what.** [`crate::Simulation`] owns the state (world settings, particles, bodies,
+//! diagnostics) and lends it for each step as a [`Step`] ([`state`]); [`Step::run`] below
+//! calls the passes in order, each a method of [`Step`] in its own file, and returns what the
+//! simulation records ([`Finished`]). What the passes hand on to each other within the step
+//! ([`BodyStep`] and the reports) is in [`report`]. Sleeping ([`sleep`]) is the step's own
+//! state from one step to the next: the simulation keeps it and hands it to the step (the
+//! sleeping particles' share of the grid to [`Step::run`], and after the step the waking and
+//! falling asleep); a body records only how many of its particles sleep. No file of the step
+//! imports `Simulation`.
+//!
 //! [`transfer`] holds how velocities travel between particles and grid (the PIC/FLIP blend α,
 //! APIC), as each body's recipe chooses, used by the scatter and the gather.
 //!
@@ -49,34 +59,33 @@ pub mod grid_update;
 pub mod report;
 pub mod scatter;
 pub mod sleep;
+pub mod state;
 pub mod stress;
 pub mod transfer;
 pub mod volumetric;
 pub mod walk;
 pub mod walls;
 
-use crate::error::{Error, Result};
 use crate::math::{Dim, Real, VectorOps};
 pub use crate::recipe::StressOrder;
-use crate::sim::{Diagnostics, PassTimings, Simulation};
-pub use report::BodyStep;
+use crate::sim::stats::PassTimings;
+pub use report::{Bad, BodyStep, Finished};
+use sleep::Sleeping;
+pub(crate) use state::Step;
 
-impl<D: Dim> Simulation<D> {
-    /// One time step, no longer than `limit` seconds: the eight steps of Sec. 4.2.
-    pub fn step_at_most(&mut self, limit: f64) -> Result<&Diagnostics> {
-        if let Some(e) = &self.failed {
-            return Err(e.clone());
-        }
-        if limit.is_nan() || limit <= 0.0 {
-            return Err(Error::invalid("step limit", limit, "must be > 0 (s)"));
-        }
-        let dt = self.stable_dt().min(limit);
+impl<D: Dim> Step<'_, D> {
+    /// One time step of `dt` seconds: the eight steps of Sec. 4.2, with the sleeping
+    /// material's share of the grid ([`sleep`]) added after the awake particles' scatter.
+    pub(crate) fn run(&mut self, dt: f64, sleeping: &Sleeping<D>) -> Finished<D> {
         let h = dt as Real;
         let mut t = Clock::start(self.timings.is_some());
         let mut steps = vec![BodyStep::default(); self.bodies.len()];
         let mut contacts = Vec::new();
         t.time(Phase::Allocate, || self.allocate_grids(&mut contacts));
-        t.time(Phase::Scatter, || self.scatter_to_grid()); // 1 (stress last: and 4's forces)
+        t.time(Phase::Scatter, || {
+            self.scatter_to_grid(); // 1 (stress last: and 4's forces)
+            sleeping.add_to(self.bodies);
+        });
         t.time(Phase::Grid, || self.grid_velocities()); // 1: v_i^n
         t.time(Phase::Stress, || self.update_stress_first(h, &mut steps)); // 2, 3, 4 (first)
         t.time(Phase::Grid, || self.grid_forces(h)); // 4
@@ -85,38 +94,10 @@ impl<D: Dim> Simulation<D> {
         }); // 5, bodies
         t.time(Phase::Walls, || self.apply_walls(&mut steps)); // 5, walls
         let gathered = t.time(Phase::Gather, || self.gather_and_update(h, &mut steps)); // 6–8
-        t.add_to(&mut self.timings);
-        self.time += dt;
-        self.steps += 1;
-        self.finish_step(dt, &steps, &gathered)?;
-        self.sleep_and_wake(dt);
-        Ok(&self.diagnostics)
+        t.add_to(self.timings);
+        self.finish_step(dt, &steps, &gathered, sleeping)
     }
 }
-
-/// Runs `$body` with the type `$k` and const `$s` set to the kernel `$kind` and its support.
-macro_rules! with_kernel {
-    ($kind:expr, $k:ident, $s:ident => $body:expr) => {
-        match $kind {
-            $crate::kernel::KernelKind::Linear => {
-                type $k = $crate::kernel::Linear;
-                const $s: usize = 2;
-                $body
-            }
-            $crate::kernel::KernelKind::QuadraticBspline => {
-                type $k = $crate::kernel::QuadraticBspline;
-                const $s: usize = 3;
-                $body
-            }
-            $crate::kernel::KernelKind::Gimp => {
-                type $k = $crate::kernel::Gimp;
-                const $s: usize = 3;
-                $body
-            }
-        }
-    };
-}
-pub(crate) use with_kernel;
 
 /// The phases of the step, as [`PassTimings`] counts them (a pass, or the grid's two).
 #[derive(Clone, Copy)]

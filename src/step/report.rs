@@ -3,13 +3,15 @@
 //! [`BodyStep`] is the step's own state, one per body, made fresh at the start of each step:
 //! whether walls or contacts changed the body's grid (the gather then caps its FLIP share,
 //! [`super::transfer::Transfer::at_constraints`]), the momentum it received through contact,
-//! and what its stress update measured. At the end `Simulation::finish_step` sums the
-//! reports into the diagnostics and keeps what the next step needs (each body's fastest
-//! compression and largest volume, for the time step).
+//! and what its stress update measured. At the end [`Step::finish_step`] sums the reports
+//! into the diagnostics and keeps what the next step needs (each body's fastest compression
+//! and largest volume, for the time step); the simulation records the rest ([`Finished`]).
 
-use crate::error::{Error, Result};
+use super::sleep::Sleeping;
+use super::state::Step;
 use crate::math::{Dim, Real};
-use crate::sim::{Measure, Simulation};
+use crate::sim::body::max_signal_speed;
+use crate::sim::stats::Measure;
 
 /// One body's part of the step's state (see the module documentation).
 #[derive(Clone, Copy, Debug, Default)]
@@ -22,19 +24,21 @@ pub struct BodyStep {
     pub stress: StressReport,
 }
 
-impl<D: Dim> Simulation<D> {
-    /// Sums the step's reports into the diagnostics; fails on the first non-finite particle.
+impl<D: Dim> Step<'_, D> {
+    /// Sums the step's reports into the diagnostics and the bodies' figures, with the
+    /// sleeping particles' frozen figures (`sleeping`) beside the stepped ones'.
     pub(super) fn finish_step(
         &mut self,
         dt: f64,
         steps: &[BodyStep],
         gathered: &[GatherReport<D>],
-    ) -> Result<()> {
+        sleeping: &Sleeping<D>,
+    ) -> Finished<D> {
         for (body, step) in self.bodies.iter_mut().zip(steps) {
             body.max_compression = step.stress.max_compression;
         }
-        let c = self.max_wave_speed();
-        let d = &mut self.diagnostics;
+        let c = max_signal_speed(self.bodies);
+        let d = &mut *self.diagnostics;
         d.nonfinite = steps.iter().map(|s| s.stress.bad).sum::<usize>()
             + gathered.iter().map(|g| g.bad).sum::<usize>();
         for ((body, step), g) in self.bodies.iter_mut().zip(steps).zip(gathered) {
@@ -54,41 +58,38 @@ impl<D: Dim> Simulation<D> {
         let mut measures: Vec<_> = gathered.iter().map(|g| g.measure).collect();
         let mut elastic: Vec<f64> = steps.iter().map(|s| s.stress.elastic).collect();
         for (i, body) in self.bodies.iter_mut().enumerate() {
-            if body.sleep.any() {
-                measures[i].add_finished(&body.sleep.measure);
-                elastic[i] += body.sleep.elastic;
-                body.max_volume = body.max_volume.max(body.sleep.max_volume);
+            if body.asleep > 0 {
+                let sleep = sleeping.body(i);
+                measures[i].add_finished(&sleep.measure);
+                elastic[i] += sleep.elastic;
+                body.max_volume = body.max_volume.max(sleep.max_volume);
             }
         }
-        self.record_measures(dt, c, &measures, &elastic);
-        for i in 0..self.bodies.len() {
+        let bad = (0..self.bodies.len()).find_map(|i| {
             let bad = steps[i].stress.first_bad.or_else(|| {
                 gathered[i]
                     .first_bad
                     .map(|p| (p, Bad::NonFinite("velocity or position")))
             });
-            if let Some((particle, bad)) = bad {
-                let body = self.scene.bodies[i].name.clone();
-                let step = self.steps;
-                let e = match bad {
-                    Bad::Crushed => Error::Crushed {
-                        body,
-                        particle,
-                        step,
-                    },
-                    Bad::NonFinite(quantity) => Error::NonFinite {
-                        body,
-                        particle,
-                        quantity,
-                        step,
-                    },
-                };
-                self.failed = Some(e.clone());
-                return Err(e);
-            }
+            bad.map(|(particle, bad)| (i, particle, bad))
+        });
+        Finished {
+            signal_speed: c,
+            measures,
+            elastic,
+            bad,
         }
-        Ok(())
     }
+}
+
+/// What the step leaves the simulation to record: the largest signal speed after it (for its
+/// CFL number), each body's measure and stored elastic energy, and the first body with an
+/// unusable particle (body, particle, why).
+pub struct Finished<D: Dim> {
+    pub signal_speed: f64,
+    pub measures: Vec<Measure<D>>,
+    pub elastic: Vec<f64>,
+    pub bad: Option<(usize, usize, Bad)>,
 }
 
 /// Why a particle's state is unusable after its update.

@@ -9,20 +9,19 @@
 //! another body also scatter the mass gradient ∇m_i = Σ_p m_p ∇w_ip, the contact normal of
 //! Eq. 20.
 
+use super::Step;
 use super::transfer::Transfer;
 use super::walk::{Share, Walker, scatter as spread};
-use super::with_kernel;
 use crate::grid::Grid;
-use crate::kernel::Kernel;
+use crate::kernel::{Kernel, with_kernel};
 use crate::math::{Dim, Real, SymTensor};
-use crate::sim::Simulation;
 
-impl<D: Dim> Simulation<D> {
+impl<D: Dim> Step<'_, D> {
     /// Step 1 (and the forces of step 4, stress updated last) for every body.
     pub(super) fn scatter_to_grid(&mut self) {
-        let p = &self.particles;
+        let p = &*self.particles;
         let inv_h = self.world.inv_h;
-        for body in &mut self.bodies {
+        for body in self.bodies.iter_mut() {
             let last = body.recipe.stress_order == super::StressOrder::Last;
             let r = body.active();
             let state = ScatterState {
@@ -41,7 +40,6 @@ impl<D: Dim> Simulation<D> {
             };
             let lp = body.radius * inv_h;
             with_kernel!(self.world.kernel, K, S => scatter::<D, K, S>(&mut body.grid, state, inv_h, lp));
-            body.sleep.add_to(&mut body.grid);
         }
     }
 }

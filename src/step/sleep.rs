@@ -1,5 +1,5 @@
 //! Sleeping: material at rest stops being stepped until something touches it (off unless
-//! [`Simulation::set_sleeping`] switches it on).
+//! [`crate::Simulation::set_sleeping`] switches it on).
 //!
 //! Rigid-body engines put resting islands to sleep; here the unit is a grid block. A block
 //! falls asleep when every awake particle it handles (the particles whose stencil starts in
@@ -7,7 +7,7 @@
 //! particles then keep their position, stress and volume, their velocity and APIC affine
 //! velocity are set to zero (the kinetic energy of those last few mm/s is booked as
 //! `dissipated_sleep`), and they leave the passes: a body's sleeping particles are the last
-//! [`Sleep::asleep`] of its range, and every pass walks [`crate::sim::Body::active`] only.
+//! `Body::asleep` of its range, and every pass walks [`crate::sim::Body::active`] only.
 //!
 //! What they give the grid stays. Once, when they fall asleep, their share of the scatter is
 //! taken with their frozen stress (the same pass, [`super::scatter::scatter`], with zero
@@ -24,19 +24,21 @@
 //!   from flickering between the states). An impact, a body dropped into it, contact with
 //!   another body or a wall all move those nodes;
 //! - all at once on anything that could move it without moving the grid first: a parameter
-//!   change ([`Simulation::configure`]: a lower friction angle or yield stress, gravity), an
-//!   edit of the particle state ([`Simulation::particles_mut`]), or sleeping switched off.
+//!   change ([`crate::Simulation::configure`]: a lower friction angle or yield stress, gravity), an
+//!   edit of the particle state ([`crate::Simulation::particles_mut`]), or sleeping switched off.
 //!
 //! Woken particles start from zero velocity with the stress they slept with. Sleeping
 //! material does not creep: a slope that would creep slower than the sleep speed freezes
 //! (docs/method.md, "Sleeping").
 
 use super::scatter::{ScatterState, scatter};
-use super::with_kernel;
+use super::state::Step;
 use crate::grid::{Grid, GridIndex};
-use crate::kernel::Kernel;
+use crate::kernel::{Kernel, with_kernel};
 use crate::math::{Dim, Real, VectorOps};
-use crate::sim::{Measure, Simulation};
+use crate::sim::body::Body;
+use crate::sim::particles::Particles;
+use crate::sim::stats::Measure;
 use std::collections::HashMap;
 
 /// When material sleeps and wakes.
@@ -72,11 +74,71 @@ struct Frozen<D: Dim> {
     mass_grad: Vec<D::Vector>,
 }
 
-/// One body's sleeping particles and what they give the grid.
+/// Sleeping's state, the step's own, kept from one step to the next: the rule (none: off)
+/// and, body by body, what its sleeping particles give the grid ([`Sleep`]; how many sleep
+/// is the body's [`Body::asleep`](crate::sim::Body), the last of its range).
+#[derive(Clone, Debug)]
+pub struct Sleeping<D: Dim> {
+    rule: Option<SleepRule>,
+    bodies: Vec<Sleep<D>>,
+}
+
+impl<D: Dim> Default for Sleeping<D> {
+    fn default() -> Self {
+        Sleeping {
+            rule: None,
+            bodies: Vec::new(),
+        }
+    }
+}
+
+impl<D: Dim> Sleeping<D> {
+    /// The rule material sleeps by, if sleeping is on.
+    pub fn rule(&self) -> Option<SleepRule> {
+        self.rule
+    }
+
+    /// Switches sleeping on with `rule`, or off with `None` (everything wakes).
+    pub fn set(&mut self, rule: Option<SleepRule>, bodies: &mut [Body<D>]) {
+        self.rule = rule;
+        if rule.is_none() {
+            self.wake_all(bodies);
+        }
+    }
+
+    /// Wakes every sleeping particle of `bodies`: the particles are already in place (the
+    /// sleeping ones at rest, with their stress), so only the bookkeeping goes.
+    pub fn wake_all(&mut self, bodies: &mut [Body<D>]) {
+        for body in bodies {
+            body.asleep = 0;
+        }
+        self.bodies.clear();
+    }
+
+    /// Forgets body `i`, which is removed.
+    pub fn remove(&mut self, i: usize) {
+        if i < self.bodies.len() {
+            self.bodies.remove(i);
+        }
+    }
+
+    /// Body `i`'s sleeping particles' share and figures (of a body with sleeping particles).
+    pub(super) fn body(&self, i: usize) -> &Sleep<D> {
+        &self.bodies[i]
+    }
+
+    /// Adds each body's sleeping particles' share to its grid's owned nodes (after the awake
+    /// particles' scatter and its halo reduction).
+    pub(super) fn add_to(&self, bodies: &mut [Body<D>]) {
+        for (sleep, body) in self.bodies.iter().zip(bodies) {
+            sleep.add_to(&mut body.grid);
+        }
+    }
+}
+
+/// One body's sleeping particles: what they give the grid, and their figures.
 #[derive(Clone, Debug)]
 pub struct Sleep<D: Dim> {
-    /// How many particles at the end of the body's range sleep.
-    pub asleep: usize,
     /// Seconds each block (by block coordinate) has held only slow awake particles.
     calm: HashMap<[i32; 3], f64>,
     /// The sleeping particles' share of the grid, per block coordinate.
@@ -91,7 +153,6 @@ pub struct Sleep<D: Dim> {
 impl<D: Dim> Default for Sleep<D> {
     fn default() -> Self {
         Sleep {
-            asleep: 0,
             calm: HashMap::new(),
             frozen: HashMap::new(),
             measure: Measure::empty(),
@@ -102,15 +163,8 @@ impl<D: Dim> Default for Sleep<D> {
 }
 
 impl<D: Dim> Sleep<D> {
-    /// Everything awake: the particles are already in place (the sleeping ones at rest, with
-    /// their stress), so only the bookkeeping goes.
-    pub fn wake_all(&mut self) {
-        *self = Sleep::default();
-    }
-
-    /// Adds the sleeping particles' share to `grid`'s owned nodes (after the awake particles'
-    /// scatter and its halo reduction).
-    pub fn add_to(&self, grid: &mut Grid<D>) {
+    /// Adds the sleeping particles' share to `grid`'s owned nodes.
+    fn add_to(&self, grid: &mut Grid<D>) {
         if self.frozen.is_empty() {
             return;
         }
@@ -138,54 +192,20 @@ impl<D: Dim> Sleep<D> {
             });
         }
     }
-
-    /// Whether any particle sleeps.
-    pub fn any(&self) -> bool {
-        self.asleep > 0
-    }
 }
 
-impl<D: Dim> Simulation<D> {
-    /// Switches sleeping on with `rule` (or with [`SleepRule::for_grid`] for this scene's
-    /// grid), or off with `None` (everything wakes).
-    pub fn set_sleeping(&mut self, rule: Option<SleepRule>) {
-        self.sleeping = rule;
-        if rule.is_none() {
-            self.wake_all();
-        }
-    }
-
-    /// Sleeping on with the rule for this scene's grid ([`SleepRule::for_grid`]).
-    pub fn sleep_when_at_rest(&mut self) {
-        let g = self.world.gravity.length() as f64;
-        self.set_sleeping(Some(SleepRule::for_grid(self.world.h as f64, g)));
-    }
-
-    /// The rule material sleeps by, if sleeping is on.
-    pub fn sleeping(&self) -> Option<SleepRule> {
-        self.sleeping
-    }
-
-    /// Wakes every sleeping particle.
-    pub fn wake_all(&mut self) {
-        for body in &mut self.bodies {
-            body.sleep.wake_all();
-        }
-    }
-
-    /// How many particles sleep.
-    pub fn asleep(&self) -> usize {
-        self.bodies.iter().map(|b| b.sleep.asleep).sum()
-    }
-
+impl<D: Dim> Step<'_, D> {
     /// After the step's gather: wakes the sleeping particles whose grid moved, and puts to
     /// sleep the blocks that have been at rest long enough.
-    pub(super) fn sleep_and_wake(&mut self, dt: f64) {
-        let Some(rule) = self.sleeping else {
+    pub(crate) fn sleep_and_wake(&mut self, sleeping: &mut Sleeping<D>, dt: f64) {
+        let Some(rule) = sleeping.rule else {
             return;
         };
+        sleeping
+            .bodies
+            .resize_with(self.bodies.len(), Default::default);
         let (kernel, inv_h) = (self.world.kernel, self.world.inv_h);
-        for body in &mut self.bodies {
+        for (body, sleep) in self.bodies.iter_mut().zip(&mut sleeping.bodies) {
             if body.kinematic {
                 continue;
             }
@@ -193,12 +213,12 @@ impl<D: Dim> Simulation<D> {
             let padded = grid.layout.padded_nodes();
             let slots = grid.index.block_count();
             let r = body.range.clone();
-            let awake = r.len() - body.sleep.asleep;
+            let awake = r.len() - body.asleep;
             // Waking: the blocks whose owned nodes move, and the blocks below them whose
             // stencils spill into them.
             let mut woken = Vec::new();
             let mut spilled = vec![false; slots];
-            if body.sleep.any() {
+            if body.asleep > 0 {
                 let fast = moving_blocks(grid, rule.wake_speed);
                 if fast.iter().any(|&f| f) {
                     spilled = spill_down(&grid.index, &fast);
@@ -216,7 +236,7 @@ impl<D: Dim> Simulation<D> {
                 fastest[s] = fastest[s].max(v[q].length_squared());
                 handles[s] = true;
             }
-            let mut calm = HashMap::with_capacity(body.sleep.calm.len());
+            let mut calm = HashMap::with_capacity(sleep.calm.len());
             let mut ready = vec![false; slots];
             let limit = rule.speed * rule.speed;
             for s in 0..slots {
@@ -225,14 +245,14 @@ impl<D: Dim> Simulation<D> {
                     continue;
                 }
                 let block = grid.index.blocks()[s];
-                let t = body.sleep.calm.get(&block).copied().unwrap_or(0.0) + dt;
+                let t = sleep.calm.get(&block).copied().unwrap_or(0.0) + dt;
                 if t >= rule.after {
                     ready[s] = true;
                 } else {
                     calm.insert(block, t);
                 }
             }
-            body.sleep.calm = calm;
+            sleep.calm = calm;
             let sleepers: Vec<usize> = (0..awake)
                 .filter(|&q| ready[grid.particle_node[q] as usize / padded])
                 .collect();
@@ -256,7 +276,7 @@ impl<D: Dim> Simulation<D> {
                 .chain((awake..r.len()).filter(|&q| !is_woken[q]))
                 .map(|q| q as u32)
                 .collect();
-            let p = &mut self.particles;
+            let p = &mut *self.particles;
             // the kinetic energy of the particles brought to rest
             let mut stopped = 0.0;
             for &q in &sleepers {
@@ -269,11 +289,11 @@ impl<D: Dim> Simulation<D> {
             }
             self.diagnostics.dissipated_sleep += stopped;
             p.permute(r.clone(), &order);
-            body.sleep.asleep = body.sleep.asleep + sleepers.len() - woken.len();
+            body.asleep = body.asleep + sleepers.len() - woken.len();
             let lp = body.radius * inv_h;
             let law = *body.model.elastic();
-            let from = r.end - body.sleep.asleep;
-            with_kernel!(kernel, K, S => freeze::<D, K, S>(&mut body.sleep, p, from..r.end, inv_h, lp, &law, self.world.gravity));
+            let from = r.end - body.asleep;
+            with_kernel!(kernel, K, S => freeze::<D, K, S>(sleep, p, from..r.end, inv_h, lp, &law, self.world.gravity));
             // The grid's particle_node no longer matches the order: the next step's
             // allocation rebuilds it before any pass reads it.
         }
@@ -324,7 +344,7 @@ fn spill_down<D: Dim>(index: &GridIndex<D>, fast: &[bool]) -> Vec<bool> {
 /// grid, and their figures, into `sleep`.
 fn freeze<D: Dim, K: Kernel<S>, const S: usize>(
     sleep: &mut Sleep<D>,
-    p: &crate::sim::Particles<D>,
+    p: &Particles<D>,
     range: std::ops::Range<usize>,
     inv_h: Real,
     lp: Real,

@@ -42,21 +42,20 @@
 //! eight chains advance at once), with the energies and the finiteness test per chunk. A test
 //! checks that they agree bit for bit.
 
+use super::Step;
 use super::report::StressReport;
 use super::volumetric::{sum_cell_dilatation, with_volumetric_rate};
 use super::walk::{self, At, CHUNK, Rates, Share, Walker};
-use super::with_kernel;
 use crate::grid::Grid;
-use crate::kernel::{Kernel, KernelKind, Stencil};
+use crate::kernel::{Kernel, KernelKind, Stencil, with_kernel};
 use crate::material::{Constitutive, VolumetricRate, WithModel};
 use crate::math::{Dim, Number, Real, SymTensor, exp_small, max};
-use crate::sim::Simulation;
 use std::ops::Range;
 
 mod lanes;
 pub use lanes::update_chunk;
 
-impl<D: Dim> Simulation<D> {
+impl<D: Dim> Step<'_, D> {
     /// Steps 2–4, particle side, in Sec. 4.2's order, for the bodies that take it (the
     /// others' stress is updated in the gather); their reports go to `steps`.
     pub(super) fn update_stress_first(&mut self, dt: Real, steps: &mut [super::BodyStep]) {

@@ -3,13 +3,13 @@
 //! with friction the tangential speed reduced by μ|v_n|, Coulomb friction proportional to the
 //! pressure). Then the halo nodes take their owners' values, for the gather.
 
+use super::Step;
 use super::{BodyStep, constraint_dissipation};
 use crate::boundary::Walls;
 use crate::grid::Grid;
 use crate::math::Dim;
-use crate::sim::Simulation;
 
-impl<D: Dim> Simulation<D> {
+impl<D: Dim> Step<'_, D> {
     /// Step 5 at the walls for every body (noting in `steps` which ones they changed); then
     /// the halos take their owners' values.
     pub(super) fn apply_walls(&mut self, steps: &mut [BodyStep]) {
