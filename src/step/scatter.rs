@@ -10,11 +10,12 @@
 //! Eq. 20.
 
 use super::Step;
+use super::stress::internal_force;
 use super::transfer::Transfer;
 use super::walk::{Share, Walker, scatter as spread};
 use crate::grid::Grid;
 use crate::kernel::{Kernel, with_kernel};
-use crate::math::{Dim, Real, SymTensor};
+use crate::math::{Dim, Real};
 
 impl<D: Dim> Step<'_, D> {
     /// Step 1 (and the forces of step 4, stress updated last) for every body.
@@ -77,10 +78,10 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
     } = &mut *grid;
     let with_gradient = !mass_grad.is_empty();
     let h = 1.0 / inv_h;
-    // F_p = −V_p (σ_p − q_p I): the viscous pressure of the latest update acts with the stress.
+    // F_p ([`internal_force`]): the viscous pressure of the latest update acts with the stress.
     let force = |i: usize| {
         ps.stress
-            .map(|(s, v, q)| (s[i] - D::Sym::iso(q[i])) * -v[i])
+            .map(|(s, v, q)| internal_force::<D>(s[i], v[i], Some(q[i])))
     };
     let mut walker = Walker::<D, K, S>::new(layout, particle_node, inv_h, lp);
     // One loop per combination of the force, APIC and contact (mass gradient) terms, each

@@ -206,25 +206,38 @@ pub fn update_stress_first<
         );
         for (i, q) in chunk.enumerate() {
             let v = ps.volume[q];
-            let mut sigma = ps.stress[q];
-            if ps.bulk_length > 0.0 {
-                sigma = sigma - D::Sym::iso(ps.viscous_pressure[q]);
-            }
+            let viscous = (ps.bulk_length > 0.0).then(|| ps.viscous_pressure[q]);
+            let force = internal_force::<D>(ps.stress[q], v, viscous);
             // A particle the update left non-finite (reported) gives no force.
-            if report.bad > bad && !(sigma.is_finite() && v.is_finite() && v > 0.0) {
+            if report.bad > bad && !(force.is_finite() && v > 0.0) {
                 continue;
             }
-            // f_i += −V_p (σ_p − q_p I) ∇w_ip.
             let share = Share {
                 mass: None,
                 affine: None,
-                force: Some(sigma * -v),
+                force: Some(force),
             };
             walk::scatter::<D, K, S>(nodes, None, &at[i], share);
         }
     }
     grid.reduce_nodes(|o, h| o.new_vel += h.new_vel);
     report
+}
+
+/// Step 4's internal force at the nodes is f_i = Σ_p F_p ∇w_ip with, for each particle,
+///
+/// F_p = −V_p (σ_p − q_p I),
+///
+/// its stress less the bulk viscosity's pressure q_p (`viscous`; none for sand) times minus
+/// its volume. Both stress orders scatter it ([`update_stress_first`], and
+/// [`super::scatter::scatter`] the next step's with the stress updated last).
+#[inline(always)]
+pub fn internal_force<D: Dim>(stress: D::Sym, volume: Real, viscous: Option<Real>) -> D::Sym {
+    let sigma = match viscous {
+        Some(q) => stress - D::Sym::iso(q),
+        None => stress,
+    };
+    sigma * -volume
 }
 
 /// What the gather does with the velocity gradients of each chunk of particles.
