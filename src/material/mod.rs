@@ -29,8 +29,11 @@ use serde::{Deserialize, Serialize};
 pub struct StressUpdate<T = Real> {
     /// Increment of the equivalent plastic strain √(2/3 e_p : e_p).
     pub plastic_strain: T,
-    /// Energy removed by the plastic correction, per unit volume (J/m³): the stored elastic
-    /// energy of the elastic trial stress minus that of the corrected stress.
+    /// Energy removed by the plastic correction, per unit volume (J/m³): the plastic work
+    /// σ_{n+1} : Δε_p of the returned stress over the plastic strain increment
+    /// Δε_p = C⁻¹ : (σ_tr − σ_{n+1}). (The trial's stored energy minus the returned one's
+    /// exceeds it by ½ Δε_p : C : Δε_p, which no force does as work: booked as dissipation it
+    /// made the energy budget rise.)
     pub dissipation: T,
     /// The stored elastic energy per unit volume of the updated stress (J/m³), as
     /// [`Elastic::energy_density`] gives it, from the invariants the model already formed.

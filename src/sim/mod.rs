@@ -4,7 +4,7 @@ mod particles;
 mod stats;
 
 pub use particles::Particles;
-pub use stats::{BodyStats, Diagnostics, Measure};
+pub use stats::{ACCOUNT_TOLERANCE, BodyStats, Diagnostics, Measure};
 
 use crate::boundary::{ContactRule, STICKING_CFL, WallRule, Walls};
 use crate::config::{BodyConfig, MAX_PARTICLES, SceneConfig};
@@ -646,8 +646,10 @@ impl<D: Dim> Simulation<D> {
     /// stepping (after bodies are added or removed, or particle state is edited directly):
     /// the energies, momentum, bounds and speeds as they stand, and each body's lowest density
     /// (for the time step). The cumulative dissipation and the latest step's contact forces
-    /// stay as the latest step left them.
+    /// stay as the latest step left them; the change of the total energy, made by no step,
+    /// is booked as energy brought in ([`Diagnostics::energy_in`]).
     pub fn refresh_diagnostics(&mut self) {
+        let before = self.diagnostics.total_energy();
         let gravity = self.world.gravity;
         let p = &self.particles;
         let mut measures = Vec::with_capacity(self.bodies.len());
@@ -672,6 +674,7 @@ impl<D: Dim> Simulation<D> {
         let c = self.max_wave_speed();
         self.record_measures(self.diagnostics.dt, c, &measures, &elastic);
         self.diagnostics.nonfinite = 0;
+        self.diagnostics.energy_in += self.diagnostics.total_energy() - before;
     }
 }
 

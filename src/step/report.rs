@@ -21,6 +21,9 @@ pub struct BodyStep {
     pub contact_impulse: [f64; 3],
     /// What the stress update measured.
     pub stress: StressReport,
+    /// The grid's kinetic energy at v_i^n and after the walls
+    /// ([`super::grid_update::kinetic_energies`]; zero for a kinematic body).
+    pub grid_kinetic: [f64; 2],
 }
 
 impl<D: Dim> Simulation<D> {
@@ -59,6 +62,17 @@ impl<D: Dim> Simulation<D> {
                 measures[i].add_finished(&body.sleep.measure);
                 elastic[i] += body.sleep.elastic;
                 body.max_volume = body.max_volume.max(body.sleep.max_volume);
+            }
+        }
+        // what the transfers removed: the particles' kinetic energy before the scatter (as
+        // the last step, or an edit, left it) less the grid's, and the grid's after the walls
+        // less the particles' after the gather and the particle-side walls
+        for (i, body) in self.bodies.iter().enumerate() {
+            if !body.kinematic {
+                let [before, after] = steps[i].grid_kinetic;
+                self.diagnostics.dissipated_numerical += body.stats.kinetic - before + after
+                    - measures[i].kinetic
+                    - gathered[i].dissipated_walls;
             }
         }
         self.record_measures(dt, c, &measures, &elastic);

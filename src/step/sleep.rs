@@ -268,6 +268,8 @@ impl<D: Dim> Simulation<D> {
                 }
             }
             self.diagnostics.dissipated_sleep += stopped;
+            self.diagnostics.kinetic -= stopped;
+            body.stats.kinetic -= stopped;
             p.permute(r.clone(), &order);
             body.sleep.asleep = body.sleep.asleep + sleepers.len() - woken.len();
             let lp = body.radius * inv_h;

@@ -368,6 +368,14 @@ fn run(a: RunArgs) -> Result<(), Failure> {
             d.dissipated(),
             if sim.dim() == 2 { "/m" } else { "" }
         );
+        let error = d.energy_error();
+        if error.abs() > mpm::sim::ACCOUNT_TOLERANCE {
+            note!(
+                "warning: the energy account does not close: the sum is {:+.1} % off the energy brought in (allowed ±{:.0} %)",
+                100.0 * error,
+                100.0 * mpm::sim::ACCOUNT_TOLERANCE
+            );
+        }
     }
     result
 }
