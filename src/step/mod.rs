@@ -70,7 +70,13 @@ impl<D: Dim> Simulation<D> {
         if limit.is_nan() || limit <= 0.0 {
             return Err(Error::invalid("step limit", limit, "must be > 0 (s)"));
         }
-        let dt = self.stable_dt().min(limit);
+        let stable = self.stable_dt();
+        if stable < crate::sim::MIN_DT {
+            let e = self.step_too_small(stable);
+            self.failed = Some(e.clone());
+            return Err(e);
+        }
+        let dt = stable.min(limit);
         let h = dt as Real;
         let mut t = Clock::start(self.timings.is_some());
         let mut steps = vec![BodyStep::default(); self.bodies.len()];

@@ -67,12 +67,27 @@ impl<D: Dim> Simulation<D> {
         // what the transfers removed: the particles' kinetic energy before the scatter (as
         // the last step, or an edit, left it) less the grid's, and the grid's after the walls
         // less the particles' after the gather and the particle-side walls
+        // A kinematic body's energy changes, and the work it does through contact, come from
+        // outside: booked as energy brought in.
         for (i, body) in self.bodies.iter().enumerate() {
             if !body.kinematic {
                 let [before, after] = steps[i].grid_kinetic;
                 self.diagnostics.dissipated_numerical += body.stats.kinetic - before + after
                     - measures[i].kinetic
                     - gathered[i].dissipated_walls;
+            } else {
+                let s = &body.stats;
+                let m = &measures[i];
+                let j = steps[i].contact_impulse;
+                let work = if s.mass > 0.0 {
+                    -(0..3).map(|a| j[a] * s.momentum[a]).sum::<f64>() / s.mass
+                } else {
+                    0.0
+                };
+                self.diagnostics.energy_in += m.kinetic + m.gravitational
+                    - s.kinetic
+                    - s.gravitational
+                    + work;
             }
         }
         self.record_measures(dt, c, &measures, &elastic);
@@ -101,6 +116,10 @@ impl<D: Dim> Simulation<D> {
                 self.failed = Some(e.clone());
                 return Err(e);
             }
+        }
+        if let Some(e) = self.energy_guard() {
+            self.failed = Some(e.clone());
+            return Err(e);
         }
         Ok(())
     }

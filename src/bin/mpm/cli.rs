@@ -259,6 +259,15 @@ fn run(a: RunArgs) -> Result<(), Failure> {
     let scene = load_scene(&a.scene)?;
     let mut sim = build(scene, &a.scene.scene)?;
     sim.set_sleeping_at_rest(a.sleep);
+    let dt = sim.stable_dt();
+    let estimate = a.time / dt;
+    if estimate > mpm::sim::MAX_STEPS {
+        return Err(Failure(format!(
+            "--time = {} s at the stable step of {dt:.3e} s is about {estimate:.2e} steps, more than the {:.0e} a run takes: a shorter --time, a softer or denser material, slower bodies or a coarser cell_size",
+            a.time,
+            mpm::sim::MAX_STEPS
+        )));
+    }
     let render_options = RenderOptions {
         width: a.size.0,
         height: a.size.1,
