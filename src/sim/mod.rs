@@ -2,6 +2,7 @@
 
 mod particles;
 mod stats;
+mod warnings;
 
 pub use particles::Particles;
 pub use stats::{ACCOUNT_TOLERANCE, BodyStats, Diagnostics, Measure};

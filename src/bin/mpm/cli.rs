@@ -259,6 +259,9 @@ fn run(a: RunArgs) -> Result<(), Failure> {
     let scene = load_scene(&a.scene)?;
     let mut sim = build(scene, &a.scene.scene)?;
     sim.set_sleeping_at_rest(a.sleep);
+    for w in sim.warnings(Some(a.time)) {
+        note!("warning: {w}");
+    }
     let dt = sim.stable_dt();
     let estimate = a.time / dt;
     if estimate > mpm::sim::MAX_STEPS {
@@ -436,6 +439,9 @@ fn check(a: CheckArgs) -> Result<(), Failure> {
     let sim = build(scene, path)?;
     let sampling = sampling.elapsed().as_secs_f64();
     out!("{}: valid", path.display());
+    for w in sim.warnings(None) {
+        note!("warning: {w}");
+    }
     match &sim {
         AnySimulation::D2(s) => report(s, sampling),
         AnySimulation::D3(s) => report(s, sampling),
