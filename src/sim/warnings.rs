@@ -3,7 +3,7 @@
 //! own weight crushes.
 
 use super::{AnySimulation, Simulation};
-use crate::math::Dim;
+use crate::math::{Dim, VectorOps};
 
 impl<D: Dim> Simulation<D> {
     /// The warnings for this scene, for a run ending at `end` seconds when known.
