@@ -1067,14 +1067,18 @@ fn a_stiff_block_at_cfl_one_is_stable_or_stops_with_the_setting() {
                     runs += 1;
                     match outcome {
                         Ok(()) => {
+                            // within the guard: the live energy no more than 10 % above
+                            // what was brought in (the account's own error is printed)
                             let d = sim.diagnostics();
                             assert!(
-                                d.energy_error() <= mpm::sim::ENERGY_GUARD,
+                                d.total_energy() <= d.energy_in * (1.0 + mpm::sim::ENERGY_GUARD),
                                 "{what}: {d:?}"
                             );
+                            eprintln!("{what}: stable, account {:+.1} %", 100.0 * d.energy_error());
                         }
                         Err(e) => {
                             assert!(names_the_setting(&e), "{what}: {e}");
+                            eprintln!("{what}: stopped at step {}", sim.steps());
                             stopped += 1;
                         }
                     }
@@ -1087,7 +1091,9 @@ fn a_stiff_block_at_cfl_one_is_stable_or_stops_with_the_setting() {
     assert!(stopped < runs, "every run stopped");
 }
 
-/// The same block at the documented CFL 0.4 and PIC: stable, every kernel, 2D and 3D.
+/// The same block at the documented CFL 0.4 and PIC: stable, every kernel, 2D and 3D, its
+/// account within 3 % (an elastic solid's impact gains up to about 2.3 % that the account does
+/// not book; tests/energy.rs).
 #[test]
 fn a_stiff_block_at_the_default_cfl_is_stable() {
     for dim in [2, 3] {
@@ -1116,10 +1122,11 @@ fn a_stiff_block_at_the_default_cfl_is_stable() {
             sim.advance(0.05)
                 .unwrap_or_else(|e| panic!("{dim}D {kernel:?}: {e}"));
             let d = sim.diagnostics();
-            assert!(
-                d.energy_error().abs() <= mpm::sim::ACCOUNT_TOLERANCE,
-                "{dim}D {kernel:?}: {d:?}"
+            eprintln!(
+                "{dim}D {kernel:?}: account {:+.2} %",
+                100.0 * d.energy_error()
             );
+            assert!(d.energy_error().abs() <= 0.03, "{dim}D {kernel:?}: {d:?}");
         }
     }
 }
@@ -1131,20 +1138,31 @@ fn runs_that_cannot_advance_are_refused_before_stepping() {
     for dim in [2, 3] {
         let cut = |v: [f64; 3]| v[..dim].to_vec();
         for (what, material, speed, setting) in [
-            ("E = 1e30", Material::elastic(1e30, 0.3, 1000.0), 0.0, "youngs_modulus"),
-            ("rho = 1e-30", Material::elastic(1e5, 0.3, 1e-30), 0.0, "density"),
-            ("v = 1e20", Material::elastic(1e5, 0.3, 1000.0), 1e20, "velocity"),
+            (
+                "E = 1e30",
+                Material::elastic(1e30, 0.3, 1000.0),
+                0.0,
+                "youngs_modulus",
+            ),
+            (
+                "rho = 1e-30",
+                Material::elastic(1e5, 0.3, 1e-30),
+                0.0,
+                "density",
+            ),
+            (
+                "v = 1e20",
+                Material::elastic(1e5, 0.3, 1000.0),
+                1e20,
+                "velocity",
+            ),
         ] {
             let mut scene = SceneConfig::new(dim, &cut([1.0, 1.0, 1.0]), 0.1);
             let mut v = vec![0.0; dim];
             v[0] = speed;
             scene.bodies.push(
-                BodyConfig::new(
-                    "b",
-                    Shape::ball(&cut([0.5, 0.5, 0.5]), 0.2),
-                    material,
-                )
-                .with_velocity(&v),
+                BodyConfig::new("b", Shape::ball(&cut([0.5, 0.5, 0.5]), 0.2), material)
+                    .with_velocity(&v),
             );
             let mut sim = AnySimulation::new(scene).unwrap();
             assert!(sim.stable_dt() < mpm::sim::MIN_DT, "{what}");
@@ -1163,8 +1181,8 @@ fn runs_that_cannot_advance_are_refused_before_stepping() {
 }
 
 /// Gravity of 1e6 m/s² bounds the step (a particle moves at most CFL cells in a step under
-/// it), so an elastic ball falls instead of hovering: in its first millisecond it falls as
-/// ½ g t² says, within a few percent, in 2D and 3D.
+/// it), so an elastic ball falls instead of hovering: in its first 0.4 ms it falls between
+/// ½ g t² and ½ g (t + dt)², in 2D and 3D.
 #[test]
 fn a_ball_under_huge_gravity_falls() {
     for dim in [2, 3] {
@@ -1180,16 +1198,25 @@ fn a_ball_under_huge_gravity_falls() {
         ));
         let mut sim = AnySimulation::new(scene).unwrap();
         let y0 = sim.body_stats()[0].center_of_mass[1];
+        let dt = sim.stable_dt();
+        assert!(
+            dt <= (0.4f64 * 0.05 / 1e6).sqrt() * (1.0 + 1e-9),
+            "{dim}D: dt {dt}"
+        );
         let t = 4e-4; // ½ g t² = 0.08 m, before the ball reaches the floor
         sim.advance(t).unwrap();
         let fall = y0 - sim.body_stats()[0].center_of_mass[1];
+        // symplectic Euler falls ½ g t (t + dt) in steps of dt
         assert!(
-            (fall - 0.5 * 1e6 * t * t).abs() < 0.1 * 0.5 * 1e6 * t * t,
-            "{dim}D: fell {fall} m in {t} s"
+            fall >= 0.5 * 1e6 * t * t && fall <= 0.5 * 1e6 * (t + dt) * (t + dt),
+            "{dim}D: fell {fall} m in {t} s (dt {dt} s)"
         );
         let d = sim.diagnostics();
         assert!(d.kinetic > 0.0);
-        assert!(d.energy_error().abs() <= mpm::sim::ACCOUNT_TOLERANCE, "{d:?}");
+        assert!(
+            d.energy_error().abs() <= mpm::sim::ACCOUNT_TOLERANCE,
+            "{d:?}"
+        );
     }
 }
 

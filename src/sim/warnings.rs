@@ -33,9 +33,11 @@ impl<D: Dim> Simulation<D> {
             r.step_by(step)
                 .filter(|&q| {
                     let x = self.particles.x[q];
-                    test.contains(std::array::from_fn(|k| {
-                        if k < dim { x[k] as f64 } else { 0.0 }
-                    }))
+                    test.contains(std::array::from_fn(
+                        |k| {
+                            if k < dim { x[k] as f64 } else { 0.0 }
+                        },
+                    ))
                 })
                 .count()
                 * step

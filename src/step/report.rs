@@ -84,10 +84,8 @@ impl<D: Dim> Simulation<D> {
                 } else {
                     0.0
                 };
-                self.diagnostics.energy_in += m.kinetic + m.gravitational
-                    - s.kinetic
-                    - s.gravitational
-                    + work;
+                self.diagnostics.energy_in +=
+                    m.kinetic + m.gravitational - s.kinetic - s.gravitational + work;
             }
         }
         self.record_measures(dt, c, &measures, &elastic);
