@@ -39,6 +39,33 @@ pub enum Error {
         particle: usize,
         step: u64,
     },
+    /// The stable time step is below [`crate::sim::MIN_DT`] (or a run would take more than
+    /// [`crate::sim::MAX_STEPS`] steps): refused before stepping, or stopped where it fell.
+    #[error(
+        "the stable time step {dt:.3e} s is below the floor of {floor:.0e} s{when}: about {steps:.2e} steps per simulated second; {cause}"
+    )]
+    StepTooSmall {
+        dt: f64,
+        floor: f64,
+        steps: f64,
+        /// Where it happened ("" before stepping, " at step N (t = … s)" in a run).
+        when: String,
+        /// What sets the step and the setting to change.
+        cause: String,
+    },
+    /// The live energy rose above the energy brought in by more than
+    /// [`crate::sim::ENERGY_GUARD`]: the step went unstable.
+    #[error(
+        "the energy grew to {total:.4e} J from the {budget:.4e} J the bodies brought in (more than {margin:.0} % above) at step {step} (t = {time:.4} s): the step went unstable; {advice}"
+    )]
+    EnergyGrew {
+        total: f64,
+        budget: f64,
+        margin: f64,
+        step: u64,
+        time: f64,
+        advice: String,
+    },
 }
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;

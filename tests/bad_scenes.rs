@@ -400,6 +400,21 @@ fn every_bad_scene_gives_the_expected_error() {
             "bodies[1].material.elastic.density = 0: must be a finite number > 0",
         ),
     ];
+    let mut cases = cases;
+    cases.push((
+        "a material naming two models",
+        scene2(|v| {
+            v["bodies"][0]["material"]["von_mises"] = serde_json::json!({
+                "youngs_modulus": 1e5, "poisson_ratio": 0.3, "density": 1000, "yield_stress": 1e3
+            })
+        }),
+        "bodies[0].material: names two models, `elastic` and `von_mises`: a material names exactly one of",
+    ));
+    cases.push((
+        "a material naming no model",
+        scene2(|v| v["bodies"][0]["material"] = serde_json::json!({})),
+        "bodies[0].material: names no material model: it must name one of",
+    ));
     let mut failures = Vec::new();
     for (what, text, expected) in &cases {
         let got = error_of(dir.path(), text);
@@ -433,4 +448,36 @@ fn unresolved_assets_are_an_error_not_a_panic() {
         e.starts_with("bodies[0].shape.mesh.path = \"bunny.obj\": is not loaded"),
         "{e}"
     );
+}
+
+/// Valid scenes that will not do what they seem to say get a warning (and still run): an
+/// empty scene, a body entering after the run's end, bodies that overlap. Bodies side by side,
+/// touching, get none.
+#[test]
+fn valid_but_suspicious_scenes_get_warnings() {
+    let sim = |text: String| AnySimulation::new(SceneConfig::from_json(&text).unwrap()).unwrap();
+    let empty = sim(scene2(|v| v["bodies"] = serde_json::json!([])));
+    let w = empty.warnings(None);
+    assert!(w.iter().any(|w| w.contains("no bodies")), "{w:?}");
+    let late = sim(scene2(|v| v["bodies"][0]["appear_at"] = 5.0.into()));
+    assert!(late.warnings(None).is_empty());
+    let w = late.warnings(Some(1.0));
+    assert!(
+        w.iter()
+            .any(|w| w.contains("bodies[0]") && w.contains("never appears")),
+        "{w:?}"
+    );
+    let second = |min: [f64; 2], max: [f64; 2]| {
+        scene2(|v| {
+            let mut b = v["bodies"][0].clone();
+            b["name"] = "other".into();
+            b["shape"] = serde_json::json!({"box": {"min": min, "max": max}});
+            v["bodies"].as_array_mut().unwrap().push(b);
+        })
+    };
+    let w = sim(second([0.4, 0.2], [0.8, 0.6])).warnings(None);
+    assert!(w.iter().any(|w| w.contains("overlap")), "{w:?}");
+    // touching along x = 0.6: no warning
+    let w = sim(second([0.6, 0.0], [0.9, 0.4])).warnings(None);
+    assert!(w.is_empty(), "{w:?}");
 }

@@ -41,7 +41,7 @@ pub struct Energy {
     /// Stored elastic energy.
     pub elastic: f64,
     /// Cumulative energy removed by plasticity, by the solids' bulk viscosity, by the walls,
-    /// by contact and by bringing particles to rest as they fell asleep.
+    /// by contact, by bringing particles to rest as they fell asleep and by the transfers.
     pub dissipated_plastic: f64,
     #[serde(default)]
     pub dissipated_viscous: f64,
@@ -49,6 +49,24 @@ pub struct Energy {
     pub dissipated_contact: f64,
     #[serde(default)]
     pub dissipated_sleep: f64,
+    /// Cumulative kinetic energy removed by the transfers between particles and grid
+    /// ([`crate::Diagnostics::dissipated_numerical`]).
+    #[serde(default)]
+    pub dissipated_numerical: f64,
+    /// The energy the bodies brought as they entered ([`crate::Diagnostics::energy_in`]).
+    #[serde(default)]
+    pub energy_in: f64,
+    /// (kinetic + gravitational + elastic + dissipated − energy in) over the energy in play
+    /// ([`crate::Diagnostics::energy_error`]), and whether it is within
+    /// [`crate::sim::ACCOUNT_TOLERANCE`]: whether the account closes.
+    #[serde(default)]
+    pub account_error: f64,
+    #[serde(default = "closes")]
+    pub account_closes: bool,
+}
+
+fn closes() -> bool {
+    true
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -93,6 +111,10 @@ impl Summary {
                 dissipated_boundary: d.dissipated_boundary,
                 dissipated_contact: d.dissipated_contact,
                 dissipated_sleep: d.dissipated_sleep,
+                dissipated_numerical: d.dissipated_numerical,
+                energy_in: d.energy_in,
+                account_error: d.energy_error(),
+                account_closes: d.energy_error().abs() <= crate::sim::ACCOUNT_TOLERANCE,
             },
             bodies: sim
                 .body_stats()

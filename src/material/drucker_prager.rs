@@ -449,7 +449,6 @@ impl Constitutive for DruckerPrager {
             }
         };
         let f = sqrt_j2_trial + i1_trial * alpha_phi - self.k_c;
-        let energy_trial = e.energy_from_invariants(j2_trial, i1_trial * (1.0 / 3.0));
         // 1/√J2 is formed while the correction below is (the division is off the critical
         // path: at steady state every particle of a flowing sand body is plastic).
         let inv_sqrt_j2_trial =
@@ -470,9 +469,13 @@ impl Constitutive for DruckerPrager {
         *stress = trial + s_trial.scaled(ratio - 1.0) + S::iso((i1 - i1_trial) * (1.0 / 3.0));
         // The deviator is scaled to ratio·√J2_trial (zero when the trial deviator is zero).
         let energy = e.energy_from_invariants(j2_trial * (ratio * ratio), i1 * (1.0 / 3.0));
+        // The plastic work σ:Δε_p with Δε_p = C⁻¹:(σ_tr − σ): the deviator shrinks from s_tr to
+        // ratio·s_tr, I1 moves from I1_tr to I1 (see [`StressUpdate::dissipation`]).
+        let work = j2_trial * (ratio - ratio * ratio) * (1.0 / g)
+            + i1 * (i1_trial - i1) * (1.0 / (9.0 * e.k));
         StressUpdate {
             plastic_strain: (sqrt_j2_trial - sqrt_j2_trial * ratio) * (1.0 / (SQRT_3 * g)),
-            dissipation: energy_trial - energy,
+            dissipation: work,
             energy,
         }
     }

@@ -29,8 +29,11 @@ use serde::{Deserialize, Serialize};
 pub struct StressUpdate<T = Real> {
     /// Increment of the equivalent plastic strain √(2/3 e_p : e_p).
     pub plastic_strain: T,
-    /// Energy removed by the plastic correction, per unit volume (J/m³): the stored elastic
-    /// energy of the elastic trial stress minus that of the corrected stress.
+    /// Energy removed by the plastic correction, per unit volume (J/m³): the plastic work
+    /// σ_{n+1} : Δε_p of the returned stress over the plastic strain increment
+    /// Δε_p = C⁻¹ : (σ_tr − σ_{n+1}). (The trial's stored energy minus the returned one's
+    /// exceeds it by ½ Δε_p : C : Δε_p, which no force does as work: booked as dissipation it
+    /// made the energy budget rise.)
     pub dissipation: T,
     /// The stored elastic energy per unit volume of the updated stress (J/m³), as
     /// [`Elastic::energy_density`] gives it, from the invariants the model already formed.
@@ -154,10 +157,51 @@ macro_rules! materials {
     ($($variant:ident($params:ty)),* $(,)?) => {
         /// The material of a body, as written in scene files: `{"<name>": {...}}` with the
         /// name of a registered model ([`KINDS`]).
-        #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+        #[derive(Clone, Debug, PartialEq, Serialize)]
         #[serde(rename_all = "snake_case")]
         pub enum Material {
             $($variant($params),)*
+        }
+
+        /// Read by hand so that an object naming no model, or two, gets a message saying so.
+        impl<'de> Deserialize<'de> for Material {
+            fn deserialize<De: serde::Deserializer<'de>>(
+                d: De,
+            ) -> std::result::Result<Self, De::Error> {
+                const NAMES: &[&str] = &[$(<$params as Kind>::NAME),*];
+                struct Named;
+                impl<'de> serde::de::Visitor<'de> for Named {
+                    type Value = Material;
+                    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                        write!(f, "an object naming one material model: {}", NAMES.join(", "))
+                    }
+                    fn visit_map<A: serde::de::MapAccess<'de>>(
+                        self,
+                        mut map: A,
+                    ) -> std::result::Result<Material, A::Error> {
+                        use serde::de::Error as _;
+                        let Some(key) = map.next_key::<String>()? else {
+                            return Err(A::Error::custom(format!(
+                                "names no material model: it must name one of {}",
+                                NAMES.join(", ")
+                            )));
+                        };
+                        let material = $(if key == <$params as Kind>::NAME {
+                            Material::$variant(map.next_value::<$params>()?)
+                        } else)* {
+                            return Err(A::Error::unknown_variant(&key, NAMES));
+                        };
+                        if let Some(second) = map.next_key::<String>()? {
+                            return Err(A::Error::custom(format!(
+                                "names two models, `{key}` and `{second}`: a material names exactly one of {}",
+                                NAMES.join(", ")
+                            )));
+                        }
+                        Ok(material)
+                    }
+                }
+                d.deserialize_map(Named)
+            }
         }
 
         /// The runtime form of a [`Material`], with derived constants.

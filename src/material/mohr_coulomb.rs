@@ -281,9 +281,14 @@ impl MohrCoulomb {
         let mean = (d[0] + d[1] + d[2]) / 3.0;
         let dev2: f64 = d.iter().map(|x| (x - mean) * (x - mean)).sum();
         let energy = e.energy_density(stress);
+        // the plastic work σ:Δε_p = −σ':C⁻¹:d in the principal frame (the returned stress σ'
+        // shares the trial's directions)
+        let r_mean = (r[0] + r[1] + r[2]) / 3.0;
+        let work = -(0..3).map(|k| (r[k] - r_mean) * (d[k] - mean)).sum::<f64>() / (2.0 * self.g)
+            - r_mean * mean / self.k;
         let update = StressUpdate {
             plastic_strain: ((2.0 / 3.0 * dev2).sqrt() / (2.0 * self.g)) as Real,
-            dissipation: energy_trial - energy,
+            dissipation: work as Real,
             energy,
         };
         (stress, update)

@@ -88,8 +88,8 @@ impl Constitutive for VonMises {
         let g = self.elastic.g;
         StressUpdate {
             plastic_strain: yielding((sqrt_j2 - y) * (1.0 / (SQRT_3 * g)), S::Scalar::ZERO),
-            // the deviatoric energy s:s/(4G) = J2/(2G) drops from J2 to Y²
-            dissipation: yielding((j2 - y * y) * (0.5 / g), S::Scalar::ZERO),
+            // the plastic work σ:Δε_p = s:(s_tr − s)/(2G) with s = (Y/√J2) s_tr
+            dissipation: yielding(y * (sqrt_j2 - y) * (1.0 / g), S::Scalar::ZERO),
             energy: self
                 .elastic
                 .energy_from_invariants(yielding(y * y, j2), mean),

@@ -451,7 +451,13 @@ impl Playground {
         };
         let c = materials.iter().map(|m| m.wave_speed()).fold(0.0, f64::max);
         let speed = c + self.sim.diagnostics().max_speed;
-        out.stable_dt = cfl_time_step(scene.cfl, scene.cell_size, speed, scene.max_dt);
+        let g = scene
+            .gravity_vector()
+            .iter()
+            .map(|g| g * g)
+            .sum::<f64>()
+            .sqrt();
+        out.stable_dt = cfl_time_step(scene.cfl, scene.cell_size, speed, g, scene.max_dt);
         out.substeps_per_frame = (frame_time / out.stable_dt).ceil();
         if self.ms_per_step > 0.0 && out.substeps_per_frame > 0.0 {
             // Cost per step scales with the particle count, not with the parameter.

@@ -3,11 +3,12 @@
 pub(crate) mod body;
 pub(crate) mod particles;
 pub(crate) mod stats;
+mod warnings;
 
 pub use body::Body;
 pub(crate) use body::World;
 pub use particles::Particles;
-pub use stats::{BodyStats, Diagnostics, Measure, PassTimings};
+pub use stats::{ACCOUNT_TOLERANCE, BodyStats, Diagnostics, Measure, PassTimings};
 
 use crate::boundary::STICKING_CFL;
 use crate::config::{BodyConfig, MAX_PARTICLES, SceneConfig};
@@ -408,7 +409,13 @@ impl<D: Dim> Simulation<D> {
         if limit.is_nan() || limit <= 0.0 {
             return Err(Error::invalid("step limit", limit, "must be > 0 (s)"));
         }
-        let dt = self.stable_dt().min(limit);
+        let stable = self.stable_dt();
+        if stable < MIN_DT {
+            let e = self.step_too_small(stable);
+            self.failed = Some(e.clone());
+            return Err(e);
+        }
+        let dt = stable.min(limit);
         let (mut step, sleeping) = self.lend();
         let done = step.run(dt, sleeping);
         self.time += dt;
@@ -430,6 +437,10 @@ impl<D: Dim> Simulation<D> {
                     step,
                 },
             };
+            self.failed = Some(e.clone());
+            return Err(e);
+        }
+        if let Some(e) = self.energy_guard() {
             self.failed = Some(e.clone());
             return Err(e);
         }
@@ -503,8 +514,88 @@ impl<D: Dim> Simulation<D> {
             self.step_cfl(),
             self.world.h as f64,
             self.max_wave_speed() + self.diagnostics.max_speed,
+            self.world.gravity.length() as f64,
             self.world.max_dt,
         )
+    }
+
+    /// The error for a stable step `dt` below [`MIN_DT`]: what sets it (the fastest body's
+    /// wave speed, the particles' speed or gravity) and the setting to change.
+    pub(crate) fn step_too_small(&self, dt: f64) -> Error {
+        let (cfl, h) = (self.step_cfl(), self.world.h as f64);
+        let when = if self.steps > 0 {
+            format!(" at step {} (t = {:.4} s)", self.steps, self.time)
+        } else {
+            String::new()
+        };
+        let speed = self.diagnostics.max_speed;
+        let g = self.world.gravity.length() as f64;
+        let fastest = self
+            .bodies
+            .iter()
+            .enumerate()
+            .max_by(|a, b| a.1.signal_speed().total_cmp(&b.1.signal_speed()));
+        let c = fastest.map_or(0.0, |(_, b)| b.signal_speed());
+        let by_gravity = g > 0.0 && (cfl * h / g).sqrt() < cfl * h / (c + speed);
+        let cause = match fastest {
+            _ if by_gravity => format!(
+                "gravity of {g:.3e} m/s² would move a particle by {cfl} cells in a longer step: lower gravity (or a coarser cell_size)"
+            ),
+            Some((i, b)) if c >= speed => {
+                let config = &self.scene.bodies[i];
+                format!(
+                    "body {:?} carries waves at {c:.3e} m/s (youngs_modulus {:.3e} Pa, density {:.3e} kg/m³ at its loosest): lower its youngs_modulus or raise its density (or a coarser cell_size or a larger cfl, now {cfl})",
+                    config.name,
+                    config.material.elastic_params().youngs_modulus,
+                    b.min_mass as f64 / b.max_volume as f64,
+                )
+            }
+            _ => format!(
+                "particles move at {speed:.3e} m/s: lower the bodies' velocity (or a coarser cell_size)"
+            ),
+        };
+        Error::StepTooSmall {
+            dt,
+            floor: MIN_DT,
+            steps: 1.0 / dt,
+            when,
+            cause,
+        }
+    }
+
+    /// The energy guard ([`ENERGY_GUARD`]): an error when the live energy has risen above the
+    /// energy brought in by more than the margin.
+    pub(crate) fn energy_guard(&self) -> Option<Error> {
+        let d = &self.diagnostics;
+        let mass: f64 = self.bodies.iter().map(|b| b.stats.mass).sum();
+        let lift = mass * self.world.gravity.length() as f64 * self.world.h as f64;
+        let scale = d.energy_in.abs() + lift;
+        let total = d.total_energy();
+        if !(total - d.energy_in > ENERGY_GUARD * scale && scale > 0.0) {
+            return None;
+        }
+        let flip = self
+            .bodies
+            .iter()
+            .map(|b| b.recipe.flip as f64)
+            .fold(0.0, f64::max);
+        let kernel = match self.scene.kernel {
+            KernelKind::Linear => {
+                ", or the gimp or quadratic_bspline kernel (the linear kernel's forces jump as a particle crosses a cell)"
+            }
+            _ => "",
+        };
+        Some(Error::EnergyGrew {
+            total,
+            budget: d.energy_in,
+            margin: 100.0 * ENERGY_GUARD,
+            step: self.steps,
+            time: self.time,
+            advice: format!(
+                "lower cfl (now {}) or the flip share (now up to {flip}){kernel}; a softer material (youngs_modulus) or slower bodies need fewer steps to stay stable",
+                self.step_cfl()
+            ),
+        })
     }
 
     /// The CFL number of the next step: the scene's, or at most
@@ -599,8 +690,10 @@ impl<D: Dim> Simulation<D> {
     /// stepping (after bodies are added or removed, or particle state is edited directly):
     /// the energies, momentum, bounds and speeds as they stand, and each body's lowest density
     /// (for the time step). The cumulative dissipation and the latest step's contact forces
-    /// stay as the latest step left them.
+    /// stay as the latest step left them; the change of the total energy, made by no step,
+    /// is booked as energy brought in ([`Diagnostics::energy_in`]).
     pub fn refresh_diagnostics(&mut self) {
+        let before = self.diagnostics.total_energy();
         let gravity = self.world.gravity;
         let p = &self.particles;
         let mut measures = Vec::with_capacity(self.bodies.len());
@@ -625,6 +718,7 @@ impl<D: Dim> Simulation<D> {
         let c = self.max_wave_speed();
         self.record_measures(self.diagnostics.dt, c, &measures, &elastic);
         self.diagnostics.nonfinite = 0;
+        self.diagnostics.energy_in += self.diagnostics.total_energy() - before;
     }
 }
 
@@ -690,14 +784,38 @@ pub enum AnySimulation {
 }
 
 /// The CFL condition: dt = `cfl` · `h` / `speed` (the fastest signal, m/s), at most `max_dt`
-/// (which a world where nothing moves or carries stress takes).
-pub fn cfl_time_step(cfl: f64, h: f64, speed: f64, max_dt: f64) -> f64 {
-    if speed > 0.0 {
+/// (which a world where nothing moves or carries stress takes), and at most √(`cfl` · `h` /
+/// `accel`): a body force of acceleration `accel` (m/s², gravity) moves a particle starting
+/// at rest by accel · dt² in a step, which must not pass `cfl` cells either. (In the shipped
+/// scenes that bound is about 60 times the wave speed's, which sets the step.)
+pub fn cfl_time_step(cfl: f64, h: f64, speed: f64, accel: f64, max_dt: f64) -> f64 {
+    let dt = if speed > 0.0 {
         (cfl * h / speed).min(max_dt)
     } else {
         max_dt
+    };
+    if accel > 0.0 {
+        dt.min((cfl * h / accel).sqrt())
+    } else {
+        dt
     }
 }
+
+/// The shortest time step a run takes (s): a scene whose stable step is shorter is refused
+/// before stepping ([`crate::Error::StepTooSmall`]), and a run whose step falls below it
+/// stops there. Steel (E = 200 GPa, ρ = 7800 kg/m³) at h = 1 mm and CFL 0.4 steps 7·10⁻⁸ s.
+pub const MIN_DT: f64 = 1e-8;
+
+/// The most steps `mpm run` takes on: a run whose estimate (its duration over the stable
+/// step at the start) is larger is refused before stepping.
+pub const MAX_STEPS: f64 = 1e8;
+
+/// How far the live energy (kinetic + gravitational + elastic) may rise above the energy
+/// brought in ([`Diagnostics::energy_in`]: the bodies' at entry, the work of the kinematic
+/// bodies) before the run stops as unstable ([`crate::Error::EnergyGrew`]): 10 % of the
+/// energy in play, the energy brought in plus that of lifting every particle by one cell
+/// against gravity. Walls and contacts only remove energy, so a stable run stays below.
+pub const ENERGY_GUARD: f64 = 0.1;
 
 macro_rules! delegate {
     ($self:ident, $s:ident => $e:expr) => {

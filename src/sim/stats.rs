@@ -3,6 +3,10 @@
 use crate::math::{Dim, Real, VectorOps, max};
 use serde::Serialize;
 
+/// How far the energy account may be from closing ([`Diagnostics::energy_error`]) for a run
+/// to count as closing it: 2 % of the energy in play.
+pub const ACCOUNT_TOLERANCE: f64 = 0.02;
+
 /// Whole-simulation diagnostics after the latest step. Energies in J (J/m in 2D),
 /// momentum in kg·m/s.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
@@ -30,6 +34,15 @@ pub struct Diagnostics {
     /// Cumulative kinetic energy of the particles brought to rest as they fell asleep
     /// (slower than the sleep speed; see [`crate::step::sleep`]).
     pub dissipated_sleep: f64,
+    /// Cumulative kinetic energy the transfers between particles and grid removed (the
+    /// numerical damping of PIC's share; negative where FLIP's share added energy): in each
+    /// step the particles' kinetic energy before the scatter minus the grid's, plus the grid's
+    /// after the walls minus the particles' after the gather (less what the particle-side
+    /// walls booked as boundary dissipation).
+    pub dissipated_numerical: f64,
+    /// The energy the bodies brought as they entered (kinetic, gravitational and elastic at
+    /// their entry), less what removed bodies took with them: what the account must close on.
+    pub energy_in: f64,
     pub momentum: [f64; 3],
     pub max_speed: f64,
     /// Particles whose state went non-finite in this step (the step then fails).
@@ -50,6 +63,20 @@ impl Diagnostics {
             + self.dissipated_boundary
             + self.dissipated_contact
             + self.dissipated_sleep
+            + self.dissipated_numerical
+    }
+    /// How far the account is from closing: (total + dissipated − energy in) as a share of
+    /// the largest of the energy in, the total and the dissipated (zero when none is in
+    /// play). Positive when the account created energy.
+    pub fn energy_error(&self) -> f64 {
+        let total = self.total_energy();
+        let dissipated = self.dissipated();
+        let scale = self.energy_in.abs().max(total.abs()).max(dissipated.abs());
+        if scale > 0.0 {
+            (total + dissipated - self.energy_in) / scale
+        } else {
+            0.0
+        }
     }
 }
 

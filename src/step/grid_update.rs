@@ -65,3 +65,20 @@ pub fn hold_velocities<D: Dim>(grid: &mut Grid<D>) {
         node.new_vel = node.vel();
     }
 }
+
+/// The grid's kinetic energies Σ ½ m_i |v_i|² over the nodes it owns: at v_i^n (as the
+/// particles brought it) and at the velocities the particles will gather (after forces,
+/// contacts and walls). With the particles' kinetic energies before the scatter and after the
+/// gather they measure what the transfers remove ([`crate::Diagnostics::dissipated_numerical`]).
+pub fn kinetic_energies<D: Dim>(grid: &Grid<D>) -> [f64; 2] {
+    let mut k = [0.0f64; 2];
+    for slot in 0..grid.index.block_count() {
+        grid.layout.for_each_owned(&grid.index, slot, |_, n| {
+            let node = &grid.nodes[n];
+            let m = node.mass() as f64;
+            k[0] += m * node.vel().length_squared() as f64;
+            k[1] += m * node.new_vel.length_squared() as f64;
+        });
+    }
+    k.map(|x| 0.5 * x)
+}

@@ -22,6 +22,9 @@ pub struct BodyStep {
     pub contact_impulse: [f64; 3],
     /// What the stress update measured.
     pub stress: StressReport,
+    /// The grid's kinetic energy at v_i^n and after the walls
+    /// ([`super::grid_update::kinetic_energies`]; zero for a kinematic body).
+    pub grid_kinetic: [f64; 2],
 }
 
 impl<D: Dim> Step<'_, D> {
@@ -63,6 +66,30 @@ impl<D: Dim> Step<'_, D> {
                 measures[i].add_finished(&sleep.measure);
                 elastic[i] += sleep.elastic;
                 body.max_volume = body.max_volume.max(sleep.max_volume);
+            }
+        }
+        // what the transfers removed: the particles' kinetic energy before the scatter (as
+        // the last step, or an edit, left it) less the grid's, and the grid's after the walls
+        // less the particles' after the gather and the particle-side walls
+        // A kinematic body's energy changes, and the work it does through contact, come from
+        // outside: booked as energy brought in.
+        for (i, body) in self.bodies.iter().enumerate() {
+            if !body.kinematic {
+                let [before, after] = steps[i].grid_kinetic;
+                self.diagnostics.dissipated_numerical += body.stats.kinetic - before + after
+                    - measures[i].kinetic
+                    - gathered[i].dissipated_walls;
+            } else {
+                let s = &body.stats;
+                let m = &measures[i];
+                let j = steps[i].contact_impulse;
+                let work = if s.mass > 0.0 {
+                    -(0..3).map(|a| j[a] * s.momentum[a]).sum::<f64>() / s.mass
+                } else {
+                    0.0
+                };
+                self.diagnostics.energy_in +=
+                    m.kinetic + m.gravitational - s.kinetic - s.gravitational + work;
             }
         }
         let bad = (0..self.bodies.len()).find_map(|i| {

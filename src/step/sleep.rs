@@ -288,6 +288,8 @@ impl<D: Dim> Step<'_, D> {
                 }
             }
             self.diagnostics.dissipated_sleep += stopped;
+            self.diagnostics.kinetic -= stopped;
+            body.stats.kinetic -= stopped;
             p.permute(r.clone(), &order);
             body.asleep = body.asleep + sleepers.len() - woken.len();
             let lp = body.radius * inv_h;

@@ -18,6 +18,7 @@ impl<D: Dim> Step<'_, D> {
                 let w = grid_walls(&mut body.grid, &self.world.walls);
                 self.diagnostics.dissipated_boundary += w.dissipated;
                 step.constrained |= w.changed;
+                step.grid_kinetic = super::grid_update::kinetic_energies(&body.grid);
             }
             body.grid.fill_nodes(|h, o| *h = *o);
         }

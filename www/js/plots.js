@@ -59,7 +59,9 @@ export const ENERGY_SERIES = [
 
 /// Energies over time, relative to the state when the plot was (re)started: gravitational
 /// energy is measured from its value then, dissipation counts from then, and the sum
-/// (kinetic + gravitational + elastic + dissipated) shows how well energy is accounted for.
+/// (kinetic + gravitational + elastic + dissipated) shows how well energy is accounted for:
+/// dissipated holds plasticity, viscosity, walls, contact, sleeping and the transfers'
+/// numerical damping, so the sum stays flat while the account closes.
 export class EnergyPlot {
   constructor(canvas, capacity = 900) {
     this.canvas = canvas;
@@ -74,7 +76,12 @@ export class EnergyPlot {
 
   push(d) {
     const dissipated =
-      d.dissipated_plastic + d.dissipated_viscous + d.dissipated_boundary + d.dissipated_contact;
+      d.dissipated_plastic +
+      d.dissipated_viscous +
+      d.dissipated_boundary +
+      d.dissipated_contact +
+      (d.dissipated_sleep || 0) +
+      (d.dissipated_numerical || 0);
     if (!this.ref) this.ref = { gravitational: d.gravitational, dissipated, time: d.time };
     const s = {
       time: d.time - this.ref.time,

@@ -261,6 +261,18 @@ fn run(a: RunArgs) -> Result<(), Failure> {
     let scene = load_scene(&a.scene)?;
     let mut sim = build(scene, &a.scene.scene)?;
     sim.set_sleeping_at_rest(a.sleep);
+    for w in sim.warnings(Some(a.time)) {
+        note!("warning: {w}");
+    }
+    let dt = sim.stable_dt();
+    let estimate = a.time / dt;
+    if estimate > mpm::sim::MAX_STEPS {
+        return Err(Failure(format!(
+            "--time = {} s at the stable step of {dt:.3e} s is about {estimate:.2e} steps, more than the {:.0e} a run takes: a shorter --time, a softer or denser material, slower bodies or a coarser cell_size",
+            a.time,
+            mpm::sim::MAX_STEPS
+        )));
+    }
     let render_options = RenderOptions {
         width: a.size.0,
         height: a.size.1,
@@ -370,6 +382,14 @@ fn run(a: RunArgs) -> Result<(), Failure> {
             d.dissipated(),
             if sim.dim() == 2 { "/m" } else { "" }
         );
+        let error = d.energy_error();
+        if error.abs() > mpm::sim::ACCOUNT_TOLERANCE {
+            note!(
+                "warning: the energy account does not close: the sum is {:+.1} % off the energy brought in (allowed ±{:.0} %)",
+                100.0 * error,
+                100.0 * mpm::sim::ACCOUNT_TOLERANCE
+            );
+        }
     }
     result
 }
@@ -421,6 +441,9 @@ fn check(a: CheckArgs) -> Result<(), Failure> {
     let sim = build(scene, path)?;
     let sampling = sampling.elapsed().as_secs_f64();
     out!("{}: valid", path.display());
+    for w in sim.warnings(None) {
+        note!("warning: {w}");
+    }
     match &sim {
         AnySimulation::D2(s) => report(s, sampling),
         AnySimulation::D3(s) => report(s, sampling),
