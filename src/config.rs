@@ -208,7 +208,7 @@ impl BodyConfig {
     /// it (e.g. `bodies[2]`).
     pub fn validate(&self, path: &str, dim: usize, domain: &[f64]) -> Result<()> {
         self.shape.validate(&format!("{path}.shape"), dim)?;
-        self.material.validate(&format!("{path}.material"))?;
+        Self::check_material(path, &self.material, self.flip)?;
         if let Some(v) = &self.velocity {
             check_vector(&format!("{path}.velocity"), v, dim, "m/s")?;
         }
@@ -218,9 +218,6 @@ impl BodyConfig {
                 self.particles_per_cell,
                 "must be an integer in [1, 8]",
             ));
-        }
-        if let Some(a) = self.flip {
-            check_flip(format!("{path}.flip"), a)?;
         }
         if let Some(t) = self.appear_at {
             check_non_negative(format!("{path}.appear_at"), t, "s")?;
@@ -243,6 +240,16 @@ impl BodyConfig {
                     format!("must lie inside the domain [0, {}]", domain[a]),
                 ));
             }
+        }
+        Ok(())
+    }
+
+    /// Checks a material and a PIC/FLIP ratio for the body `path` (`bodies[1]`), as part of
+    /// [`BodyConfig::validate`].
+    pub fn check_material(path: &str, material: &Material, flip: Option<f64>) -> Result<()> {
+        material.validate(&format!("{path}.material"))?;
+        if let Some(a) = flip {
+            check_flip(format!("{path}.flip"), a)?;
         }
         Ok(())
     }
@@ -369,6 +376,17 @@ impl SceneConfig {
             }
             g
         })
+    }
+
+    /// The world settings alone: the scene without its bodies.
+    pub fn world(&self) -> SceneConfig {
+        SceneConfig {
+            name: self.name.clone(),
+            domain: self.domain.clone(),
+            gravity: self.gravity.clone(),
+            bodies: Vec::new(),
+            ..*self
+        }
     }
 
     /// Checks the world settings (everything but the bodies).

@@ -65,7 +65,8 @@ pub fn lajeunesse_axisymmetric_height(a: f64) -> f64 {
 /// α_φ = tan φ / √(9 + 12 tan² φ).
 pub fn plane_strain_angle(phi_deg: f64) -> f64 {
     let t = phi_deg.to_radians().tan();
-    (3.0 * t / (9.0 + 12.0 * t * t).sqrt()).asin().to_degrees()
+    let alpha = crate::material::FrictionMatch::PlaneStrain.alpha(t);
+    (3.0 * alpha).asin().to_degrees()
 }
 
 /// What a column of aspect ratio `a` would do by the experiments, for the floor markers of a

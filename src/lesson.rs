@@ -121,11 +121,19 @@ impl Question {
                     format!("must be a body of the scene, below {}", scene.bodies.len()),
                 ));
             };
-            if !matches!(body.material, crate::Material::DruckerPrager(_)) {
+            if body.material.behaviour().friction().is_none() {
+                let granular: Vec<&str> = crate::material::KINDS
+                    .iter()
+                    .filter(|k| (k.preset)().behaviour().friction().is_some())
+                    .map(|k| k.name)
+                    .collect();
                 return Err(Error::invalid(
                     field,
                     b,
-                    "must be a sand (drucker_prager) body: the page measures sand",
+                    format!(
+                        "must be a granular body ({}): the page measures sand",
+                        granular.join(" or ")
+                    ),
                 ));
             }
         }
@@ -530,6 +538,42 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.starts_with("question.hint: unknown field `hint`"), "{e}");
+    }
+
+    /// A question measures any granular body, whatever its model, and no solid one.
+    #[test]
+    fn a_question_measures_granular_bodies_of_any_model() {
+        let mut s = scene();
+        let mc = Material::mohr_coulomb(3.5e5, 0.3, 2200.0, 30.0, 0.0, 0.0);
+        s.bodies.push(BodyConfig::new(
+            "mc",
+            Shape::cuboid(&[0.4, 0.0], &[0.6, 0.3]),
+            mc,
+        ));
+        let solid = Material::elastic(1e5, 0.3, 1000.0);
+        s.bodies.push(BodyConfig::new(
+            "block",
+            Shape::cuboid(&[0.7, 0.0], &[0.9, 0.3]),
+            solid,
+        ));
+        let ask = |bodies: serde_json::Value| {
+            let v = serde_json::json!({
+                "title": "Two heaps", "caption": "Compare the heaps.", "scene": "heaps.json",
+                "duration": 1.0, "view": {"params": ["bodies[1].mohr_coulomb.friction_angle"]},
+                "question": {"ask": "Which stands steeper?",
+                             "measure": {"quantity": "flank_angle", "bodies": bodies},
+                             "choices": [{"text": "the cone", "range": [-90, 0]},
+                                         {"text": "Mohr–Coulomb", "range": [0, 90]}]}
+            });
+            Lesson::from_json(&v.to_string())?.validate(&s)
+        };
+        ask(serde_json::json!([1, 0])).unwrap();
+        let e = ask(serde_json::json!([1, 2])).unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "question.measure.bodies[1] = 2: must be a granular body (drucker_prager or \
+             mohr_coulomb): the page measures sand"
+        );
     }
 
     #[test]

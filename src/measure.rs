@@ -18,7 +18,6 @@
 //! * **By hand** ([`length`], [`inclination`], [`angle_at`]): what a ruler and a protractor
 //!   read between dragged points.
 
-use crate::Material;
 use crate::math::Dim;
 use crate::sim::{AnySimulation, Simulation};
 
@@ -442,10 +441,13 @@ pub struct Deposit {
     pub heap: Heap,
     /// `None` for a body whose start was not recorded.
     pub runout: Option<Runout>,
+    /// The material model's scene-file name.
+    pub model: String,
     /// The sand's friction angle φ (degrees).
     pub friction_angle: f64,
-    /// The plane-strain friction angle φ_ps of its Drucker–Prager cone
-    /// ([`crate::laws::plane_strain_angle`]), in 2D only.
+    /// In 2D only, the angle of the line its yield surface traces in plane strain
+    /// ([`crate::material::Friction::plane_strain_angle`]): φ_ps of a Drucker–Prager cone
+    /// ([`crate::laws::plane_strain_angle`]), φ of Mohr–Coulomb.
     pub plane_strain_angle: Option<f64>,
     /// When the body started as a column standing on the floor ([`column()`]): the column and
     /// where the experiments put its run-out and final height.
@@ -591,7 +593,8 @@ pub fn column_markers(c: Column, dim: usize) -> ColumnMarkers {
     }
 }
 
-/// The measures of every sand (Drucker–Prager) body present in `sim`: the surface columns
+/// The measures of every granular body present in `sim` (a material with a friction angle,
+/// [`crate::material::Behaviour::Granular`]): the surface columns
 /// (rings in 3D) are a cell wide and tile the domain's width (out to the farthest particle
 /// in 3D); a body's particle spacing is the cell size over its particles per cell.
 pub fn deposits<D: Dim>(sim: &Simulation<D>, footprints: &Footprints) -> Vec<Deposit> {
@@ -601,7 +604,7 @@ pub fn deposits<D: Dim>(sim: &Simulation<D>, footprints: &Footprints) -> Vec<Dep
     let mut out = Vec::new();
     for (b, body) in sim.bodies().iter().enumerate() {
         let config = &scene.bodies[b];
-        let Material::DruckerPrager(sand) = &config.material else {
+        let Some(friction) = config.material.behaviour().friction() else {
             continue;
         };
         let range = body.range();
@@ -649,9 +652,9 @@ pub fn deposits<D: Dim>(sim: &Simulation<D>, footprints: &Footprints) -> Vec<Dep
             axis: centre,
             heap,
             runout,
-            friction_angle: sand.friction_angle,
-            plane_strain_angle: (D::DIM == 2)
-                .then(|| crate::laws::plane_strain_angle(sand.friction_angle)),
+            model: config.material.kind().to_string(),
+            friction_angle: friction.friction_angle,
+            plane_strain_angle: (D::DIM == 2).then(|| friction.plane_strain_angle()),
             column,
         });
     }
@@ -669,6 +672,7 @@ pub fn deposits_any(sim: &AnySimulation, footprints: &Footprints) -> Vec<Deposit
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Material;
 
     /// Particles on a square lattice of spacing `s` filling the region below `top(x)` over
     /// `[x0, x1]`.
@@ -915,6 +919,57 @@ mod tests {
         let sixty = angle_at(&[0.0, 0.0], &[1.0, 0.0], &[0.5, 3f64.sqrt() / 2.0]);
         assert!((sixty - 60.0).abs() < 1e-9);
         assert!(angle_at(&[0.0, 0.0], &[0.0, 0.0], &[1.0, 0.0]).is_nan());
+    }
+
+    /// Every granular model's heap is measured, whatever the model (the registration's
+    /// presets, asked only their behaviour): a 2D wedge with flanks at 30° reads 30° on both
+    /// sides, has run out nowhere, and carries the plane-strain line of its own yield surface
+    /// (the cone's φ_ps, Mohr–Coulomb's φ); a solid body beside it is not measured.
+    #[test]
+    fn every_granular_model_gets_its_heap_measured() {
+        use crate::{BodyConfig, D2, Shape};
+        let t = 30f64.to_radians().tan();
+        let granular: Vec<Material> = crate::material::KINDS
+            .iter()
+            .map(|k| (k.preset)())
+            .filter(|m| m.behaviour().friction().is_some())
+            .collect();
+        let kinds: Vec<&str> = granular.iter().map(|m| m.kind()).collect();
+        assert_eq!(kinds, ["drucker_prager", "mohr_coulomb"]);
+        for material in granular {
+            let friction = material.behaviour().friction().unwrap();
+            let sim = Simulation::<D2>::builder(&[1.0, 0.5], 0.01)
+                .body(BodyConfig::new(
+                    "block",
+                    Shape::cuboid(&[0.05, 0.0], &[0.15, 0.1]),
+                    Material::elastic(1e5, 0.3, 1000.0),
+                ))
+                .body(BodyConfig::new(
+                    "heap",
+                    Shape::polygon(&[[0.2, 0.0], [0.8, 0.0], [0.5, 0.3 * t]]),
+                    material.clone(),
+                ))
+                .build()
+                .unwrap();
+            let mut f = Footprints::default();
+            f.update(&sim);
+            let d = deposits(&sim, &f);
+            assert_eq!(d.len(), 1, "{}: only the sand is measured", material.kind());
+            assert_eq!((d[0].body, d[0].model.as_str()), (1, material.kind()));
+            for flank in &d[0].heap.flanks {
+                let a = flank.as_ref().expect("two flanks").angle;
+                assert!((a - 30.0).abs() < 1.5, "{}: {a}°", material.kind());
+            }
+            let r = d[0].runout.as_ref().unwrap();
+            assert!(r.runout.iter().all(|x| x.abs() < 1e-6), "{:?}", r.runout);
+            assert_eq!(d[0].friction_angle, friction.friction_angle);
+            assert_eq!(d[0].plane_strain_angle, Some(friction.plane_strain_angle()));
+            if material.kind() == "mohr_coulomb" {
+                assert_eq!(friction.plane_strain_angle(), friction.friction_angle);
+            } else {
+                assert!(friction.plane_strain_angle() < friction.friction_angle);
+            }
+        }
     }
 
     #[test]

@@ -27,7 +27,7 @@ use std::sync::LazyLock;
 /// How a slider maps its travel to values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
-pub enum Scale {
+pub enum SliderScale {
     Linear,
     /// Equal travel multiplies the value by the same factor (moduli, stresses).
     Log,
@@ -88,7 +88,7 @@ pub struct Field {
     pub max: f64,
     /// The slider's step on a linear scale.
     pub step: f64,
-    pub scale: Scale,
+    pub scale: SliderScale,
     /// The field of the same model whose value bounds this one from above (ψ ≤ φ).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub at_most: Option<&'static str>,
@@ -134,7 +134,7 @@ const BLANK: Field = Field {
     min: 0.0,
     max: 1.0,
     step: 0.01,
-    scale: Scale::Linear,
+    scale: SliderScale::Linear,
     at_most: None,
     key: None,
     nudge: Nudge::Plus(0.0),
@@ -192,7 +192,7 @@ pub const YOUNGS_MODULUS: Field = Field {
     help: "stiffness; a stiffer material needs smaller time steps",
     min: 1e3,
     max: 1e8,
-    scale: Scale::Log,
+    scale: SliderScale::Log,
     key: Some('e'),
     nudge: Nudge::Times(1.25),
     access: Access::Material,
@@ -217,7 +217,7 @@ pub const DENSITY: Field = Field {
     help: "mass per volume",
     min: 100.0,
     max: 8000.0,
-    scale: Scale::Log,
+    scale: SliderScale::Log,
     access: Access::Material,
     ..BLANK
 };
@@ -229,7 +229,7 @@ pub const YIELD_STRESS: Field = Field {
     help: "uniaxial stress at which the material flows",
     min: 1e2,
     max: 1e6,
-    scale: Scale::Log,
+    scale: SliderScale::Log,
     key: Some('y'),
     nudge: Nudge::Times(1.25),
     access: Access::Material,
@@ -380,9 +380,23 @@ impl Param {
 
     /// The parameter called `name` (`gravity`, `drucker_prager.friction_angle`, …).
     pub fn find(name: &str) -> Result<Param> {
-        Param::all()
-            .find(|p| p.name() == name)
-            .ok_or_else(|| unknown(name))
+        let found = match name.split_once('.') {
+            None => WORLD
+                .iter()
+                .find(|f| f.field == name)
+                .map(|&field| Param { model: None, field }),
+            Some((model, field)) => {
+                let m = MODELS.iter().position(|info| info.id == model);
+                m.and_then(|m| {
+                    let field = *MODELS[m].fields.iter().find(|f| f.field == field)?;
+                    Some(Param {
+                        model: Some(m),
+                        field,
+                    })
+                })
+            }
+        };
+        found.ok_or_else(|| unknown(name))
     }
 
     /// The model's scene-file name, or `None` for the world.
@@ -449,7 +463,7 @@ impl Param {
 
     /// Whether a body belongs to this parameter's model.
     pub fn applies_to(&self, body: &BodyConfig) -> bool {
-        self.model_id() == Some(body.material.kind())
+        self.model == Some(body.material.index())
     }
 
     /// Sets the value in `scene` (unvalidated): the world setting, or the field of every body of
@@ -537,27 +551,36 @@ impl Target {
         })
     }
 
-    /// Sets the value in `scene` (unvalidated). Errors when no body takes it: the body does not
-    /// exist or is of another model, or (`require_body`) no body has the parameter's model.
-    pub fn set_in_scene(&self, scene: &mut SceneConfig, v: f64, require_body: bool) -> Result<()> {
+    /// The bodies of `scene` whose material the value `v` changes: none for a world
+    /// parameter, every body of the model, or the one body named. Errors when the body named
+    /// does not exist or is of another model, or (`require_body`) no body has the parameter's
+    /// model.
+    pub fn bodies(&self, scene: &SceneConfig, v: f64, require_body: bool) -> Result<Vec<usize>> {
         let name = || match self.body {
             Some(i) => format!("bodies[{i}].{}", self.param.name()),
             None => self.param.name(),
         };
         let model = self.param.model_id().unwrap_or("");
+        let Some(_) = self.param.model else {
+            return Ok(Vec::new());
+        };
         match self.body {
             None => {
-                if self.param.set_in_scene(scene, v) == 0 && require_body {
+                let all: Vec<usize> = (0..scene.bodies.len())
+                    .filter(|&i| self.param.applies_to(&scene.bodies[i]))
+                    .collect();
+                if all.is_empty() && require_body {
                     return Err(Error::invalid(
                         name(),
                         v,
                         format!("no body of the scene is {model}"),
                     ));
                 }
+                Ok(all)
             }
             Some(i) => {
                 let n = scene.bodies.len();
-                let body = scene.bodies.get_mut(i).ok_or_else(|| {
+                let body = scene.bodies.get(i).ok_or_else(|| {
                     Error::invalid(name(), v, format!("the scene has {n} bodies"))
                 })?;
                 if !self.param.applies_to(body) {
@@ -568,9 +591,21 @@ impl Target {
                         format!("body {i} is {kind}, not {model}"),
                     ));
                 }
-                self.param
-                    .set_material(&mut body.material, &mut body.flip, v);
+                Ok(vec![i])
             }
+        }
+    }
+
+    /// Sets the value in `scene` (unvalidated). Errors when no body takes it (see
+    /// [`Target::bodies`]).
+    pub fn set_in_scene(&self, scene: &mut SceneConfig, v: f64, require_body: bool) -> Result<()> {
+        if self.param.model.is_none() {
+            self.param.set_in_scene(scene, v);
+            return Ok(());
+        }
+        for i in self.bodies(scene, v, require_body)? {
+            let b = &mut scene.bodies[i];
+            self.param.set_material(&mut b.material, &mut b.flip, v);
         }
         Ok(())
     }

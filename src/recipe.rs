@@ -62,7 +62,7 @@ pub struct Recipe {
 impl Recipe {
     /// The recipe of `body` in a scene with `kernel` and cells of `cell_size` (m).
     pub fn new(body: &BodyConfig, kernel: KernelKind, cell_size: f64) -> Recipe {
-        let granular = body.material.behaviour() == Behaviour::Granular;
+        let granular = matches!(body.material.behaviour(), Behaviour::Granular(_));
         let c1 = kernel != KernelKind::Linear;
         Recipe {
             flip: body
@@ -87,7 +87,7 @@ impl Recipe {
     /// 0 for solids.
     pub fn default_flip(material: &Material) -> f64 {
         match material.behaviour() {
-            Behaviour::Granular => 0.05,
+            Behaviour::Granular(_) => 0.05,
             Behaviour::Solid => 0.0,
         }
     }

@@ -4,7 +4,7 @@
 //! and colours are read in place through pointers into wasm memory (JS builds
 //! `new Float32Array(memory.buffer, ptr, len)` views after each call that may grow memory).
 
-use crate::playground::{BunnyAssets, ColourMode, Playground as Core};
+use crate::playground::{BunnyAssets, ColourMode, Playground};
 use std::collections::HashMap;
 use wasm_bindgen::prelude::*;
 
@@ -31,7 +31,7 @@ pub fn start() {
 /// The scene JSON of an empty box of dimension 2 or 3 to drop things into.
 #[wasm_bindgen(js_name = sandboxScene)]
 pub fn sandbox_scene(dim: usize) -> String {
-    json(&Core::sandbox_scene(dim))
+    json(&Playground::sandbox_scene(dim))
 }
 
 /// The files a scene references (meshes, vertex lists), as written in it: relative to the
@@ -89,15 +89,16 @@ pub fn quality_levels() -> String {
     }))
 }
 
-/// A simulation with its presets, live parameters and render buffers.
-#[wasm_bindgen]
-pub struct Playground {
-    core: Core,
+/// A simulation with its presets, live parameters and render buffers: the page's
+/// `Playground` class over [`Playground`].
+#[wasm_bindgen(js_name = Playground)]
+pub struct WebPlayground {
+    core: Playground,
     colour: ColourMode,
 }
 
-#[wasm_bindgen]
-impl Playground {
+#[wasm_bindgen(js_class = Playground)]
+impl WebPlayground {
     /// Builds a playground from scene JSON (the scene-file format of the CLI) and, when the
     /// scene references files (see `assetPaths`), a JSON object of their texts keyed by the
     /// paths as written in the scene, sampled at quality level `quality` (see
@@ -107,10 +108,10 @@ impl Playground {
         scene_json: &str,
         assets_json: Option<String>,
         quality: Option<String>,
-    ) -> Result<Playground, JsError> {
+    ) -> Result<WebPlayground, JsError> {
         let assets = parse_assets(assets_json)?;
-        Ok(Playground {
-            core: Core::load(
+        Ok(WebPlayground {
+            core: Playground::load(
                 scene_json,
                 &assets,
                 quality
@@ -199,9 +200,17 @@ impl Playground {
 
     /// Sets a live parameter (a name of `parameterTable`, or `bodies[i].<model>.<field>`),
     /// validated like a scene file; throws naming the parameter and its range, state unchanged.
+    /// Returns what the new value costs and what the old one did, as JSON `{prediction,
+    /// before}` (each as `predict` gives it, for frames of `frame_time` seconds).
     #[wasm_bindgen(js_name = setParameter)]
-    pub fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), JsError> {
-        self.core.set_parameter(name, value).map_err(js_err)
+    pub fn set_parameter(
+        &mut self,
+        name: &str,
+        value: f64,
+        frame_time: f64,
+    ) -> Result<String, JsError> {
+        let costs = self.core.set_parameter_costed(name, value, frame_time);
+        Ok(json(&costs.map_err(js_err)?))
     }
     /// The current value of a live parameter.
     pub fn parameter(&self, name: &str) -> Result<f64, JsError> {

@@ -585,6 +585,38 @@ fn the_summary_measures_a_collapsing_column() {
     assert!(f(&end["heap"]["height"]) < 0.35, "{end}");
 }
 
+/// The summary measures sand by its behaviour, not its model: the same column of
+/// Mohr–Coulomb sand collapses and gets its deposit too (run-outs on both sides, two flanks,
+/// lower), with the plane-strain line of its own envelope, φ.
+#[test]
+fn the_summary_measures_a_mohr_coulomb_column() {
+    let dir = column_dir();
+    let path = dir.path().join("column.json");
+    let mut scene: serde_json::Value = serde_json::from_slice(&fs::read(&path).unwrap()).unwrap();
+    let material = scene["bodies"][0]["material"]["drucker_prager"].take();
+    scene["bodies"][0]["material"] = serde_json::json!({ "mohr_coulomb": material });
+    fs::write(&path, scene.to_string()).unwrap();
+    let out = mpm(
+        &["run", "column.json", "-t", "1.0", "-q", "--summary", "-"],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let summary: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let deposits = summary["deposits"].as_array().unwrap();
+    assert_eq!(deposits.len(), 1, "{summary}");
+    let end = &deposits[0];
+    let f = |v: &serde_json::Value| v.as_f64().unwrap();
+    assert_eq!(end["model"], "mohr_coulomb");
+    assert_eq!(f(&end["plane_strain_angle"]), 35.0, "{end}");
+    for side in 0..2 {
+        let r = f(&end["runout"]["runout"][side]);
+        assert!(r > 0.05, "run-out {r}: {end}");
+        let angle = f(&end["heap"]["flanks"][side]["angle"]);
+        assert!(angle > 5.0 && angle < 60.0, "flank {angle}°: {end}");
+    }
+    assert!(f(&end["heap"]["height"]) < 0.35, "{end}");
+}
+
 /// `--sleep` lets the collapsed column sleep once it rests, and it ends where the awake run
 /// ends (height and run-outs within 2 %); without it nothing sleeps.
 #[test]

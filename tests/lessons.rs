@@ -90,6 +90,24 @@ fn every_lesson_loads_validates_and_runs() {
     }
 }
 
+/// Runs a lesson as the page opens it (the default quality level, sleeping on, the page's
+/// own measures) for its duration; returns it with the measures of its sand bodies then.
+fn settled(name: &str) -> (Lesson, Vec<mpm::measure::Deposit>) {
+    let (lesson, scene) = load(name);
+    let q = mpm::playground::Quality::find(mpm::playground::DEFAULT_QUALITY).unwrap();
+    let mut pg = Playground::with_quality(scene, q).unwrap();
+    pg.measures(); // the footprints, as the page records them on the first frame
+    run(&mut pg, lesson.duration, |_| {});
+    (lesson, pg.measures())
+}
+
+/// The mean angle of a heap's two flanks (degrees), as the page's readout gives them.
+fn mean_flank(d: &mpm::measure::Deposit) -> f64 {
+    let f: Vec<f64> = d.heap.flanks.iter().flatten().map(|f| f.angle).collect();
+    assert_eq!(f.len(), 2, "body {}: a heap has two flanks", d.body);
+    f.iter().sum::<f64>() / f.len() as f64
+}
+
 /// The friction-angle lesson as the page opens it (the default quality level, sleeping on, the
 /// page's own flank readout): sand at 20° and 40° released between slowly lifted walls comes to
 /// rest as two heaps within 3° of their plane-strain friction angles φ_ps (19.6° and 37.1°), at
@@ -97,17 +115,8 @@ fn every_lesson_loads_validates_and_runs() {
 /// at least 8° steeper and the 20° heap spreading further.
 #[test]
 fn friction_angle_sets_the_heap() {
-    let (lesson, scene) = load("friction_angle.json");
-    let q = mpm::playground::Quality::find(mpm::playground::DEFAULT_QUALITY).unwrap();
-    let mut pg = Playground::with_quality(scene, q).unwrap();
-    pg.measures(); // the footprints, as the page records them on the first frame
-    run(&mut pg, lesson.duration, |_| {});
-    let d = pg.measures();
-    let flank = |b: usize| {
-        let f: Vec<f64> = d[b].heap.flanks.iter().flatten().map(|f| f.angle).collect();
-        assert_eq!(f.len(), 2, "body {b}: a heap has two flanks");
-        f.iter().sum::<f64>() / f.len() as f64
-    };
+    let (_, d) = settled("friction_angle.json");
+    let flank = |b: usize| mean_flank(&d[b]);
     let runout = |b: usize| {
         let r = d[b].runout.as_ref().expect("footprint recorded").runout;
         r[0].max(r[1])
@@ -128,6 +137,56 @@ fn friction_angle_sets_the_heap() {
         );
     }
     assert!(r20 > 1.5 * r40, "{r20} {r40}");
+}
+
+/// The Mohr–Coulomb lesson as the page opens it: Drucker–Prager and Mohr–Coulomb sand of the
+/// same φ = 40° released between slowly lifted walls. Both heaps get the page's flank and
+/// run-out readouts and their plane-strain lines (the cone's φ_ps = 37.1°, Mohr–Coulomb's own
+/// φ = 40°, as the caption says); each stands within 1.5° of the angle the caption quotes
+/// (34.8° and 32.3° measured, quoted as about 35° and 32°), below its line; the question's
+/// answer, from the two flank readouts, is its first choice: the cone's heap by 1° or more.
+#[test]
+fn mohr_coulomb_and_the_cone_on_the_same_heap() {
+    let (lesson, d) = settled("mohr_coulomb.json");
+    assert_eq!(d.len(), 2, "both sand bodies are measured");
+    let (dp, mc) = (&d[0], &d[1]);
+    assert_eq!(
+        (dp.model.as_str(), mc.model.as_str()),
+        ("drucker_prager", "mohr_coulomb")
+    );
+    let (a_dp, a_mc) = (mean_flank(dp), mean_flank(mc));
+    let runout = |d: &mpm::measure::Deposit| {
+        let r = d.runout.as_ref().expect("footprint recorded").runout;
+        r[0].max(r[1])
+    };
+    let (r_dp, r_mc) = (runout(dp), runout(mc));
+    let (ps_dp, ps_mc) = (
+        dp.plane_strain_angle.unwrap(),
+        mc.plane_strain_angle.unwrap(),
+    );
+    println!(
+        "heap angles: Drucker–Prager {a_dp:.1}° (φ_ps {ps_dp:.1}°), Mohr–Coulomb {a_mc:.1}° \
+         (φ {ps_mc:.1}°); run-outs {r_dp:.3} and {r_mc:.3} m"
+    );
+    assert!(
+        (ps_dp - 37.1).abs() < 0.05 && ps_mc == 40.0,
+        "{ps_dp} {ps_mc}"
+    );
+    assert!(r_dp > 0.05 && r_mc > 0.05, "both spread: {r_dp} {r_mc}");
+    for (a, line, quoted) in [(a_dp, ps_dp, 35.0), (a_mc, ps_mc, 32.0)] {
+        assert!(
+            (a - quoted).abs() < 1.5,
+            "the heap stands at {a:.1}°, the caption quotes about {quoted}°"
+        );
+        assert!(a < line, "{a:.1}° below its line at {line:.1}°");
+    }
+    let q = lesson.question.as_ref().expect("a question");
+    let value = a_mc - a_dp;
+    let answer = q
+        .choices
+        .iter()
+        .position(|c| value >= c.range[0] && value < c.range[1]);
+    assert_eq!(answer, Some(0), "{value:.1}°: {}", q.choices[0].text);
 }
 
 /// Below its yield height Hy = 2σy/(√3ρg) a clay column stands; above it, its foot squeezes

@@ -4,7 +4,7 @@
 //! error and the state unchanged; bodies are added and cleared.
 #![cfg(target_arch = "wasm32")]
 
-use mpm::wasm::Playground;
+use mpm::wasm::WebPlayground;
 use wasm_bindgen::prelude::*;
 use wasm_bindgen_test::*;
 
@@ -54,7 +54,7 @@ struct Diag {
     particles: usize,
 }
 
-fn diag(pg: &Playground) -> Diag {
+fn diag(pg: &WebPlayground) -> Diag {
     serde_json::from_str(&pg.diagnostics()).unwrap()
 }
 
@@ -80,7 +80,7 @@ fn every_scene_steps_with_finite_bounded_energy() {
             })
             .collect();
         let assets = (!assets.is_empty()).then(|| serde_json::Value::Object(assets).to_string());
-        let mut pg = Playground::new(&text, assets, None)
+        let mut pg = WebPlayground::new(&text, assets, None)
             .unwrap_or_else(|e| panic!("{path}: {}", message(e)));
         assert!(pg.particle_count() > 0, "{path}");
         let d0 = diag(&pg);
@@ -132,10 +132,10 @@ fn a_missing_asset_is_named() {
         mpm::wasm::asset_paths(&text).unwrap(),
         vec!["bunny.obj".to_string()]
     );
-    let e = message(Playground::new(&text, None, None).err().unwrap());
+    let e = message(WebPlayground::new(&text, None, None).err().unwrap());
     assert!(e.contains("bunny.obj"), "{e}");
     let e = message(
-        Playground::new(&text, Some("[1, 2]".into()), None)
+        WebPlayground::new(&text, Some("[1, 2]".into()), None)
             .err()
             .unwrap(),
     );
@@ -236,14 +236,14 @@ fn every_live_parameter_is_validated_with_the_state_unchanged() {
     for dim in [2, 3] {
         let text =
             read_file_sync(&format!("{ROOT}/www/test-scenes/drop_{dim}d.json"), "utf8").unwrap();
-        let mut pg = Playground::new(&text, None, None).unwrap();
+        let mut pg = WebPlayground::new(&text, None, None).unwrap();
         pg.frame(0.01, 1e9).unwrap();
         for &(name, good, bad, error) in PARAMETERS {
-            pg.set_parameter(name, good)
+            pg.set_parameter(name, good, 1.0 / 60.0)
                 .unwrap_or_else(|e| panic!("{name} = {good}: {}", message(e)));
             assert_eq!(pg.parameter(name).unwrap(), good, "{name}");
             let (scene, time, n) = (pg.scene_json(), pg.time(), pg.particle_count());
-            let e = message(pg.set_parameter(name, bad).unwrap_err());
+            let e = message(pg.set_parameter(name, bad, 1.0 / 60.0).unwrap_err());
             assert!(
                 e.starts_with(error),
                 "{name} = {bad}: got {e:?}, want {error:?}"
@@ -252,7 +252,7 @@ fn every_live_parameter_is_validated_with_the_state_unchanged() {
             assert_eq!((pg.time(), pg.particle_count()), (time, n));
             assert_eq!(pg.parameter(name).unwrap(), good, "{name}");
         }
-        let e = message(pg.set_parameter("warp_speed", 9.0).unwrap_err());
+        let e = message(pg.set_parameter("warp_speed", 9.0, 1.0 / 60.0).unwrap_err());
         assert!(
             e.starts_with("parameter = warp_speed: must be one of gravity, wall_friction, cfl"),
             "{e}"
@@ -268,7 +268,7 @@ fn every_live_parameter_is_validated_with_the_state_unchanged() {
 #[wasm_bindgen_test]
 fn bodies_are_added_and_cleared() {
     for dim in [2usize, 3] {
-        let mut pg = Playground::new(&mpm::wasm::sandbox_scene(dim), None, None).unwrap();
+        let mut pg = WebPlayground::new(&mpm::wasm::sandbox_scene(dim), None, None).unwrap();
         assert_eq!(pg.particle_count(), 0);
         let obj = read_file_sync(&format!("{ROOT}/scenes/bunny.obj"), "utf8").unwrap();
         let polygon = read_file_sync(&format!("{ROOT}/scenes/bunny2d.txt"), "utf8").unwrap();
@@ -386,15 +386,15 @@ fn the_parameter_table_and_a_session_cross_as_json() {
     assert_eq!(table["models"][2]["id"], "drucker_prager");
     assert_eq!(table["objects"][0]["id"], "bunny");
 
-    let mut pg = Playground::new(&mpm::wasm::sandbox_scene(2), None, None).unwrap();
-    pg.set_parameter("gravity", 4.0).unwrap();
+    let mut pg = WebPlayground::new(&mpm::wasm::sandbox_scene(2), None, None).unwrap();
+    pg.set_parameter("gravity", 4.0, 1.0 / 60.0).unwrap();
     pg.drop_at("box", "von_mises", &[1.0, 0.5], 0.5, 0.3)
         .unwrap();
     pg.frame(0.05, 1e9).unwrap();
     pg.drop_at("ball", "elastic", &[0.5, 0.5], 0.0, 0.2)
         .unwrap();
     let session = pg.session();
-    let mut again = Playground::new(&mpm::wasm::sandbox_scene(2), None, None).unwrap();
+    let mut again = WebPlayground::new(&mpm::wasm::sandbox_scene(2), None, None).unwrap();
     let out: serde_json::Value = serde_json::from_str(&again.replay(&session).unwrap()).unwrap();
     assert_eq!(out, serde_json::json!({"rejected": [], "refused": []}));
     // The first drop lands at once (the box is empty, its time stands still), the second when
@@ -403,7 +403,7 @@ fn the_parameter_table_and_a_session_cross_as_json() {
     while again.body_count() < 2 {
         again.frame(0.02, 1e9).unwrap();
     }
-    let times = |pg: &Playground| -> Vec<f64> {
+    let times = |pg: &WebPlayground| -> Vec<f64> {
         let s: serde_json::Value = serde_json::from_str(&pg.session()).unwrap();
         s["drops"]
             .as_array()
@@ -435,7 +435,7 @@ fn quality_levels_resample_the_scene() {
     assert_eq!(levels["default"], "live");
     let text =
         read_file_sync(&format!("{ROOT}/scenes/notched_sand_block_2d.json"), "utf8").unwrap();
-    let mut pg = Playground::new(&text, None, None).unwrap();
+    let mut pg = WebPlayground::new(&text, None, None).unwrap();
     let q: serde_json::Value = serde_json::from_str(&pg.quality()).unwrap();
     assert_eq!(q["quality"], "live");
     let (h, h0) = (
@@ -531,8 +531,8 @@ fn simd_stencils_equal_the_scalar_kernel_bit_for_bit() {
 #[wasm_bindgen_test]
 fn a_saved_scene_replays_the_drops() {
     let scene = read_file_sync(&format!("{ROOT}/scenes/column_collapse_2d.json"), "utf8").unwrap();
-    let mut pg = Playground::new(&scene, None, None).unwrap();
-    pg.set_parameter("drucker_prager.friction_angle", 28.0)
+    let mut pg = WebPlayground::new(&scene, None, None).unwrap();
+    pg.set_parameter("drucker_prager.friction_angle", 28.0, 1.0 / 60.0)
         .unwrap();
     pg.frame(0.02, 1e9).unwrap();
     pg.drop_at("box", "elastic", &[0.8, 0.3], 0.0, 0.06)
@@ -545,7 +545,7 @@ fn a_saved_scene_replays_the_drops() {
         v["bodies"][0]["material"]["drucker_prager"]["friction_angle"],
         28.0
     );
-    let mut again = Playground::new(&saved, None, None).unwrap();
+    let mut again = WebPlayground::new(&saved, None, None).unwrap();
     assert_eq!((again.body_count(), again.particle_count() > 0), (2, true));
     let before = again.particle_count();
     again.frame(t + 0.001, 1e9).unwrap();
@@ -604,7 +604,7 @@ fn every_lesson_checks_with_its_files_and_a_bad_one_names_the_field() {
 #[wasm_bindgen_test]
 fn the_measures_cross_as_json() {
     let text = read_file_sync(&format!("{ROOT}/scenes/column_collapse_2d.json"), "utf8").unwrap();
-    let mut pg = Playground::new(&text, None, None).unwrap();
+    let mut pg = WebPlayground::new(&text, None, None).unwrap();
     let m: serde_json::Value = serde_json::from_str(&pg.measures()).unwrap();
     let d = &m[0];
     assert_eq!(d["name"], "column");

@@ -100,6 +100,47 @@ pub enum FrictionMatch {
     StartStop,
 }
 
+/// The arithmetic of the cone's formulas: `f64` for a body's constants, the solver's
+/// numbers ([`Number`]: one particle, or four in lanes) for a friction that varies per particle.
+pub trait ConeNumber:
+    Copy + std::ops::Add<Output = Self> + std::ops::Mul<Output = Self> + std::ops::Div<Output = Self>
+{
+    /// The number `x`.
+    fn of(x: f64) -> Self;
+    /// The square root.
+    fn root(self) -> Self;
+}
+
+impl<T: Number> ConeNumber for T {
+    #[inline(always)]
+    fn of(x: f64) -> Self {
+        T::splat(x as Real)
+    }
+    #[inline(always)]
+    fn root(self) -> Self {
+        Number::sqrt(self)
+    }
+}
+
+// With the `f64` feature f64 is the solver's number, covered above.
+#[cfg(not(feature = "f64"))]
+impl ConeNumber for f64 {
+    #[inline(always)]
+    fn of(x: f64) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn root(self) -> Self {
+        f64::sqrt(self)
+    }
+}
+
+/// √(12 μ² + 9), Eq. 13's root for a friction coefficient μ.
+#[inline(always)]
+fn eq13_root<T: ConeNumber>(mu: T) -> T {
+    (mu * mu * T::of(12.0) + T::of(9.0)).root()
+}
+
 impl FrictionMatch {
     /// The scene-file names.
     pub const NAMES: [&'static str; 3] = ["plane_strain", "steady_flow", "start_stop"];
@@ -108,33 +149,22 @@ impl FrictionMatch {
         *self == FrictionMatch::default()
     }
 
-    /// The cone's α for a friction coefficient μ = tan θ.
-    pub fn alpha(self, mu: f64) -> f64 {
-        match self {
-            FrictionMatch::PlaneStrain | FrictionMatch::StartStop => {
-                mu / (9.0 + 12.0 * mu * mu).sqrt()
-            }
-            FrictionMatch::SteadyFlow => mu / 3.0,
-        }
-    }
-
-    /// [`FrictionMatch::alpha`] lane by lane, for a friction that varies per particle (μ(I)).
+    /// The cone's α for a friction coefficient μ = tan θ: μ / √(12 μ² + 9) (Eq. 13), or μ / 3
+    /// (steady flow); in `f64` for a body's constants, lane by lane for a friction that varies
+    /// per particle (μ(I)).
     #[inline(always)]
-    pub fn alpha_lanes<T: Number>(self, mu: T) -> T {
+    pub fn alpha<T: ConeNumber>(self, mu: T) -> T {
         match self {
-            FrictionMatch::PlaneStrain | FrictionMatch::StartStop => {
-                mu / (mu * mu * 12.0 + 9.0).sqrt()
-            }
-            FrictionMatch::SteadyFlow => mu * (1.0 / 3.0),
+            FrictionMatch::PlaneStrain | FrictionMatch::StartStop => mu / eq13_root(mu),
+            FrictionMatch::SteadyFlow => mu * T::of(1.0 / 3.0),
         }
     }
 
-    /// The cone's k_c for cohesion c and a friction coefficient μ = tan φ.
+    /// The cone's k_c for cohesion c and a friction coefficient μ = tan φ: 3c / √(12 μ² + 9)
+    /// (Eq. 13), or c (steady flow).
     pub fn k_c(self, cohesion: f64, mu: f64) -> f64 {
         match self {
-            FrictionMatch::PlaneStrain | FrictionMatch::StartStop => {
-                3.0 * cohesion / (9.0 + 12.0 * mu * mu).sqrt()
-            }
+            FrictionMatch::PlaneStrain | FrictionMatch::StartStop => 3.0 * cohesion / eq13_root(mu),
             FrictionMatch::SteadyFlow => cohesion,
         }
     }
@@ -499,7 +529,6 @@ impl super::Kind for DruckerPragerParams {
         "poisson_ratio",
         "density",
     ];
-    const BEHAVIOUR: super::Behaviour = super::Behaviour::Granular;
     type Model = DruckerPrager;
     fn preset() -> Self {
         DruckerPragerParams {
@@ -527,6 +556,14 @@ impl super::Kind for DruckerPragerParams {
     fn surface(&self) -> impl Fn(f64) -> super::PqSurface + 'static {
         let m = self.model();
         move |plastic_strain| m.pq_surface(plastic_strain)
+    }
+    /// The cone of friction angle φ, traced in plane strain at φ_ps.
+    fn behaviour(&self) -> super::Behaviour {
+        super::Behaviour::Granular(super::Friction {
+            friction_angle: self.friction_angle,
+            cohesion: self.cohesion,
+            cone: Some(crate::laws::plane_strain_angle(self.friction_angle)),
+        })
     }
     fn field_mut(&mut self, name: &str) -> Option<&mut f64> {
         match name {

@@ -128,7 +128,6 @@ impl super::Kind for ElasticParams {
     const LABEL: &'static str = "Elastic";
     const HINT: &'static str = "jelly: bounces back";
     const FIELDS: &'static [&'static str] = &["youngs_modulus", "poisson_ratio", "density"];
-    const BEHAVIOUR: super::Behaviour = super::Behaviour::Solid;
     type Model = Elastic;
     fn preset() -> Self {
         ElasticParams {
@@ -149,6 +148,9 @@ impl super::Kind for ElasticParams {
     fn surface(&self) -> impl Fn(f64) -> super::PqSurface + 'static {
         let s = self.pq_surface();
         move |_| s
+    }
+    fn behaviour(&self) -> super::Behaviour {
+        super::Behaviour::Solid
     }
     fn field_mut(&mut self, name: &str) -> Option<&mut f64> {
         super::elastic_field(

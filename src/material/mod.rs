@@ -6,7 +6,7 @@
 //! [`Material`] holds the user-facing parameters (serde, SI units, validated); it builds the
 //! runtime model with the derived constants. Each file's parameters type says what the rest
 //! of the crate asks of a material ([`Kind`]: names, live parameters, preset, checks, yield
-//! surface, behaviour); adding a model is its file and its line in the `materials!` registration below.
+//! surface, behaviour and strength); adding a model is its file and its line in the `materials!` registration below.
 
 pub mod drucker_prager;
 pub mod elastic;
@@ -80,15 +80,51 @@ pub trait Constitutive: Copy + Send + Sync + 'static {
     }
 }
 
-/// How a material deforms, as far as the step's recipe ([`crate::recipe::Recipe`]) cares.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// How a material deforms, as far as the rest of the crate cares: the step's recipe
+/// ([`crate::recipe::Recipe`]), the measures of a heap ([`crate::measure::deposits`]), the
+/// lessons' questions and the page's Mohr plot all ask this, never which model it is.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Behaviour {
     /// Elastic or plastic solids: PIC, the stress updated last with the C¹ kernels, a bulk
     /// viscosity.
     Solid,
-    /// Frictional, flowing materials (sand): APIC with the C¹ kernels, the paper's α = 0.05,
-    /// the stress updated first, no bulk viscosity.
-    Granular,
+    /// Frictional, flowing materials (sand), with their strength: APIC with the C¹ kernels,
+    /// the paper's α = 0.05, the stress updated first, no bulk viscosity; heaps are measured.
+    Granular(Friction),
+}
+
+impl Behaviour {
+    /// A frictional material's strength; `None` for a solid.
+    pub fn friction(self) -> Option<Friction> {
+        match self {
+            Behaviour::Granular(f) => Some(f),
+            Behaviour::Solid => None,
+        }
+    }
+}
+
+/// A frictional material's strength in a Mohr plane: the Mohr–Coulomb envelope
+/// τ = c + σ_n tan φ (compression positive) of its friction angle and cohesion, and, for a
+/// model whose yield surface is not that envelope, the line its surface traces in plane strain.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Friction {
+    /// φ (degrees).
+    pub friction_angle: f64,
+    /// c (Pa).
+    pub cohesion: f64,
+    /// For a Drucker–Prager cone, the angle φ_ps (degrees) of its trace in a plane-strain
+    /// Mohr plane ([`crate::laws::plane_strain_angle`]); `None` when the yield surface is the
+    /// Mohr–Coulomb envelope itself.
+    #[serde(rename = "plane_strain_angle", skip_serializing_if = "Option::is_none")]
+    pub cone: Option<f64>,
+}
+
+impl Friction {
+    /// The angle (degrees) of the line the yield surface traces in a plane-strain Mohr plane,
+    /// the slope a plane heap of it is drawn against: φ_ps for a cone, else φ.
+    pub fn plane_strain_angle(&self) -> f64 {
+        self.cone.unwrap_or(self.friction_angle)
+    }
 }
 
 /// What each material model provides, in its own file (its parameters type implements
@@ -102,8 +138,6 @@ pub trait Kind: Sized {
     /// Its live parameters, by their scene-file names, in the order the front ends show them
     /// (each described in [`crate::params`]).
     const FIELDS: &'static [&'static str];
-    /// How the step treats its bodies ([`crate::recipe::Recipe`]).
-    const BEHAVIOUR: Behaviour;
     /// The runtime model.
     type Model: Constitutive + std::fmt::Debug + PartialEq;
     /// The material of new bodies on the page until a scene or a parameter says otherwise.
@@ -117,6 +151,8 @@ pub trait Kind: Sized {
     /// The yield surface in p–q space ([`PqSurface`]) as a function of a particle's
     /// accumulated plastic strain (formed once, asked per particle).
     fn surface(&self) -> impl Fn(f64) -> PqSurface + 'static;
+    /// Whether it flows like sand, with what strength, or deforms like a solid ([`Behaviour`]).
+    fn behaviour(&self) -> Behaviour;
     /// The live parameter called `name` (one of [`Kind::FIELDS`]).
     fn field_mut(&mut self, name: &str) -> Option<&mut f64>;
     /// Which volumetric strain rate its stress update takes ([`VolumetricRate`]).
@@ -219,7 +255,17 @@ macro_rules! materials {
             preset: || Material::$variant(<$params as Kind>::preset()),
         },)*];
 
+        /// The registered models' places in [`KINDS`].
+        #[allow(dead_code)]
+        enum Index {
+            $($variant,)*
+        }
+
         impl Material {
+            /// The model's place in [`KINDS`] (the order of registration).
+            pub fn index(&self) -> usize {
+                match self { $(Material::$variant(_) => Index::$variant as usize,)* }
+            }
             /// The scene-file name of the model.
             pub fn kind(&self) -> &'static str {
                 match self { $(Material::$variant(_) => <$params as Kind>::NAME,)* }
@@ -237,10 +283,10 @@ macro_rules! materials {
                     })*
                 }
             }
-            /// Whether the material flows like sand or deforms like a solid: what decides
-            /// how the step treats its bodies ([`crate::recipe::Recipe`]).
+            /// Whether the material flows like sand, with what strength, or deforms like a
+            /// solid ([`Behaviour`]).
             pub fn behaviour(&self) -> Behaviour {
-                match self { $(Material::$variant(_) => <$params as Kind>::BEHAVIOUR,)* }
+                match self { $(Material::$variant(m) => Kind::behaviour(m),)* }
             }
             /// Where the yield surface of a particle with the accumulated plastic strain
             /// `plastic_strain` lies in p–q space (see [`PqSurface`]; only sand's start–stop

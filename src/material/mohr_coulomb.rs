@@ -453,7 +453,6 @@ impl super::Kind for MohrCoulombParams {
         "poisson_ratio",
         "density",
     ];
-    const BEHAVIOUR: super::Behaviour = super::Behaviour::Granular;
     type Model = MohrCoulomb;
     /// The Drucker–Prager sand's preset.
     fn preset() -> Self {
@@ -478,6 +477,14 @@ impl super::Kind for MohrCoulombParams {
     fn surface(&self) -> impl Fn(f64) -> PqSurface + 'static {
         let s = self.pq_surface();
         move |_| s
+    }
+    /// Its yield surface is the Mohr–Coulomb envelope.
+    fn behaviour(&self) -> super::Behaviour {
+        super::Behaviour::Granular(super::Friction {
+            friction_angle: self.friction_angle,
+            cohesion: self.cohesion,
+            cone: None,
+        })
     }
     fn field_mut(&mut self, name: &str) -> Option<&mut f64> {
         match name {

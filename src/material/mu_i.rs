@@ -99,7 +99,7 @@ impl MuI {
         let share = x / (x + y).max(S::Scalar::splat(Real::MIN_POSITIVE));
         let mu = share * self.rise + self.mu_s;
         // the branch is on the model, the same in every lane
-        self.friction_match.alpha_lanes(mu)
+        self.friction_match.alpha(mu)
     }
 }
 

@@ -106,7 +106,6 @@ impl super::Kind for VonMisesParams {
     const HINT: &'static str = "clay/metal: von Mises";
     const FIELDS: &'static [&'static str] =
         &["yield_stress", "youngs_modulus", "poisson_ratio", "density"];
-    const BEHAVIOUR: super::Behaviour = super::Behaviour::Solid;
     type Model = VonMises;
     fn preset() -> Self {
         VonMisesParams {
@@ -128,6 +127,9 @@ impl super::Kind for VonMisesParams {
     fn surface(&self) -> impl Fn(f64) -> super::PqSurface + 'static {
         let s = self.pq_surface();
         move |_| s
+    }
+    fn behaviour(&self) -> super::Behaviour {
+        super::Behaviour::Solid
     }
     fn field_mut(&mut self, name: &str) -> Option<&mut f64> {
         match name {

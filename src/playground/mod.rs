@@ -33,7 +33,7 @@ pub use quality::{
 
 use crate::config::{BodyConfig, SceneConfig};
 use crate::error::{Error, Result};
-use crate::material::{Material, PqSurface, pq};
+use crate::material::{Friction, Material, PqSurface, pq};
 use crate::math::{Dim, Real, SymTensor};
 use crate::measure::{Deposit, Footprints, deposits_any, principal_stresses};
 use crate::params::{MODELS, Param, Target, model_index};
@@ -100,19 +100,29 @@ pub struct StressPoint {
     /// The principal stresses (Pa, compression positive, [`principal_stresses`]): in 2D the
     /// in-plane major and minor, then the out-of-plane one; in 3D sorted from the largest.
     pub principal: Vec<f64>,
-    /// For sand: the friction angle φ (degrees) and the cohesion c (Pa) of the Mohr–Coulomb
-    /// envelope, and the plane-strain angle φ_ps of the Drucker–Prager cone (the cone's trace
-    /// in a plane-strain Mohr plane).
+    /// For a granular material: the friction angle φ (degrees) and the cohesion c (Pa) of its
+    /// Mohr–Coulomb envelope, and for a Drucker–Prager cone the plane-strain angle φ_ps of its
+    /// trace in a plane-strain Mohr plane ([`Friction`]).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub mohr_coulomb: Option<MohrCoulomb>,
+    pub mohr_coulomb: Option<Friction>,
 }
 
-/// The Mohr–Coulomb figures of a sand particle's material (see [`StressPoint`]).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct MohrCoulomb {
-    pub friction_angle: f64,
-    pub cohesion: f64,
-    pub plane_strain_angle: f64,
+/// What a parameter change costs ([`Playground::set_parameter_costed`]).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Costs {
+    /// The prediction for the value set.
+    pub prediction: Prediction,
+    /// The prediction for the state before.
+    pub before: Prediction,
+}
+
+/// A live parameter's new value for the presets and the bodies ([`Playground::edit`]).
+struct Edit {
+    /// The model's preset after the change (index in [`MODELS`], material, PIC/FLIP ratio),
+    /// for a parameter of every body of a model.
+    preset: Option<(usize, Material, Option<f64>)>,
+    /// The bodies it changes: index, new material and PIC/FLIP ratio.
+    bodies: Vec<(usize, Material, Option<f64>)>,
 }
 
 /// What a dropped object may measure, for a front end's size control (m).
@@ -360,31 +370,75 @@ impl Playground {
         self.footprints.update_any(&self.sim);
     }
 
-    /// The parameter `name` = `value` applied to a copy of the scene and of the presets, the
-    /// presets validated (the scene is validated when it is applied).
-    fn with_parameter(&self, name: &str, value: f64) -> Result<(SceneConfig, Presets)> {
-        let target = Target::parse(name)?;
-        let mut presets = self.presets.clone();
-        if let (Some(m), None) = (target.param.model, target.body) {
-            let (material, flip) = (&mut presets.materials[m], &mut presets.flip[m]);
-            target.param.set_material(material, flip, value);
-            target.param.validate_preset(name, material, *flip)?;
+    /// The parameter `target` (called `name`) = `value` for the presets and the bodies,
+    /// without applying it: the preset it changes, checked, and the bodies it changes with
+    /// their new materials and PIC/FLIP ratios (checked where they are applied,
+    /// [`AnySimulation::set_materials`]). Nothing for a world parameter.
+    fn edit(&self, target: &Target, name: &str, value: f64) -> Result<Edit> {
+        let p = target.param;
+        let mut preset = None;
+        if let (Some(m), None) = (p.model, target.body) {
+            let mut material = self.presets.materials[m].clone();
+            let mut flip = self.presets.flip[m];
+            p.set_material(&mut material, &mut flip, value);
+            p.validate_preset(name, &material, flip)?;
+            preset = Some((m, material, flip));
         }
-        let mut scene = self.sim.scene().clone();
-        target.set_in_scene(&mut scene, value, false)?;
-        Ok((scene, presets))
+        let scene = self.sim.scene();
+        let bodies = target
+            .bodies(scene, value, false)?
+            .into_iter()
+            .map(|i| {
+                let b = &scene.bodies[i];
+                let (mut material, mut flip) = (b.material.clone(), b.flip);
+                p.set_material(&mut material, &mut flip, value);
+                (i, material, flip)
+            })
+            .collect();
+        Ok(Edit { preset, bodies })
     }
 
     /// Sets a live parameter (see [`crate::params`] for the names), validated like a scene
     /// file; on error the state is unchanged.
     pub fn set_parameter(&mut self, name: &str, value: f64) -> Result<()> {
-        let (scene, presets) = self.with_parameter(name, value)?;
-        self.sim.configure(|s| *s = scene)?;
+        self.apply(&Target::parse(name)?, name, value)
+    }
+
+    /// [`Playground::set_parameter`], returning what the new value costs and what the old one
+    /// did ([`Playground::predict`]), for a front end's warnings: one parse and one check of
+    /// the name and value.
+    pub fn set_parameter_costed(
+        &mut self,
+        name: &str,
+        value: f64,
+        frame_time: f64,
+    ) -> Result<Costs> {
+        let target = Target::parse(name)?;
+        let before = self.cost(self.sim.scene(), self.wave_speed(None), frame_time);
+        self.apply(&target, name, value)?;
+        let prediction = self.cost(self.sim.scene(), self.wave_speed(None), frame_time);
+        Ok(Costs { prediction, before })
+    }
+
+    /// Applies the parameter `target` (called `name`) = `value`: the world's setting, or the
+    /// materials of the bodies it changes (only those are built again) and its preset.
+    fn apply(&mut self, target: &Target, name: &str, value: f64) -> Result<()> {
+        if target.param.model.is_none() {
+            self.sim.set_world(|s| {
+                target.param.set_in_scene(s, value);
+            })?;
+        } else {
+            let edit = self.edit(target, name, value)?;
+            self.sim.set_materials(edit.bodies)?;
+            if let Some((m, material, flip)) = edit.preset {
+                self.presets.materials[m] = material;
+                self.presets.flip[m] = flip;
+            }
+        }
         if self.sleeping() {
             // The rule follows the grid and gravity (the change woke everything).
             self.set_sleeping(true);
         }
-        self.presets = presets;
         self.overrides.retain(|(n, _)| n != name);
         self.overrides.push((name.to_string(), value));
         Ok(())
@@ -430,34 +484,62 @@ impl Playground {
     /// current particle speeds, the steps per frame of `frame_time` seconds and, from the
     /// measured cost of a step, the ratio of simulated to wall-clock time.
     pub fn predict(&self, name: &str, value: f64, frame_time: f64) -> Prediction {
-        let mut out = Prediction::default();
-        let (scene, presets) = match self
-            .with_parameter(name, value)
-            .and_then(|(s, p)| s.validate().map(|_| (s, p)))
-        {
-            Ok(next) => next,
-            Err(e) => {
-                out.error = e.to_string();
-                return out;
+        let checked = Target::parse(name).and_then(|target| {
+            if target.param.model.is_none() {
+                let mut world = self.sim.scene().world();
+                target.param.set_in_scene(&mut world, value);
+                world.validate_world()?;
+                return Ok(self.cost(&world, self.wave_speed(None), frame_time));
             }
+            let edit = self.edit(&target, name, value)?;
+            for (i, material, flip) in &edit.bodies {
+                BodyConfig::check_material(&format!("bodies[{i}]"), material, *flip)?;
+            }
+            Ok(self.cost(self.sim.scene(), self.wave_speed(Some(&edit)), frame_time))
+        });
+        checked.unwrap_or_else(|e| Prediction {
+            error: e.to_string(),
+            ..Prediction::default()
+        })
+    }
+
+    /// The largest wave speed at the reference density of the bodies' materials, or of the
+    /// presets when there is no body (what the next dropped body would need), after `edit`.
+    fn wave_speed(&self, edit: Option<&Edit>) -> f64 {
+        let bodies = &self.sim.scene().bodies;
+        let edited = |i: usize, m: &'_ Material| {
+            let changed = edit.and_then(|e| e.bodies.iter().find(|(j, ..)| *j == i));
+            changed.map_or(m.wave_speed(), |(_, m, _)| m.wave_speed())
         };
-        out.valid = true;
-        // The wave speed at the reference density: of the bodies, or of the presets when
-        // there is none (what the next dropped body would need).
-        let materials: Vec<&Material> = if scene.bodies.is_empty() {
-            presets.materials.iter().collect()
+        if bodies.is_empty() {
+            let preset = edit.and_then(|e| e.preset.as_ref());
+            (0..self.presets.materials.len())
+                .map(|m| match preset {
+                    Some((p, material, _)) if *p == m => material.wave_speed(),
+                    _ => self.presets.materials[m].wave_speed(),
+                })
+                .fold(0.0, f64::max)
         } else {
-            scene.bodies.iter().map(|b| &b.material).collect()
+            (0..bodies.len())
+                .map(|i| edited(i, &bodies[i].material))
+                .fold(0.0, f64::max)
+        }
+    }
+
+    /// The cost of stepping with the world settings of `world` and the wave speed `c`.
+    fn cost(&self, world: &SceneConfig, c: f64, frame_time: f64) -> Prediction {
+        let mut out = Prediction {
+            valid: true,
+            ..Prediction::default()
         };
-        let c = materials.iter().map(|m| m.wave_speed()).fold(0.0, f64::max);
         let speed = c + self.sim.diagnostics().max_speed;
-        let g = scene
+        let g = world
             .gravity_vector()
             .iter()
             .map(|g| g * g)
             .sum::<f64>()
             .sqrt();
-        out.stable_dt = cfl_time_step(scene.cfl, scene.cell_size, speed, g, scene.max_dt);
+        out.stable_dt = cfl_time_step(world.cfl, world.cell_size, speed, g, world.max_dt);
         out.substeps_per_frame = (frame_time / out.stable_dt).ceil();
         if self.ms_per_step > 0.0 && out.substeps_per_frame > 0.0 {
             // Cost per step scales with the particle count, not with the parameter.
@@ -913,14 +995,7 @@ fn stress_point<D: Dim>(s: &Simulation<D>, i: usize) -> StressPoint {
                 .map(|&c| c as f64)
                 .collect::<Vec<_>>(),
         ),
-        mohr_coulomb: match material {
-            Material::DruckerPrager(m) => Some(MohrCoulomb {
-                friction_angle: m.friction_angle,
-                cohesion: m.cohesion,
-                plane_strain_angle: crate::laws::plane_strain_angle(m.friction_angle),
-            }),
-            _ => None,
-        },
+        mohr_coulomb: material.behaviour().friction(),
     }
 }
 
@@ -1307,6 +1382,60 @@ mod tests {
         );
         pg.reset().unwrap();
         assert_eq!(pg.parameter(name).unwrap(), 20.0);
+    }
+
+    /// A live parameter changes only what it names, and the simulation then steps bit for bit
+    /// as one configured with the whole scene so modified: a parameter of every body of a
+    /// model, one body's, a PIC/FLIP ratio and a world setting, in 2D and 3D.
+    #[test]
+    fn a_parameter_steps_exactly_as_the_scene_rebuilt_with_it() {
+        fn state(sim: &AnySimulation) -> String {
+            fn of<D: Dim>(s: &Simulation<D>) -> String {
+                let bodies: Vec<_> = s.bodies().iter().map(|b| (b.model, b.recipe)).collect();
+                format!("{:?} {bodies:?} {:?}", s.particles(), s.diagnostics())
+            }
+            match sim {
+                AnySimulation::D2(s) => of(s),
+                AnySimulation::D3(s) => of(s),
+            }
+        }
+        for dim in [2, 3] {
+            let mut scene = sand_scene(dim);
+            let (lo, hi) = ([1.2, 0.0, 0.3], [1.5, 0.3, 0.6]);
+            scene.bodies.push(BodyConfig::new(
+                "block",
+                Shape::cuboid(&lo[..dim], &hi[..dim]),
+                Material::elastic(1e5, 0.3, 1000.0),
+            ));
+            scene.bodies.push(scene.bodies[0].clone());
+            scene.bodies[2].shape = Shape::cuboid(&[0.7, 0.0, 0.3][..dim], &[0.9, 0.2, 0.5][..dim]);
+            let mut pg = Playground::with_quality(scene, Quality::find("live").unwrap()).unwrap();
+            for _ in 0..40 {
+                pg.step(clock()).unwrap();
+            }
+            for (name, value) in [
+                ("drucker_prager.friction_angle", 25.0),
+                ("bodies[2].drucker_prager.cohesion", 200.0),
+                ("elastic.flip", 0.4),
+                ("bodies[1].elastic.youngs_modulus", 3e5),
+                ("gravity", 6.0),
+            ] {
+                let target = Target::parse(name).unwrap();
+                let mut rebuilt = pg.simulation().clone();
+                rebuilt
+                    .configure(|s| target.set_in_scene(s, value, true).unwrap())
+                    .unwrap();
+                rebuilt.set_sleeping_at_rest(true);
+                pg.set_parameter(name, value).unwrap();
+                assert_eq!(pg.scene(), rebuilt.scene(), "{name}");
+                assert_eq!(state(pg.simulation()), state(&rebuilt), "{name}");
+                for _ in 0..15 {
+                    pg.step(clock()).unwrap();
+                    rebuilt.step().unwrap();
+                }
+                assert_eq!(state(pg.simulation()), state(&rebuilt), "{dim}D {name}");
+            }
+        }
     }
 
     /// Sleeping is on by default: a sand block left to settle falls asleep (the colour mode

@@ -15,6 +15,7 @@ use crate::config::{BodyConfig, MAX_PARTICLES, SceneConfig};
 use crate::error::{Error, Result};
 use crate::grid::Grid;
 use crate::kernel::KernelKind;
+use crate::material::Material;
 use crate::math::{D2, D3, Dim, Real, VectorOps};
 use crate::recipe::Recipe;
 use crate::step::sleep::{SleepRule, Sleeping};
@@ -333,30 +334,84 @@ impl<D: Dim> Simulation<D> {
         }
         next.validate()?;
         self.world = World::new(&next);
-        let recipes: Vec<Recipe> = next
-            .bodies
-            .iter()
-            .map(|b| Recipe::new(b, next.kernel, next.cell_size))
-            .collect();
-        if recipes.iter().any(|r| r.apic) {
-            self.particles.enable_affine();
-        }
-        for ((body, cfg), recipe) in self.bodies.iter_mut().zip(&next.bodies).zip(recipes) {
-            body.model = cfg.material.model();
-            if recipe.bulk_length == 0.0 {
-                // no viscous pressure left for a body that turned to sand to meet again
-                self.particles.viscous_pressure[body.range.clone()].fill(0.0);
-            }
-            if recipe.apic && !body.recipe.apic {
-                // a body that turns to APIC starts from a zero affine velocity
-                self.particles.affine[body.range.clone()].fill(D::GRAD_ZERO);
-            }
-            body.recipe = recipe;
-        }
         self.scene = next;
+        for i in 0..self.bodies.len() {
+            self.rebuild_body(i);
+        }
         // a weaker material, another gravity or wall friction may move what sleeps
         self.wake_all();
         Ok(())
+    }
+
+    /// Changes world settings while running, as [`Simulation::configure`] does, without
+    /// touching the bodies: `f` edits a copy of the world settings (the scene without its
+    /// bodies), which is validated and applied, or rejected with the state unchanged.
+    pub fn set_world(&mut self, f: impl FnOnce(&mut SceneConfig)) -> Result<()> {
+        let mut next = self.scene.world();
+        f(&mut next);
+        if next.dim != self.scene.dim || next.domain != self.scene.domain || !next.bodies.is_empty()
+        {
+            return Err(Error::invalid(
+                "world",
+                "a new dimension, domain or bodies",
+                "cannot change here: use configure",
+            ));
+        }
+        next.validate_world()?;
+        self.world = World::new(&next);
+        next.bodies = std::mem::take(&mut self.scene.bodies);
+        self.scene = next;
+        self.wake_all();
+        Ok(())
+    }
+
+    /// Gives bodies (present or to come) new materials and PIC/FLIP ratios, each
+    /// `(index, material, flip)` checked as a scene file's body is
+    /// ([`BodyConfig::check_material`]); on error nothing changes. Only those bodies' models and
+    /// recipes are built again; what sleeps wakes, as with [`Simulation::configure`].
+    pub fn set_materials(&mut self, changes: Vec<(usize, Material, Option<f64>)>) -> Result<()> {
+        let n = self.scene.bodies.len();
+        for (i, material, flip) in &changes {
+            if *i >= n {
+                return Err(Error::invalid(
+                    "bodies",
+                    i,
+                    format!("must be a body of the scene, below {n}"),
+                ));
+            }
+            BodyConfig::check_material(&format!("bodies[{i}]"), material, *flip)?;
+        }
+        for (i, material, flip) in changes {
+            let config = &mut self.scene.bodies[i];
+            config.material = material;
+            config.flip = flip;
+            if i < self.bodies.len() {
+                self.rebuild_body(i);
+            }
+        }
+        self.wake_all();
+        Ok(())
+    }
+
+    /// Body `i`'s model and recipe from its entry in the scene, after its material, PIC/FLIP
+    /// ratio or the world changed.
+    fn rebuild_body(&mut self, i: usize) {
+        let config = &self.scene.bodies[i];
+        let recipe = Recipe::new(config, self.scene.kernel, self.scene.cell_size);
+        if recipe.apic {
+            self.particles.enable_affine();
+        }
+        let body = &mut self.bodies[i];
+        body.model = config.material.model();
+        if recipe.bulk_length == 0.0 {
+            // no viscous pressure left for a body that turned to sand to meet again
+            self.particles.viscous_pressure[body.range.clone()].fill(0.0);
+        }
+        if recipe.apic && !body.recipe.apic {
+            // a body that turns to APIC starts from a zero affine velocity
+            self.particles.affine[body.range.clone()].fill(D::GRAD_ZERO);
+        }
+        body.recipe = recipe;
     }
 
     /// The scene as it stands: world settings and the bodies' parameters, the bodies present
@@ -865,6 +920,14 @@ impl AnySimulation {
     }
     pub fn configure(&mut self, f: impl FnOnce(&mut SceneConfig)) -> Result<()> {
         delegate!(self, s => s.configure(f))
+    }
+    /// See [`Simulation::set_world`].
+    pub fn set_world(&mut self, f: impl FnOnce(&mut SceneConfig)) -> Result<()> {
+        delegate!(self, s => s.set_world(f))
+    }
+    /// See [`Simulation::set_materials`].
+    pub fn set_materials(&mut self, changes: Vec<(usize, Material, Option<f64>)>) -> Result<()> {
+        delegate!(self, s => s.set_materials(changes))
     }
     pub fn add_body(&mut self, body: BodyConfig) -> Result<usize> {
         delegate!(self, s => s.add_body(body))

@@ -69,10 +69,11 @@ export function quantityUnit(quantity) {
 
 /// The Mohr circles of stress point `sp` (its principal stresses, compression positive):
 /// in 3D the three principal circles, in 2D plane strain the in-plane circle (and the
-/// out-of-plane stress as a point); each {centre, radius}. With sand, the Mohr–Coulomb
-/// envelope τ = c + σ tan φ and the trace of the Drucker–Prager cone: in plane strain the
-/// line at φ_ps; in 3D the circle the cone allows in triaxial compression at the particle's
-/// pressure p (q = σ1 − σ3 on the cone, centre p + q/6).
+/// out-of-plane stress as a point); each {centre, radius}. With a granular material, the
+/// Mohr–Coulomb envelope τ = c + σ tan φ (a Mohr–Coulomb material's own yield surface) and,
+/// for a Drucker–Prager cone (`plane_strain_angle` given), the cone's trace: in plane strain
+/// the line at φ_ps; in 3D the circle the cone allows in triaxial compression at the
+/// particle's pressure p (q = σ1 − σ3 on the cone, centre p + q/6).
 export function mohr(sp, dim) {
   const s = sp.principal;
   const circle = (a, b) => ({ centre: (a + b) / 2, radius: Math.abs(a - b) / 2 });
@@ -80,8 +81,10 @@ export function mohr(sp, dim) {
   const out = { circles, points: dim === 2 ? [s[2]] : [], envelope: null, cone: null };
   const mc = sp.mohr_coulomb;
   if (mc) {
-    out.envelope = { angle: mc.friction_angle, cohesion: mc.cohesion };
-    if (dim === 2) {
+    out.envelope = { angle: mc.friction_angle, cohesion: mc.cohesion, own: mc.plane_strain_angle === undefined };
+    if (out.envelope.own) {
+      // Mohr–Coulomb: the envelope is the yield surface, there is no cone
+    } else if (dim === 2) {
       // c' of the plane-strain match: the cone's circles touch a line at φ_ps through the
       // apex of the Mohr–Coulomb line at φ (σ = −c / tan φ)
       const t = Math.tan((mc.friction_angle * Math.PI) / 180);

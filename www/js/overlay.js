@@ -4,7 +4,7 @@
 // plane through the heap's axis along x), its run-out from its initial footprint as a ruler
 // on the floor, and where the experiments apply the published laws as floor markers naming
 // their source (a column's run-out and final height, Lube et al.; in 2D the line at the
-// plane-strain friction angle φ_ps of the sand's cone); and the hand tool's line with what
+// plane-strain angle of the sand's yield surface: φ_ps of the cone, φ of Mohr–Coulomb); and the hand tool's line with what
 // the core reads of it. Every number drawn is the core's (`mpm::measure`, `mpm::laws`).
 
 import { arcAngles } from './measure-view.js';
@@ -74,9 +74,9 @@ export class Overlay {
     ctx.setLineDash([]);
   }
 
-  /// Each fitted flank: the line, an arc at its foot and the angle; in 2D also the line at
-  /// φ_ps from the same foot (the plane-strain friction angle of the sand's cone), named once
-  /// per heap (the two names of a narrow heap would overlap).
+  /// Each fitted flank: the line, an arc at its foot and the angle; in 2D also the line of the
+  /// yield surface's plane-strain trace from the same foot (φ_ps of a Drucker–Prager cone, φ of
+  /// Mohr–Coulomb), named once per heap (the two names of a narrow heap would overlap).
   flanks(d, dim, at, laws) {
     let named = false;
     d.heap.flanks.forEach((f) => {
@@ -100,7 +100,8 @@ export class Overlay {
         const rise = run * Math.tan((d.plane_strain_angle * Math.PI) / 180);
         const C = at(foot[0] + out * run, foot[1] + rise);
         this.line(A, C, LAW, 2, [6, 4]);
-        if (C && !named) this.label('law', `φ_ps ${d.plane_strain_angle.toFixed(1)}°, plane-strain cone`, [(A[0] + C[0]) / 2 - out * 14, (A[1] + C[1]) / 2 - 14], LAW, 'center');
+        const law = d.model === 'mohr_coulomb' ? `φ ${d.plane_strain_angle.toFixed(1)}°, Mohr–Coulomb` : `φ_ps ${d.plane_strain_angle.toFixed(1)}°, plane-strain cone`;
+        if (C && !named) this.label('law', law, [(A[0] + C[0]) / 2 - out * 14, (A[1] + C[1]) / 2 - 14], LAW, 'center');
         named ||= !!C;
       }
     });

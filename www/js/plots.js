@@ -212,9 +212,9 @@ export class StressPlot {
 /// The Mohr circles of the inspected particle (normal stress σ against shear stress τ, kPa,
 /// compression positive): in 2D plane strain the in-plane circle (the out-of-plane stress a
 /// point on the σ axis), in 3D the three principal circles; for sand the Mohr–Coulomb envelope
-/// τ = c + σ tan φ at the current φ and c, and the trace of the Drucker–Prager cone (plane
-/// strain: the line at φ_ps; 3D: the circle it allows in triaxial compression at the
-/// particle's pressure).
+/// τ = c + σ tan φ at the current φ and c (a Mohr–Coulomb material's yield surface), and for
+/// Drucker–Prager the trace of its cone (plane strain: the line at φ_ps; 3D: the circle it
+/// allows in triaxial compression at the particle's pressure).
 export class MohrPlot {
   constructor(canvas) {
     this.canvas = canvas;
@@ -309,9 +309,9 @@ export class MohrPlot {
     let y = box.y0 + 12;
     const note = (text, colour) => { ctx.fillStyle = colour; ctx.fillText(text, box.x0 + 6, y); y += 15; };
     note(this.dim === 2 ? 'in-plane circle (plane strain); dot: σ_zz' : 'the three principal circles', '#1c7ed6');
-    if (m.envelope) note(`Mohr–Coulomb: φ ${m.envelope.angle}°, c ${+(m.envelope.cohesion * k).toPrecision(3)} ${unit}`, '#c92a2a');
+    if (m.envelope) note(`Mohr–Coulomb${m.envelope.own ? ' yield surface' : ''}: φ ${m.envelope.angle}°, c ${+(m.envelope.cohesion * k).toPrecision(3)} ${unit}`, '#c92a2a');
     if (m.cone) note(m.cone.kind === 'line' ? `Drucker–Prager cone, plane strain: φ_ps ${m.cone.angle.toFixed(1)}°`
       : 'Drucker–Prager cone at this p (triaxial compression)', '#862e9c');
-    this.drawn = { circles: m.circles.length, envelope: !!m.envelope, cone: m.cone?.kind ?? null };
+    this.drawn = { circles: m.circles.length, envelope: !!m.envelope, angle: m.envelope?.angle ?? null, cone: m.cone?.kind ?? null };
   }
 }

@@ -130,19 +130,16 @@ export class SimHost {
     return { invalid, ...out };
   }
   /// Sets a parameter; returns {error, prediction, before} (the cost of the new value and of
-  /// the old one, see `Playground::predict`), the state unchanged on error.
+  /// the old one, see `Playground::predict`; null on error), the state unchanged on error.
   cmd_setParameter({ name, value }) {
-    const pg = this.pg;
-    const prediction = JSON.parse(pg.predict(name, value, 1 / 60));
-    let before = null;
+    let costs;
     try {
-      before = JSON.parse(pg.predict(name, pg.parameter(name), 1 / 60));
-      pg.setParameter(name, value);
+      costs = JSON.parse(this.pg.setParameter(name, value, 1 / 60));
     } catch (e) {
-      return { error: e.message, prediction, before };
+      return { error: e.message, prediction: null, before: null };
     }
     this.changed();
-    return { error: '', prediction, before };
+    return { error: '', ...costs };
   }
   cmd_dropAt({ object, material, point, speed, size }) {
     this.pg.dropAt(object, material, new Float64Array(point), speed, size);

@@ -438,10 +438,8 @@ mod tests {
     }
 
     fn friction_angle(app: &App) -> f64 {
-        match &app.pg.scene().bodies[0].material {
-            Material::DruckerPrager(m) => m.friction_angle,
-            _ => unreachable!(),
-        }
+        let friction = app.pg.scene().bodies[0].material.behaviour().friction();
+        friction.expect("sand").friction_angle
     }
 
     #[test]

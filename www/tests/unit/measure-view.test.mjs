@@ -51,6 +51,14 @@ test('Mohr circles: one in plane strain, three in 3D, with the envelopes', () =>
   assert.equal(mohr({ principal: [1, 0, 0], p: 0.3, surface }, 3).envelope, null, 'no envelope without sand');
   const w = mohrWindow(m3);
   assert.ok(w.sMin < 0 && w.sMax > 360 && w.tMax > 120);
+  // Mohr–Coulomb: its own envelope at the true φ, and no cone
+  const own = { friction_angle: 30, cohesion: 50 };
+  for (const dim of [2, 3]) {
+    const m = mohr({ principal: [300, 100, 200], p: 200, surface, mohr_coulomb: own }, dim);
+    assert.deepEqual(m.envelope, { angle: 30, cohesion: 50, own: true });
+    assert.equal(m.cone, null);
+  }
+  assert.equal(m2.envelope.own, false, 'Drucker–Prager: the envelope is not its yield surface');
 });
 
 test('a flank arc turns from the horizontal to the flank, the short way', () => {
