@@ -53,7 +53,7 @@ fn main() -> Result<(), String> {
         let g = 9.81;
         let mut sim = Simulation::<D2>::new(scene).map_err(|e| e.to_string())?;
         sim.advance(seconds).map_err(|e| e.to_string())?;
-        let p = sim.particles();
+        let p = sim.particles().clone();
         let xy: Vec<(f64, f64)> = p.x.iter().map(|x| (x[0] as f64, x[1] as f64)).collect();
         let window = if layer { (0.1, 0.9) } else { (0.47, 0.53) };
         let k0 = jaky(phi);
@@ -105,6 +105,51 @@ fn main() -> Result<(), String> {
                 .map(|b| (b.mean * 1000.0).round() / 1000.0)
                 .collect::<Vec<_>>()
         );
+        // what the recovery costs beside a step (wall time, 20 of each)
+        let clock = std::time::Instant::now();
+        for _ in 0..20 {
+            std::hint::black_box(mpm::recovery::shown_stress(&sim));
+        }
+        let recovery = clock.elapsed().as_secs_f64() / 20.0;
+        let clock = std::time::Instant::now();
+        for _ in 0..20 {
+            sim.step().map_err(|e| e.to_string())?;
+        }
+        let step = clock.elapsed().as_secs_f64() / 20.0;
+        println!(
+            " cost: recovery {:.2} ms, step {:.2} ms ({} particles)",
+            1e3 * recovery,
+            1e3 * step,
+            p.len()
+        );
+        // the whole body's Σ V σ_yy against −g Σ m y, equal at rest (the floor's reaction acts
+        // at y = 0), and the band means, every 4 ms over 40 ms
+        for k in 0..=10 {
+            if k > 0 {
+                sim.advance(0.004).map_err(|e| e.to_string())?;
+            }
+            let p = sim.particles();
+            let n = p.len();
+            let virial = (0..n)
+                .map(|i| p.volume[i] as f64 * p.stress[i].components()[1] as f64)
+                .sum::<f64>()
+                / (-g * (0..n).map(|i| p.mass[i] as f64 * p.x[i][1] as f64).sum::<f64>());
+            let xy: Vec<(f64, f64)> = p.x.iter().map(|x| (x[0] as f64, x[1] as f64)).collect();
+            let shown = mpm::recovery::shown_stress(&sim);
+            let field = |f: &dyn Fn(&[mpm::Real]) -> f64, k0: f64| {
+                let v: Vec<f64> = shown.iter().map(|s| f(s.components())).collect();
+                pressure_bands(&xy, &v, window, h, spacing, 2.0 * h, rho, g, k0)
+            };
+            let v = field(&|c| -c[1] as f64, 1.0);
+            let m = field(&|c| -(c[0] + c[1] + c[2]) as f64 / 3.0, k0);
+            println!(
+                "  t = {:.3} s: Σ V σ_yy / (−g Σ m y) = {virial:.3}; σ_yy/ρgz worst band {:.3}; p/p0 worst band {:.3}, within {:.1} %",
+                sim.time(),
+                v.worst_mean,
+                m.worst_mean,
+                100.0 * m.within
+            );
+        }
     }
     Ok(())
 }

@@ -25,31 +25,53 @@ use crate::step::with_kernel;
 /// Every particle's stress as shown: the recovered σ̄_p of the sand bodies' particles, the
 /// stress σ_p itself for the others (solids and kinematic bodies).
 pub fn shown_stress<D: Dim>(sim: &Simulation<D>) -> Vec<D::Sym> {
-    let mut out = sim.particles().stress.clone();
-    for (i, body) in sim.bodies().iter().enumerate() {
-        let granular =
-            sim.scene().bodies.get(i).map(|b| b.material.behaviour()) == Some(Behaviour::Granular);
-        if granular && !body.kinematic && !body.range.is_empty() {
+    let p = sim.particles();
+    let mut out = p.stress.clone();
+    for (b, body) in sim.bodies().iter().enumerate() {
+        if recovered(sim, b) {
             let r = body.range();
             let lp = body.radius * sim.world.inv_h;
-            with_kernel!(sim.world.kernel, K, S => recover::<D, K, S>(
-                &sim.particles().x[r.clone()],
-                &sim.particles().volume[r.clone()],
-                &sim.particles().stress[r.clone()],
-                sim.world.inv_h,
-                lp,
-                &mut out[r],
-            ));
+            let (x, v, s) = (&p.x[r.clone()], &p.volume[r.clone()], &p.stress[r.clone()]);
+            with_kernel!(sim.world.kernel, K, S => {
+                let mut nodes = Nodes::<D, S>::around::<K>(x, sim.world.inv_h, lp);
+                nodes.project::<K>(x, v, s, sim.world.inv_h, lp);
+                for (o, x) in out[r].iter_mut().zip(x) {
+                    *o = nodes.interpolate::<K>(x, sim.world.inv_h, lp);
+                }
+            });
         }
     }
     out
 }
 
-/// The recovered stress of one particle (see [`shown_stress`]).
+/// The stress of particle `index` as shown (an entry of [`shown_stress`]), from the nodes of
+/// its own stencil alone: one pass over its body's particles.
 pub fn shown_stress_of<D: Dim>(sim: &Simulation<D>, index: usize) -> D::Sym {
-    // The projection needs the particle's neighbours; one recovery of its body is cheap
-    // beside a frame's steps.
-    shown_stress(sim)[index]
+    let p = sim.particles();
+    let Some(b) = sim.bodies().iter().position(|b| b.range().contains(&index)) else {
+        return p.stress[index];
+    };
+    if !recovered(sim, b) {
+        return p.stress[index];
+    }
+    let body = &sim.bodies()[b];
+    let r = body.range();
+    let lp = body.radius * sim.world.inv_h;
+    let (x, v, s) = (&p.x[r.clone()], &p.volume[r.clone()], &p.stress[r]);
+    with_kernel!(sim.world.kernel, K, S => {
+        let at = std::slice::from_ref(&p.x[index]);
+        let mut nodes = Nodes::<D, S>::around::<K>(at, sim.world.inv_h, lp);
+        nodes.project::<K>(x, v, s, sim.world.inv_h, lp);
+        nodes.interpolate::<K>(&p.x[index], sim.world.inv_h, lp)
+    })
+}
+
+/// Whether body `b`'s stress is shown recovered: a granular body that carries stress.
+fn recovered<D: Dim>(sim: &Simulation<D>, b: usize) -> bool {
+    let body = &sim.bodies()[b];
+    !body.kinematic
+        && !body.range.is_empty()
+        && sim.scene().bodies.get(b).map(|c| c.material.behaviour()) == Some(Behaviour::Granular)
 }
 
 /// Per axis: the stencil's first node and weights of a particle at `x` (m).
@@ -70,63 +92,90 @@ fn axes<D: Dim, K: Kernel<S>, const S: usize>(
     })
 }
 
-/// The nodes of the stencil at `ax` in the box starting at `lo` with `stride`, and their
-/// weights.
-fn stencil<const S: usize>(
-    ax: &[(i32, [Real; S]); 3],
-    dim: usize,
+/// A dense box of nodes: per node Σ_p w_ip V_p σ_p and Σ_p w_ip V_p, then their ratio σ_i.
+struct Nodes<D: Dim, const S: usize> {
     lo: [i32; 3],
-    stride: [usize; 3],
-    mut f: impl FnMut(usize, Real),
-) {
-    let reach = |a: usize| if a < dim { S } else { 1 };
-    for k in 0..reach(2) {
-        for j in 0..reach(1) {
-            for i in 0..reach(0) {
-                let w = ax[0].1[i] * ax[1].1[j] * ax[2].1[k];
-                let n = (ax[0].0 + i as i32 - lo[0]) as usize * stride[0]
-                    + (ax[1].0 + j as i32 - lo[1]) as usize * stride[1]
-                    + (ax[2].0 + k as i32 - lo[2]) as usize * stride[2];
-                f(n, w);
+    size: [usize; 3],
+    nodes: Vec<(D::Sym, Real)>,
+}
+
+impl<D: Dim, const S: usize> Nodes<D, S> {
+    /// The box of every node the stencils of particles at `x` reach.
+    fn around<K: Kernel<S>>(x: &[D::Vector], inv_h: Real, lp: Real) -> Self {
+        let (mut lo, mut hi) = ([0; 3], [0; 3]);
+        for a in 0..D::DIM {
+            (lo[a], hi[a]) = (i32::MAX, i32::MIN);
+        }
+        for p in x {
+            for (a, (base, _)) in axes::<D, K, S>(p, inv_h, lp).iter().enumerate().take(D::DIM) {
+                lo[a] = lo[a].min(*base);
+                hi[a] = hi[a].max(*base + S as i32 - 1);
+            }
+        }
+        let size: [usize; 3] = std::array::from_fn(|a| (hi[a] - lo[a] + 1).max(1) as usize);
+        Nodes {
+            lo,
+            size,
+            nodes: vec![(D::Sym::default(), 0.0); size.iter().product()],
+        }
+    }
+
+    /// Calls `f` with the index in the box and the weight of each node of the stencil at
+    /// `x` that lies in the box.
+    #[inline(always)]
+    fn each<K: Kernel<S>>(&self, x: &D::Vector, inv_h: Real, lp: Real, mut f: impl FnMut(usize, Real)) {
+        let ax = axes::<D, K, S>(x, inv_h, lp);
+        let reach = |a: usize| if a < D::DIM { S } else { 1 };
+        // the stencil's offset in the box along each axis; a stencil wholly outside is skipped
+        let off: [i32; 3] = std::array::from_fn(|a| ax[a].0 - self.lo[a]);
+        if (0..D::DIM).any(|a| off[a] + S as i32 <= 0 || off[a] >= self.size[a] as i32) {
+            return;
+        }
+        let inside = |a: usize, k: usize| {
+            let n = off[a] + k as i32;
+            (n >= 0 && n < self.size[a] as i32).then_some(n as usize)
+        };
+        for k in 0..reach(2) {
+            let Some(nz) = inside(2, k) else { continue };
+            for j in 0..reach(1) {
+                let Some(ny) = inside(1, j) else { continue };
+                for i in 0..reach(0) {
+                    let Some(nx) = inside(0, i) else { continue };
+                    let w = ax[0].1[i] * ax[1].1[j] * ax[2].1[k];
+                    f(nx + self.size[0] * (ny + self.size[1] * nz), w);
+                }
             }
         }
     }
-}
 
-fn recover<D: Dim, K: Kernel<S>, const S: usize>(
-    x: &[D::Vector],
-    volume: &[Real],
-    stress: &[D::Sym],
-    inv_h: Real,
-    lp: Real,
-    out: &mut [D::Sym],
-) {
-    let (mut lo, mut hi) = ([i32::MAX; 3], [i32::MIN; 3]);
-    for p in x {
-        for (a, (base, _)) in axes::<D, K, S>(p, inv_h, lp).iter().enumerate() {
-            lo[a] = lo[a].min(*base);
-            hi[a] = hi[a].max(*base + S as i32 - 1);
+    /// σ_i = Σ_p w_ip V_p σ_p / Σ_p w_ip V_p over the particles at `x`.
+    fn project<K: Kernel<S>>(
+        &mut self,
+        x: &[D::Vector],
+        volume: &[Real],
+        stress: &[D::Sym],
+        inv_h: Real,
+        lp: Real,
+    ) {
+        let mut nodes = std::mem::take(&mut self.nodes);
+        for ((p, &v), &s) in x.iter().zip(volume).zip(stress) {
+            self.each::<K>(p, inv_h, lp, |n, w| {
+                nodes[n].0 += s * (w * v);
+                nodes[n].1 += w * v;
+            });
         }
-    }
-    let size: [usize; 3] = std::array::from_fn(|a| (hi[a] - lo[a] + 1).max(1) as usize);
-    let stride = [1, size[0], size[0] * size[1]];
-    let mut nodes = vec![(D::Sym::default(), 0.0 as Real); size.iter().product()];
-    for ((p, &v), &s) in x.iter().zip(volume).zip(stress) {
-        let ax = axes::<D, K, S>(p, inv_h, lp);
-        stencil(&ax, D::DIM, lo, stride, |n, w| {
-            nodes[n].0 += s * (w * v);
-            nodes[n].1 += w * v;
-        });
-    }
-    for node in &mut nodes {
-        if node.1 > 0.0 {
-            node.0 = node.0 * (1.0 / node.1);
+        for node in &mut nodes {
+            if node.1 > 0.0 {
+                node.0 = node.0 * (1.0 / node.1);
+            }
         }
+        self.nodes = nodes;
     }
-    for (p, o) in x.iter().zip(out) {
-        let ax = axes::<D, K, S>(p, inv_h, lp);
+
+    /// σ̄_p = Σ_i w_ip σ_i at `x`.
+    fn interpolate<K: Kernel<S>>(&self, x: &D::Vector, inv_h: Real, lp: Real) -> D::Sym {
         let mut s = D::Sym::default();
-        stencil(&ax, D::DIM, lo, stride, |n, w| s += nodes[n].0 * w);
-        *o = s;
+        self.each::<K>(x, inv_h, lp, |n, w| s += self.nodes[n].0 * w);
+        s
     }
 }
