@@ -2,8 +2,9 @@
 //! shipped 2D column collapse after 1.5 s (particles within 3 cm of its axis) and a layer
 //! 0.12 m deep across the same box, band by band of depth against ρ g z (1 + 2K0)/3.
 //!
-//! `nice cargo run --release --example resting_pressure -- [seconds] [cell_average] [heap|layer]`
-//! (`heap` or `layer` runs that case alone)
+//! `nice cargo run --release --example resting_pressure -- [seconds] [cell_average] [pic] [heap|layer]`
+//! (`heap` or `layer` runs that case alone; `pic` transfers with the paper's PIC/FLIP blend
+//! instead of APIC)
 
 #[path = "../tests/support/resting.rs"]
 mod resting;
@@ -12,13 +13,16 @@ use mpm::math::SymTensor;
 use mpm::{D2, Material, SceneConfig, Shape, Simulation};
 use resting::*;
 
-fn scene(layer: bool, cell_average: bool) -> SceneConfig {
+fn scene(layer: bool, cell_average: bool, pic: bool) -> SceneConfig {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/scenes/column_collapse_2d.json"
     );
     let mut scene = SceneConfig::load(std::path::Path::new(path)).expect("the shipped scene");
     let body = &mut scene.bodies[0];
+    if pic {
+        body.apic = Some(false);
+    }
     if layer {
         body.shape = Shape::cuboid(&[0.0, 0.0], &[1.0, 0.12]);
     }
@@ -43,7 +47,7 @@ fn main() -> Result<(), String> {
         })
         .collect();
     for layer in cases {
-        let scene = scene(layer, cell_average);
+        let scene = scene(layer, cell_average, args.iter().any(|a| a == "pic"));
         let h = scene.cell_size;
         let (rho, phi) = match &scene.bodies[0].material {
             Material::DruckerPrager(m) => (m.density, m.friction_angle),
@@ -133,7 +137,10 @@ fn main() -> Result<(), String> {
             let virial = (0..n)
                 .map(|i| p.volume[i] as f64 * p.stress[i].components()[1] as f64)
                 .sum::<f64>()
-                / (-g * (0..n).map(|i| p.mass[i] as f64 * p.x[i][1] as f64).sum::<f64>());
+                / (-g
+                    * (0..n)
+                        .map(|i| p.mass[i] as f64 * p.x[i][1] as f64)
+                        .sum::<f64>());
             let xy: Vec<(f64, f64)> = p.x.iter().map(|x| (x[0] as f64, x[1] as f64)).collect();
             let shown = mpm::recovery::shown_stress(&sim);
             let field = |f: &dyn Fn(&[mpm::Real]) -> f64, k0: f64| {
