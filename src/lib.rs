@@ -40,6 +40,7 @@ pub mod measure;
 pub mod params;
 pub mod playground;
 pub mod recipe;
+pub mod recovery;
 pub mod sim;
 pub mod step;
 #[cfg(target_arch = "wasm32")]

@@ -1,7 +1,7 @@
 //! The particles of a simulation of either dimension, as plain arrays with three components
 //! per vector (the third is zero in 2D).
 
-use crate::math::Dim;
+use crate::math::{Dim, SymTensor};
 use crate::sim::{AnySimulation, Simulation};
 
 /// Particle state copied out of a simulation.
@@ -17,7 +17,8 @@ pub struct Snapshot {
     pub body: Vec<u32>,
     /// Accumulated equivalent plastic strain.
     pub plastic_strain: Vec<f32>,
-    /// Pressure −tr(σ)/3 (Pa).
+    /// Pressure −tr(σ)/3 (Pa): for sand, of the stress recovered on the grid
+    /// ([`crate::recovery`]).
     pub pressure: Vec<f32>,
     /// Volume (m³; m² in 2D).
     pub volume: Vec<f32>,
@@ -56,7 +57,10 @@ impl Snapshot {
             velocity: p.v.iter().map(|&v| v3(v)).collect(),
             body,
             plastic_strain: p.plastic_strain.iter().map(|&e| e as f32).collect(),
-            pressure: (0..n).map(|i| p.pressure(i) as f32).collect(),
+            pressure: crate::recovery::shown_stress(sim)
+                .iter()
+                .map(|s| -s.trace() as f32 / 3.0)
+                .collect(),
             volume: p.volume.iter().map(|&v| v as f32).collect(),
             body_names: scene.bodies.iter().map(|b| b.name.clone()).collect(),
         }

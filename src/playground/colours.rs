@@ -1,9 +1,10 @@
-//! The per-particle colour scalar of the views: body, speed, pressure, plastic strain, yield
-//! state or sleeping, with the range a colour map should span.
+//! The per-particle colour scalar of the views: body, speed, pressure (sand's as recovered on
+//! the grid, [`crate::recovery`]), plastic strain, yield state or sleeping, with the range a
+//! colour map should span.
 
 use crate::error::{Result, not_one_of};
 use crate::material::pq;
-use crate::math::{Dim, Real};
+use crate::math::{Dim, Real, SymTensor};
 use crate::sim::Simulation;
 
 /// What a particle's colour scalar shows.
@@ -111,9 +112,12 @@ fn fill<D: Dim>(
         ColourMode::Speed => out.iter_mut().enumerate().for_each(|(i, c)| {
             *c = p.speed(i) as f32;
         }),
-        ColourMode::Pressure => out.iter_mut().enumerate().for_each(|(i, c)| {
-            *c = p.pressure(i) as f32;
-        }),
+        // sand's as recovered on the grid (crate::recovery)
+        ColourMode::Pressure => {
+            for (c, s) in out.iter_mut().zip(crate::recovery::shown_stress(s)) {
+                *c = -s.trace() as f32 / 3.0;
+            }
+        }
         ColourMode::PlasticStrain => {
             for (c, &e) in out.iter_mut().zip(&p.plastic_strain) {
                 *c = e as f32;

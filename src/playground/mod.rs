@@ -977,7 +977,9 @@ fn stress_point<D: Dim>(s: &Simulation<D>, i: usize) -> StressPoint {
         .position(|b| b.range().contains(&i))
         .unwrap_or(0);
     let material = &s.scene().bodies[body].material;
-    let (pressure, q) = pq(p.stress[i]);
+    // sand's stress as recovered on the grid (crate::recovery), what its nodes carry
+    let stress = crate::recovery::shown_stress_of(s, i);
+    let (pressure, q) = pq(stress);
     StressPoint {
         index: i,
         id: p.id[i],
@@ -989,7 +991,7 @@ fn stress_point<D: Dim>(s: &Simulation<D>, i: usize) -> StressPoint {
         position: xyz::<D>(p.x[i]),
         surface: material.pq_surface(p.plastic_strain[i] as f64),
         principal: principal_stresses(
-            &p.stress[i]
+            &stress
                 .components()
                 .iter()
                 .map(|&c| c as f64)
