@@ -221,3 +221,8 @@ pub fn axi_table(study: &str, runs: Vec<(&str, f64, Numerics)>) -> String {
         &rows,
     )
 }
+
+/// A band's verdict as the reports print it.
+pub fn holds(ok: bool) -> String {
+    if ok { "holds" } else { "**does not hold**" }.to_string()
+}
