@@ -768,6 +768,14 @@ pub const FLANK_BAND: [f64; 2] = [-6.0, 1.0];
 /// slope comes to rest only slightly under the angle of repose (Siavoshi & Kudrolli 2005).
 pub const REST_BAND: [f64; 2] = [-5.0, 1.0];
 
+/// Whether a plane collapse of aspect ratio `a` is held to [`FLANK_BAND`]: a low column,
+/// whose top the failure does not reach (H∞ = H0 for a ≲ 1.15, Lube et al. 2005), rests as a
+/// plateau with flanks; a taller one leaves a concave cone whose 20–80 % slope lies well under
+/// the angle of repose.
+pub fn flank_band_applies(a: f64) -> bool {
+    a < 1.15
+}
+
 /// Whether `x` lies in `band` (inclusive).
 pub fn within(x: f64, band: [f64; 2]) -> bool {
     x >= band[0] && x <= band[1]
