@@ -87,7 +87,7 @@ fn sand() {
                 start.elapsed().as_secs_f64()
             );
             figures.push(format!(
-                "sand({h}, {ppc}, {runout:.3}, {farthest:.3}, {:.1})",
+                "sand({h}, {ppc}, {runout:.4}, {farthest:.4}, {:.1})",
                 c.flank
             ));
         }
