@@ -397,6 +397,8 @@ fn column_reference(file: &str) -> Collapse {
                 aspect_ratio: v[0],
                 runout: v[1],
                 runout_edge: v[7],
+                runout_thin: f64::NAN,
+                flank: f64::NAN,
                 height: v[2],
                 spread: 0.0,
                 settled_at: v[3],

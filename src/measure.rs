@@ -15,6 +15,8 @@
 //!   of the particles at the start (each reaching half a spacing beyond its centre); the
 //!   deposit's front along a ray ends at the first gap wider than two spacings
 //!   ([`deposit_front`]); the run-out is how far the front lies beyond the footprint.
+//!   Read where the deposit is one grain thick ([`runout_at_thickness`], [`GRAIN`]), it is
+//!   the run-out the experiments report and a grid's thin tail does not move it.
 //! * **By hand** ([`length`], [`inclination`], [`angle_at`]): what a ruler and a protractor
 //!   read between dragged points.
 
@@ -158,6 +160,54 @@ pub fn deposit_front(mut d: Vec<f64>, s: f64, from: f64) -> f64 {
         end = w[1];
     }
     end + 0.5 * s
+}
+
+/// The thickness at which a deposit's run-out is read: one grain, 2 mm (the aluminium rods of
+/// Bui et al. 2008, and the coarse sand of the laboratory collapses), used for every case.
+pub const GRAIN: f64 = 0.002;
+
+/// Where a deposit thins to `thickness` along a ray: `points` are the particles as
+/// `(d, y)`, their distance from the column's axis (or back wall, or a 3D heap's axis) and
+/// their height above the floor (spacing `s`). The surface is that of [`heap`] in columns
+/// of width `bin` from d = 0 (the highest particle plus half a spacing; an empty column is
+/// 0 thick); stepping out from the column holding `from` (the footprint's edge), the
+/// run-out is where the surface first drops below `thickness`, interpolated linearly between
+/// the centres of the last column at least that thick and the first thinner one, and never
+/// beyond the last particle before a gap ([`deposit_front`]). A deposit thinner than
+/// `thickness` at `from` ends there. On a grid whose particle rows are thicker than
+/// `thickness`, this reads the last column holding a particle.
+pub fn runout_at_thickness(
+    points: &[(f64, f64)],
+    s: f64,
+    bin: f64,
+    from: f64,
+    thickness: f64,
+) -> f64 {
+    let front = deposit_front(
+        points.iter().map(|p| p.0).filter(|&d| d >= 0.0).collect(),
+        s,
+        from,
+    );
+    let nbins = ((front / bin).ceil() as usize + 2).max(1);
+    let mut top = vec![0.0f64; nbins];
+    for &(d, y) in points {
+        if d >= 0.0 && d < front {
+            let b = ((d / bin) as usize).min(nbins - 1);
+            top[b] = top[b].max(y + 0.5 * s);
+        }
+    }
+    let centre = |b: usize| (b as f64 + 0.5) * bin;
+    let first = ((from.max(0.0) / bin) as usize).min(nbins - 1);
+    if top[first] < thickness {
+        return from;
+    }
+    let end = (first + 1..nbins)
+        .find(|&b| top[b] < thickness)
+        .map_or(front, |b| {
+            let (a, z) = (top[b - 1], top[b]);
+            centre(b - 1) + (a - thickness) / (a - z) * bin
+        });
+    end.min(front)
 }
 
 /// The edge of a deposit along a ray: `d` holds the distances of the particles from the axis
@@ -688,6 +738,44 @@ mod tests {
             x += s;
         }
         p
+    }
+
+    /// A plane wedge H (1 − x/L) thins to a grain's thickness t at L (1 − t/H): read within
+    /// the surface's resolution (half a spacing of height is s L / (2H) along the floor).
+    #[test]
+    fn runout_at_a_thickness_on_a_wedge() {
+        let (big_h, big_l) = (0.1, 0.3);
+        for (s, bin) in [(0.00125, 0.0025), (0.0025, 0.005)] {
+            let wedge = fill(s, 0.0, big_l, |x| big_h * (1.0 - x / big_l));
+            for t in [GRAIN, 0.01, 0.03] {
+                let x = runout_at_thickness(&wedge, s, bin, 0.05, t);
+                let exact = big_l * (1.0 - t / big_h);
+                assert!(
+                    (x - exact).abs() <= s * big_l / big_h,
+                    "s = {s}, t = {t}: {x:.4} m against {exact:.4} m"
+                );
+            }
+        }
+    }
+
+    /// A blunt deposit ends at its last particle, not where the surface line would reach the
+    /// floor; a thin tail of particle rows thicker than the thickness reads to its last
+    /// column; grains beyond a gap are not the deposit; a deposit already thinner than the
+    /// thickness at `from` ends there.
+    #[test]
+    fn runout_at_a_thickness_ends_at_the_deposit() {
+        let s = 0.005;
+        let block = fill(s, 0.0, 0.2, |_| 0.02);
+        let x = runout_at_thickness(&block, s, 0.01, 0.1, GRAIN);
+        assert!((x - 0.2).abs() < 1e-9, "block: {x}");
+        // one row of 5 mm particles out to 0.3 m, then a lone grain at 0.4 m
+        let mut tail = fill(s, 0.0, 0.2, |_| 0.05);
+        tail.extend(fill(s, 0.2, 0.3, |_| s));
+        tail.push((0.4, 0.5 * s));
+        let x = runout_at_thickness(&tail, s, 0.01, 0.1, GRAIN);
+        assert!((x - 0.3).abs() < 1e-9, "tail: {x}");
+        let thin = fill(s, 0.0, 0.2, |_| s);
+        assert_eq!(runout_at_thickness(&thin, s, 0.01, 0.1, 0.01), 0.1);
     }
 
     #[test]

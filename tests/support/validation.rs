@@ -664,6 +664,12 @@ pub struct Collapse {
     pub aspect_ratio: f64,
     pub runout: f64,
     pub runout_edge: f64,
+    /// (L − L0)/L0 (or (R − R0)/R0) with L where the deposit is one grain ([`GRAIN`]) thick
+    /// ([`runout_at_thickness`]): the run-out the bands hold.
+    pub runout_thin: f64,
+    /// The flank: least-squares slope (degrees) of the surface between 20 % and 80 % of the
+    /// deposit's height, the mean of the two sides (plane) or of the radial profile (3D).
+    pub flank: f64,
     pub height: f64,
     /// Axisymmetric runs: the largest minus the smallest front over the azimuthal sectors,
     /// over R0 (how far the deposit is from round); 0 for plane runs.
@@ -750,6 +756,49 @@ pub fn deposit_front(d: Vec<f64>, s: f64, from: f64) -> f64 {
     mpm::measure::deposit_front(d, s, from)
 }
 
+pub use mpm::measure::{GRAIN, runout_at_thickness};
+
+/// The band of a run-out read at one grain's thickness, relative to the published law
+/// (Lube et al. 2005 for plane columns, 2004 for axisymmetric ones): −20 % to +25 %.
+pub const RUNOUT_BAND: [f64; 2] = [-0.2, 0.25];
+/// The band of a collapse deposit's flank against φ_ps (degrees): real deposits of low
+/// columns are concave and rest under the angle of repose.
+pub const FLANK_BAND: [f64; 2] = [-6.0, 1.0];
+/// The band of a failed slope's or a heap's resting angle against φ_ps (degrees): a failed
+/// slope comes to rest only slightly under the angle of repose (Siavoshi & Kudrolli 2005).
+pub const REST_BAND: [f64; 2] = [-5.0, 1.0];
+
+/// Whether a plane collapse of aspect ratio `a` is held to [`FLANK_BAND`]: a low column,
+/// whose top the failure does not reach (H∞ = H0 for a ≲ 1.15, Lube et al. 2005), rests as a
+/// plateau with flanks; a taller one leaves a concave cone whose 20–80 % slope lies well under
+/// the angle of repose.
+pub fn flank_band_applies(a: f64) -> bool {
+    a < 1.15
+}
+
+/// Whether `x` lies in `band` (inclusive).
+pub fn within(x: f64, band: [f64; 2]) -> bool {
+    x >= band[0] && x <= band[1]
+}
+
+/// The run-out's relative error against Lube et al. (2005)'s plane law, or against the range
+/// its two regimes span at a = 2 (0 inside it).
+pub fn plane_runout_error(runout: f64, a: f64) -> f64 {
+    let [low, high] = mpm::laws::lube_runout_range(a);
+    if runout < low {
+        runout / low - 1.0
+    } else if runout > high {
+        runout / high - 1.0
+    } else {
+        0.0
+    }
+}
+
+/// The farthest particle's sanity bound: (L − L0)/L0 at most 2a.
+pub fn farthest_is_sane(runout: f64, a: f64) -> bool {
+    runout <= 2.0 * a
+}
+
 /// Width of the window over which the deposit's thickness is averaged for its edge (m; at
 /// least two particle spacings): one hole in a thin tail would otherwise end the deposit.
 pub const EDGE_WINDOW: f64 = 0.01;
@@ -816,6 +865,14 @@ pub fn column_collapse(file: &str, n: &Numerics, t_max: f64) -> Collapse {
         )
     };
     let l_edge = 0.5 * (edge(1.0) + edge(-1.0));
+    let h = sim.cell_size();
+    let sides = [1.0, -1.0].map(|sign: f64| {
+        let pts: Vec<(f64, f64)> = (0..p.len())
+            .map(|i| (sign * (p.x[i][0] as f64 - xc), p.x[i][1] as f64))
+            .filter(|q| q.0 >= 0.0)
+            .collect();
+        measure_deposit(&pts, s, h, l0, h0)
+    });
     let h_inf = (0..p.len())
         .filter(|&i| (p.x[i][0] as f64 - xc).abs() < l0)
         .map(|i| p.x[i][1] as f64)
@@ -825,6 +882,8 @@ pub fn column_collapse(file: &str, n: &Numerics, t_max: f64) -> Collapse {
         aspect_ratio: h0 / l0,
         runout: (l_inf - l0) / l0,
         runout_edge: (l_edge - l0) / l0,
+        runout_thin: 0.5 * (sides[0].runout_thin + sides[1].runout_thin),
+        flank: 0.5 * (sides[0].flank() + sides[1].flank()),
         height: h_inf / h0,
         spread: 0.0,
         settled_at,
@@ -901,6 +960,13 @@ pub fn axisymmetric_collapse(file: &str, n: &Numerics, t_max: f64) -> Collapse {
         .map(|d| deposit_front(d, s, r0))
         .collect();
     let r_inf = fronts.iter().sum::<f64>() / SECTORS as f64;
+    let points: Vec<[f64; 3]> = (0..p.len())
+        .map(|i| [0, 1, 2].map(|a| p.x[i][a] as f64))
+        .collect();
+    let profile = mpm::measure::radial_profile(&points, [xc, zc]);
+    let r_thin = runout_at_thickness(&profile, s, sim.cell_size(), r0, GRAIN);
+    let flank = mpm::measure::radial_heap(&points, s, sim.cell_size(), [xc, zc]).flanks[1]
+        .map_or(f64::NAN, |f| f.angle);
     let (min, max) = fronts
         .iter()
         .fold((f64::INFINITY, 0.0f64), |(a, b), &f| (a.min(f), b.max(f)));
@@ -908,6 +974,8 @@ pub fn axisymmetric_collapse(file: &str, n: &Numerics, t_max: f64) -> Collapse {
         aspect_ratio: h0 / r0,
         runout: (r_inf - r0) / r0,
         runout_edge: (r_edge - r0) / r0,
+        runout_thin: (r_thin - r0) / r0,
+        flank,
         height: h_inf / h0,
         spread: (max - min) / r0,
         settled_at,
@@ -1420,6 +1488,9 @@ pub struct Deposit {
     /// (L − L0)/L0 with L the edge of the continuous deposit ([`deposit_edge`]: thinner
     /// than [`EDGE_THICKNESS`] of H0).
     pub runout_edge: f64,
+    /// (L − L0)/L0 with L where the deposit is one grain ([`GRAIN`]) thick
+    /// ([`runout_at_thickness`]).
+    pub runout_thin: f64,
     /// The flank: least-squares slope (degrees) of the surface between 20 % and 80 % of the
     /// deposit's height ([`flank_angles`]); one per side (one side against a back wall).
     pub flanks: Vec<f64>,
@@ -1449,6 +1520,7 @@ pub fn measure_deposit(pts: &[(f64, f64)], s: f64, h: f64, l0: f64, h0: f64) -> 
     let d: Vec<f64> = pts.iter().map(|p| p.0).collect();
     let front = deposit_front(d.clone(), s, 0.0);
     let edge = deposit_edge(d, s, s * s, |r0, r1| r1 - r0, EDGE_THICKNESS * h0);
+    let thin = runout_at_thickness(pts, s, h, l0, GRAIN);
     // the surface in columns of width h from the axis out; the flank falls away from it
     let width = front + 2.0 * h;
     let heap = mpm::measure::heap(pts, s, h, 0.0, width);
@@ -1483,6 +1555,7 @@ pub fn measure_deposit(pts: &[(f64, f64)], s: f64, h: f64, l0: f64, h0: f64) -> 
     Deposit {
         runout: (front - l0) / l0,
         runout_edge: (edge - l0) / l0,
+        runout_thin: (thin - l0) / l0,
         flanks: vec![flank],
         foot: (foot - l0) / l0,
         toe: ((front - foot) / l0).max(0.0),
@@ -1517,12 +1590,16 @@ pub fn low_column_scene(phi: f64, n: &Numerics) -> SceneConfig {
     scene
 }
 
+/// The floor friction of Bui et al. (2008)'s set-up (the walls share it: one friction for
+/// every wall).
+pub const BUI_FLOOR: f64 = 0.5;
+
 /// Bui, Fukagawa, Sako & Ohno (2008)'s set-up: aluminium rods 0.2 m wide and 0.1 m high
 /// against the left wall, φ = 19.8°, ψ = 0, c = 0, E = 0.84 MPa, ν = 0.3, ρ = 2650 kg/m³, on a
-/// floor (and wall) of friction [`ROUGH_FLOOR`], under the numerics `n`.
+/// floor (and wall) of friction [`BUI_FLOOR`], under the numerics `n`.
 pub fn bui_scene(n: &Numerics) -> SceneConfig {
     let mut scene = SceneConfig::new(2, &[0.8, 0.2], n.cell_size);
-    scene.boundary.friction = ROUGH_FLOOR;
+    scene.boundary.friction = BUI_FLOOR;
     scene.bodies.push(mpm::BodyConfig::new(
         "aluminium rods",
         mpm::Shape::polygon(&[[0.0, 0.0], [0.2, 0.0], [0.2, 0.1], [0.0, 0.1]]),
@@ -1599,6 +1676,7 @@ impl PlaneColumn {
         let deposit = Deposit {
             runout: mean(|d| d.runout),
             runout_edge: mean(|d| d.runout_edge),
+            runout_thin: mean(|d| d.runout_thin),
             flanks: deposits.iter().map(|d| d.flanks[0]).collect(),
             foot: mean(|d| d.foot),
             toe: mean(|d| d.toe),
@@ -1625,6 +1703,141 @@ pub fn plane_deposit(scene: SceneConfig, walled: bool, t_max: f64) -> LowColumn 
     let start = Instant::now();
     let failure = run_until_rest(&mut c.sim, c.h0, c.g, t_max);
     c.measure(start, failure)
+}
+
+/// The points `(x, y)` (m) of a digitised curve of `tests/data/` (lines starting with `#` and
+/// the header `x,y` skipped).
+pub fn digitised(file: &str) -> Vec<(f64, f64)> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests")
+        .join("data")
+        .join(file);
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path:?}: {e}"));
+    text.lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with('x') && !l.trim().is_empty())
+        .map(|l| {
+            let (x, y) = l.split_once(',').expect("x,y");
+            (x.trim().parse().unwrap(), y.trim().parse().unwrap())
+        })
+        .collect()
+}
+
+/// Where a surface given as points `(x, y)` ordered in x first drops below `thickness`,
+/// interpolated linearly between its points.
+pub fn polyline_runout(surface: &[(f64, f64)], thickness: f64) -> f64 {
+    surface
+        .windows(2)
+        .find(|w| w[0].1 >= thickness && w[1].1 < thickness)
+        .map_or(f64::NAN, |w| {
+            w[0].0 + (w[0].1 - thickness) / (w[0].1 - w[1].1) * (w[1].0 - w[0].0)
+        })
+}
+
+/// The angle (degrees) of a failure line through points `(x, y)`: x fitted on y by least
+/// squares (the line is steep), as the angle to the floor.
+pub fn failure_line_angle(points: &[(f64, f64)]) -> f64 {
+    let (ys, xs): (Vec<f64>, Vec<f64>) = points.iter().map(|p| (p.1, p.0)).unzip();
+    (1.0 / slope(&ys, &xs).abs()).atan().to_degrees()
+}
+
+/// Bui et al. (2008)'s collapse against the experiment's final surface and failure line
+/// (`tests/data/bui2008_*.csv`): the deposit as [`plane_deposit`] measures it against the back
+/// wall, and the comparison.
+#[derive(Clone, Debug)]
+pub struct BuiComparison {
+    pub run: LowColumn,
+    /// RMS over the experiment's surface markers of the model's surface height minus theirs
+    /// (m); the model's surface is the highest particle plus half a spacing per cell-wide
+    /// column, linear between column centres, 0 where no particle lies.
+    pub rms: f64,
+    /// Where the model's and the experiment's deposits are one grain thick (m from the wall).
+    pub runout_thin: f64,
+    pub experiment_runout_thin: f64,
+    /// The model's farthest particle (m from the wall).
+    pub farthest: f64,
+    /// The model's flank and the experiment's (20–80 % least-squares slope, degrees).
+    pub flank: f64,
+    pub experiment_flank: f64,
+    /// The failure line's angle (degrees): the model's is fitted through, in each row of
+    /// particles one cell high between 10 % and 90 % of H0, the farthest particle from the
+    /// wall that moved less than one grain ([`GRAIN`]); the experiment's through its markers.
+    pub failure_angle: f64,
+    pub experiment_failure_angle: f64,
+}
+
+/// Runs [`bui_scene`] under `n` to rest (at most `t_max` s) and compares it with the
+/// experiment.
+pub fn bui_2008(n: &Numerics, t_max: f64) -> BuiComparison {
+    let mut c = PlaneColumn::new(bui_scene(n), true);
+    let x0 = rest_positions(&c.sim);
+    let start = Instant::now();
+    let failure = run_until_rest(&mut c.sim, c.h0, c.g, t_max);
+    let run = c.measure(start, failure);
+    let (s, h, h0) = (c.s, c.h, c.h0);
+    let p = c.sim.particles();
+    let pts: Vec<(f64, f64)> = (0..p.len())
+        .map(|i| (p.x[i][0] as f64, p.x[i][1] as f64))
+        .collect();
+    let surface = digitised("bui2008_surface.csv");
+    let line = digitised("bui2008_failure_line.csv");
+    // the model's surface, column by column
+    let width = 0.8;
+    let nbins = (width / h).round() as usize;
+    let mut top = vec![0.0f64; nbins];
+    for &(x, y) in &pts {
+        let b = ((x / h) as usize).min(nbins - 1);
+        top[b] = top[b].max(y + 0.5 * s);
+    }
+    let at = |x: f64| {
+        let u = (x / h - 0.5).clamp(0.0, (nbins - 1) as f64);
+        let b = (u.floor() as usize).min(nbins - 2);
+        let f = u - b as f64;
+        top[b] * (1.0 - f) + top[b + 1] * f
+    };
+    let rms = (surface
+        .iter()
+        .map(|&(x, y)| (at(x) - y).powi(2))
+        .sum::<f64>()
+        / surface.len() as f64)
+        .sqrt();
+    let fit = |pts: &[(f64, f64)]| {
+        let (xs, ys): (Vec<f64>, Vec<f64>) = pts
+            .iter()
+            .filter(|q| q.1 > mpm::measure::FIT_FROM * h0 && q.1 < mpm::measure::FIT_TO * h0)
+            .copied()
+            .unzip();
+        slope(&xs, &ys).abs().atan().to_degrees()
+    };
+    // the failure line: the farthest particle of each row that has not moved
+    let rows = (h0 / h).ceil() as usize;
+    let mut edge = vec![f64::NEG_INFINITY; rows];
+    for i in 0..p.len() {
+        let r = x0[p.id[i] as usize];
+        let (x, y) = (p.x[i][0] as f64, p.x[i][1] as f64);
+        if (x - r[0]).hypot(y - r[1]) < GRAIN {
+            let k = ((y / h) as usize).min(rows - 1);
+            edge[k] = edge[k].max(x + 0.5 * s);
+        }
+    }
+    let model_line: Vec<(f64, f64)> = edge
+        .iter()
+        .enumerate()
+        .map(|(k, &x)| (x, (k as f64 + 0.5) * h))
+        .filter(|q| q.0.is_finite() && q.1 > 0.1 * h0 && q.1 < 0.9 * h0)
+        .collect();
+    let thin = runout_at_thickness(&pts, s, h, c.l0, GRAIN);
+    let farthest = c.l0 * (1.0 + run.deposit.runout);
+    BuiComparison {
+        rms,
+        runout_thin: thin,
+        experiment_runout_thin: polyline_runout(&surface, GRAIN),
+        farthest,
+        flank: run.deposit.flank(),
+        experiment_flank: fit(&surface),
+        failure_angle: failure_line_angle(&model_line),
+        experiment_failure_angle: failure_line_angle(&line),
+        run,
+    }
 }
 
 /// The low column of [`low_column_scene`] run to rest.
