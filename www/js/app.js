@@ -100,6 +100,7 @@ export class App {
     }
     if (token !== this.loadToken) return; // a later choice overtook this one
     const out = await this.session.load(source, session, this.view.dim);
+    if (token !== this.loadToken) return; // a later choice is loading; it shows itself
     if (out.invalid) {
       toast(`The scene is invalid: ${out.invalid}`);
       this.view.scene = SANDBOX;
@@ -161,6 +162,8 @@ export class App {
     const model = (lv.params ?? []).map((n) => (bodyParam(n)?.name ?? n).split('.')).find((p) => p.length === 2)?.[0];
     if (lesson && model) this.view.material = model;
     this.restarted();
+    // A lesson that asks first waits for Play from its first frame.
+    if (lesson?.question) this.playing = false;
     this.session.timeScale(Number(this.view.time));
     this.session.sleeping(this.view.sleep !== '0');
     this.session.colour(this.view.colour);
@@ -341,6 +344,7 @@ export class App {
   /// What a new start forgets: the inspected particle, the plots, the failure banner.
   restarted() {
     this.setProbe(null);
+    document.getElementById('pq-note').textContent = '';
     this.stressPlot.clear();
     this.mohrPlot?.clear();
     this.energyPlot.restart();

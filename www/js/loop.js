@@ -51,7 +51,7 @@ function received(app, f) {
   if (f.stress?.gone) {
     app.probeId = null;
     note.textContent = 'The inspected particle is gone.';
-  } else if (f.stress && app.probeId !== null) {
+  } else if (f.stress && app.probeId !== null && f.stress.id === app.probeId) {
     const sp = f.stress;
     if (f.report.substeps > 0 || !app.stressPlot.point) app.stressPlot.push(sp);
     app.mohrPlot?.set(sp, app.domain.length);

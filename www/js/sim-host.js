@@ -47,6 +47,9 @@ export class SimHost {
     this.owed = 0; // simulated time owed to real time (s)
     this.pool = []; // free buffers
     this.seq = 0;
+    // Counts the starts (load, Clear, Reset, quality): every reply and frame carries it, so
+    // that the page can tell a frame of the simulation before a start from one after it.
+    this.generation = 0;
     this.flushMs = 0;
     this.pending = fresh();
   }
@@ -62,7 +65,7 @@ export class SimHost {
     if (id !== undefined) {
       const state = this.stateChanged && this.pg ? this.state() : undefined;
       this.stateChanged = false;
-      this.post({ type: 'reply', id, result, error, state });
+      this.post({ type: 'reply', id, result, error, state, generation: this.generation });
     }
     this.flush();
   }
@@ -238,7 +241,9 @@ export class SimHost {
 
   /// A new start (load, Clear, Reset, quality): the failure is forgotten.
   restarted() {
+    this.generation++;
     this.failed = '';
+    this.probe = null; // the page inspects again after a start
     this.pg.setColourMode(this.colour);
     if (this.pg.sleeping() !== this.sleeping) this.pg.setSleeping(this.sleeping);
     this.pending = fresh();
@@ -319,7 +324,7 @@ export class SimHost {
     this.bodies = pg.bodyCount();
     this.particles = count;
     const message = {
-      type: 'frame', seq: ++this.seq, positions, values, stride, count, range,
+      type: 'frame', seq: ++this.seq, generation: this.generation, positions, values, stride, count, range,
       time: pg.time(), stableDt: pg.stableDt(), report, stress, asleep: pg.asleep(),
       // each sand body's flank angles, run-out and the experiments' markers (mpm::measure)
       measures: JSON.parse(pg.measures()),

@@ -139,6 +139,95 @@ test('the Lessons menu opens a lesson; its sliders set one body and go in the li
   await again.page.close();
 });
 
+const SCENES = readdirSync('scenes').filter((f) => f.endsWith('.json')).sort()
+  .map((f) => ({ base: f.replace(/_[23]d\.json$/, ''), dim: JSON.parse(readFileSync(join('scenes', f), 'utf8')).dim }));
+
+/// What a lesson just opened shows: whether it was judged, its plots' and notes' sources.
+const lessonStart = (page) => page.evaluate(() => {
+  const q = mpm.lessonPanel;
+  return {
+    id: mpm.lesson?.id, playing: mpm.playing, time: mpm.simTime, answer: q.answer,
+    verdict: document.getElementById('lesson-verdict')?.textContent ?? null,
+    marked: document.querySelectorAll('#lesson-question [data-choice].answer, #lesson-question [aria-pressed=true]').length,
+    energyRef: mpm.energyPlot.ref?.time ?? null, energyTimes: mpm.energyPlot.samples.map((s) => s.time),
+    dissipated: mpm.energyPlot.samples.map((s) => s.dissipated),
+    probe: mpm.probeId, stressId: mpm.stressPlot.point?.id ?? null, mohrId: mpm.mohrPlot.point?.id ?? null,
+    note: document.getElementById('pq-note').textContent,
+    frameGeneration: mpm.frame?.generation ?? null, generation: mpm.session.generation,
+  };
+});
+
+/// Asserts that lesson `lesson` just opened after `what` starts afresh: unjudged (paused at
+/// its start, no choice marked, the prompt to predict) when it asks first; its energy plot from
+/// its own start (dissipation from zero); the stress path and note of its own particle or none.
+async function assertFreshLesson(page, lesson, what) {
+  // the lesson's first frame drawn, and a while after it (a frame of the scene before could
+  // only come now)
+  await page.waitForFunction(() => mpm.frame && mpm.frame.generation === mpm.session.generation, null, { timeout: 30_000 });
+  if (lesson.view.inspect) await page.waitForFunction(() => mpm.probeId !== null, null, { timeout: 10_000 });
+  await page.waitForTimeout(300);
+  const s = await lessonStart(page);
+  const at = `${lesson.id} after ${what}: ${JSON.stringify(s)}`;
+  assert.equal(s.id, lesson.id, at);
+  assert.ok(s.frameGeneration === null || s.frameGeneration === s.generation, `the frame shown is the lesson's: ${at}`);
+  if (lesson.question) {
+    assert.equal(s.answer, null, `not judged: ${at}`);
+    assert.equal(s.playing, false, `waits for Play: ${at}`);
+    assert.ok(s.time < 0.05, `at its start: ${at}`);
+    assert.equal(s.marked, 0, `no choice marked: ${at}`);
+    assert.match(s.verdict, /^Predict first/, at);
+  }
+  if (s.energyRef !== null) assert.ok(s.energyRef < 0.5, `the energy plot counts from the lesson's start: ${at}`);
+  assert.ok(s.energyTimes.every((t) => t >= 0 && t < 1), at);
+  assert.ok(s.dissipated.every((d) => d > -1e-6 * (1 + Math.abs(d))), `dissipation counts from zero: ${at}`);
+  if (lesson.view.inspect) {
+    for (const id of [s.stressId, s.mohrId]) assert.ok(id === null || id === s.probe, `its own particle's plots: ${at}`);
+    assert.ok(s.note === '' || s.note.startsWith(`particle #${s.probe} `), `its own particle's note: ${at}`);
+  } else {
+    assert.equal(s.probe, null, at);
+    assert.equal(s.stressId, null, `no stress path: ${at}`);
+    assert.equal(s.mohrId, null, `no Mohr circles: ${at}`);
+    assert.equal(s.note, '', `no p–q note: ${at}`);
+  }
+}
+
+test('a lesson opened from the menu after any shipped scene or lesson starts unjudged, with its own plots and notes', async () => {
+  const { page, errors } = await open('#scene=sandbox&dim=2');
+  // The column collapse judges itself at 1.5 s: the scene before it runs past that.
+  const order = [...LESSONS].sort((a, b) => (b.id === 'column_collapse') - (a.id === 'column_collapse'));
+  for (const scene of SCENES) {
+    const what = `${scene.base} (${scene.dim}D)`;
+    for (const [k, lesson] of order.entries()) {
+      const g = await page.evaluate((h) => { location.hash = h; return mpm.session.generation; }, `#scene=${scene.base}&dim=${scene.dim}`);
+      await page.waitForFunction((g) => mpm.session.generation > g && !mpm.lesson && mpm.frame?.generation === mpm.session.generation, g, { timeout: 30_000 });
+      await page.evaluate(() => { if (!mpm.playing) mpm.setPlaying(true); });
+      // an inspected particle of the scene, whose path and note must not carry over
+      await page.evaluate(async () => mpm.setProbe(await mpm.session.pick(mpm.domain.map((x) => x / 2))));
+      await page.waitForFunction((t) => mpm.simTime > t, k === 0 ? 1.6 : 0.2, { timeout: 120_000 });
+      await page.selectOption('#lessons', lesson.id);
+      await page.waitForFunction((id) => mpm.lesson?.id === id, lesson.id, { timeout: 30_000 });
+      await assertFreshLesson(page, lesson, what);
+    }
+  }
+  // Lesson after lesson, each run for a while first (a question's lesson with a choice made).
+  let previous = LESSONS[LESSONS.length - 1];
+  await page.selectOption('#lessons', previous.id);
+  await page.waitForFunction((id) => mpm.lesson?.id === id, previous.id, { timeout: 30_000 });
+  for (const lesson of LESSONS) {
+    if (previous.question) {
+      await page.click('#lesson-question [data-choice="0"]');
+      await page.click('#play');
+    }
+    await page.waitForFunction(() => mpm.simTime > 0.3, null, { timeout: 60_000 });
+    await page.selectOption('#lessons', lesson.id);
+    await page.waitForFunction((id) => mpm.lesson?.id === id && mpm.simTime < 0.3, lesson.id, { timeout: 30_000 });
+    await assertFreshLesson(page, lesson, `lesson ${previous.id}`);
+    previous = lesson;
+  }
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
 test('a lesson the solver refuses shows its message naming the field', async () => {
   const page = await browser.context.newPage();
   const errors = [];
