@@ -1,7 +1,7 @@
 // Time per step of a scene in the release wasm (www/pkg/, built by `cargo xtask build`) under
 // Node, the same steps as `cargo bench --bench playground` takes natively.
 //
-//   node www/bench/node-bench.mjs SCENE.json [STEPS]
+//   node www/bench/node-bench.mjs SCENE.json [STEPS]    (MPM_WASM=FILE: another mpm_bg.wasm)
 // prints `wasm scene=<path> particles=<n> steps=<k> median_ms_per_step=<x> mean_ms_per_step=<y>`.
 import { readFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
@@ -12,7 +12,8 @@ const [path = 'www/test-scenes/bench_3d.json', stepsArg = '200'] = process.argv.
 const steps = Number(stepsArg);
 
 const wasm = await import(new URL('www/pkg/mpm.js', `file://${root}`));
-wasm.initSync({ module: readFileSync(`${root}www/pkg/mpm_bg.wasm`) });
+// MPM_WASM: another build of the same module (a wasm-opt level against another).
+wasm.initSync({ module: readFileSync(process.env.MPM_WASM || `${root}www/pkg/mpm_bg.wasm`) });
 
 const text = readFileSync(`${root}${path}`, 'utf8');
 const dir = path.slice(0, path.lastIndexOf('/') + 1);

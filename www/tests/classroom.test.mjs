@@ -242,9 +242,10 @@ test('a lesson the solver refuses shows its message naming the field', async () 
   const msg = await page.textContent('#banners .banner.bad');
   assert.match(msg, /lessons\/pic_flip\.json: view\.params\[0\] = von_mises\.yield_stress: does not apply/, msg);
   assert.equal(await page.evaluate(() => mpm.lesson), null);
-  // The banner shows first; the sandbox loads after it and then writes the link.
-  await page.waitForFunction(() => /^#scene=sandbox/.test(location.hash), null, { timeout: 30_000 })
-    .catch(async () => assert.fail(`the sandbox instead: ${await page.evaluate(() => location.hash)}`));
+  assert.match(msg, /Showing the default scene/, msg);
+  // The banner shows first; the default scene loads after it and then writes the link.
+  await page.waitForFunction(() => /^#scene=bunny_on_sand_ball/.test(location.hash), null, { timeout: 30_000 })
+    .catch(async () => assert.fail(`the default scene instead: ${await page.evaluate(() => location.hash)}`));
   assert.deepEqual(errors, []);
   await page.close();
 });

@@ -2,8 +2,8 @@
 //!
 //! - `build`     — the browser playground: adds the wasm32 target if missing, installs
 //!   wasm-bindgen-cli at the version in Cargo.lock if that version is not on PATH, builds the
-//!   release wasm with simd128, runs `wasm-bindgen --target web` into `www/pkg/` and writes
-//!   the scene list `www/pkg/scenes.json` from the files in `scenes/`.
+//!   release wasm with simd128, runs `wasm-bindgen --target web` into `www/pkg/`, optimises
+//!   the wasm with binaryen's `wasm-opt` (when on PATH) and writes the scene list `www/pkg/scenes.json` from the files in `scenes/`.
 //!   It also writes the lesson list `www/pkg/lessons.json` from the files in `lessons/`.
 //! - `serve`     — `build`, then serves the repository root on http://127.0.0.1:8080.
 //! - `dist`      — `build`, then writes the page as a self-contained static folder,
@@ -439,6 +439,7 @@ fn build() -> Result<u64, String> {
             &wasm.to_string_lossy(),
         ],
     )?;
+    wasm_opt(&pkg.join("mpm_bg.wasm"))?;
     let scenes = write_scene_list()?;
     write_lesson_list()?;
     let size = std::fs::metadata(pkg.join("mpm_bg.wasm"))
@@ -449,6 +450,45 @@ fn build() -> Result<u64, String> {
         size as f64 / 1024.0
     );
     Ok(size)
+}
+
+/// The wasm-opt level of the page's wasm: of -O2, -O3, -O4 and -Os, the fastest in the browser
+/// benchmarks at no more than the unoptimised size (docs/performance.md, *Page weight*).
+const WASM_OPT_LEVEL: &str = "-O3";
+/// The wasm features the build uses (wasm-opt must neither reject nor add others): rustc's
+/// defaults for wasm32-unknown-unknown and simd128.
+const WASM_OPT_FEATURES: [&str; 7] = [
+    "--enable-simd",
+    "--enable-bulk-memory",
+    "--enable-sign-ext",
+    "--enable-mutable-globals",
+    "--enable-nontrapping-float-to-int",
+    "--enable-reference-types",
+    "--enable-multivalue",
+];
+
+/// Optimises `wasm` in place with binaryen's wasm-opt at [`WASM_OPT_LEVEL`]; without wasm-opt
+/// on PATH (Debian: the `binaryen` package) it says so and leaves the file as it is.
+fn wasm_opt(wasm: &Path) -> Result<(), String> {
+    if output("wasm-opt", &["--version"]).is_none() {
+        eprintln!(
+            "xtask: wasm-opt not found (Debian: apt-get install binaryen): mpm_bg.wasm left unoptimised"
+        );
+        return Ok(());
+    }
+    let before = std::fs::metadata(wasm).map(|m| m.len()).unwrap_or(0);
+    let path = wasm.to_string_lossy();
+    let mut args = vec![WASM_OPT_LEVEL];
+    args.extend(WASM_OPT_FEATURES);
+    args.extend([path.as_ref(), "-o", path.as_ref()]);
+    run("wasm-opt", &args)?;
+    let after = std::fs::metadata(wasm).map(|m| m.len()).unwrap_or(0);
+    eprintln!(
+        "xtask: wasm-opt {WASM_OPT_LEVEL}: mpm_bg.wasm {:.0} KiB → {:.0} KiB",
+        before as f64 / 1024.0,
+        after as f64 / 1024.0
+    );
+    Ok(())
 }
 
 fn flag<'a>(args: &'a [String], name: &str) -> Option<&'a str> {
