@@ -11,6 +11,7 @@ import { LEVELS, QualityGovernor, applyQuality } from './quality.js';
 import { insideBox, nearestParticle } from './pointer.js';
 import { OPENED, SANDBOX, sceneSource } from './scenes.js';
 import { buildDropControls, showPlots, syncControls } from './controls.js';
+import { NARROW } from './fold.js';
 import { LessonPanel, bodyParam, fetchLesson } from './lessons.js';
 import { Recorder } from './record.js';
 
@@ -304,6 +305,17 @@ export class App {
     const point = Array.from(f.positions.subarray(i * f.stride, i * f.stride + dim));
     this.setProbe(await this.session.pick(point));
     document.getElementById('pq-note').textContent = '';
+    this.revealStressPlot();
+  }
+
+  /// Shows the stress path and Mohr circles of the particle just inspected: the plots when
+  /// hidden, scrolled into their column, or on narrow screens (below the view) a word where.
+  revealStressPlot() {
+    const hidden = document.body.classList.contains('no-plots');
+    if (hidden) showPlots(true);
+    if (window.matchMedia(`(max-width: ${NARROW - 0.02}px)`).matches) {
+      if (hidden) toast('Its stress path and Mohr circles: in the plots below the view.');
+    } else document.getElementById('pq').closest('.card').scrollIntoView({ block: 'nearest' });
   }
 
   /// The hand tool: a drag from screen point `from` to `to` (CSS pixels on the view) measures

@@ -61,13 +61,16 @@ export function warnCost(spec, value, p, before, session) {
 /// class's figures always, the technical ones when `details` is on. The real-time figure is
 /// marked when `slow`.
 export function hud(rows, slow, details) {
-  const item = ([k, v, title = ''], tech) => el('span', { class: `row${tech ? ' tech' : ''}` },
-    el('span', { class: 'k' }, k),
-    el('span', {
-      class: `v${k === 'speed' && slow ? ' slow' : ''}`,
-      'data-hud': k,
-      title: k === 'speed' && slow ? 'Slow motion: the simulation steps slower than real time at this resolution' : title,
-    }, v));
+  const item = ([k, v, title = ''], tech) => {
+    const marked = k === 'speed' && slow && v.startsWith('slow motion');
+    return el('span', { class: `row${tech ? ' tech' : ''}` },
+      el('span', { class: 'k' }, k),
+      el('span', {
+        class: `v${marked ? ' slow' : ''}`,
+        'data-hud': k,
+        title: marked ? 'Slow motion: the simulation steps slower than real time at this resolution' : title,
+      }, v));
+  };
   $('hud').replaceChildren(...rows.main.map((r) => item(r, false)), ...(details ? rows.tech.map((r) => item(r, true)) : []));
 }
 
@@ -82,7 +85,7 @@ export function hudRows(st, d, { particles, asleep = 0, playing, stableDt, time,
   return {
     main: [
       ['time', formatTime(time)],
-      ['speed', speedWords(st.ratio, playing, st.fellBehind)],
+      ['speed', speedWords(st.ratio, playing)],
       ['quality', accuracyNote(label, a),
         'The errors at this resolution, measured on the validation cases at the same cell factor and particles per cell ' +
         `(docs/playground.md): column collapse run-out ${pct(a.column_runout)} and height ${pct(a.column_height)} against ` +

@@ -57,29 +57,65 @@ const LAYOUTS = [
   { width: 390, height: 844, touch: true },
 ];
 
+/// What of the page covers the drawn scene (the domain's box on the view) or a readout drawn
+/// on it: every shown element but the view's canvases and what holds them, as
+/// [{what, rect}]; and the readouts' labels not on the view's top element.
+const coverings = (page, scene) => page.evaluate((scene) => {
+  const view = document.getElementById('view');
+  const out = [];
+  const hit = (r) => Math.min(r.right, scene.x + scene.width) - Math.max(r.left, scene.x) > 0.5 &&
+    Math.min(r.bottom, scene.y + scene.height) - Math.max(r.top, scene.y) > 0.5;
+  for (const e of document.body.querySelectorAll('*')) {
+    if (e === view || e.id === 'overlay' || e.contains(view)) continue;
+    const r = e.getBoundingClientRect();
+    const cs = getComputedStyle(e);
+    if (r.width === 0 || r.height === 0 || cs.visibility === 'hidden' || Number(cs.opacity) === 0) continue;
+    if (hit(r)) out.push({ what: `${e.tagName.toLowerCase()}${e.id ? `#${e.id}` : ''}.${[...e.classList].join('.')}`, rect: [r.x, r.y, r.width, r.height].map(Math.round) });
+  }
+  const v = view.getBoundingClientRect();
+  for (const l of mpm.overlay.labels) {
+    const [x, y] = [v.left + l.x, v.top + l.y];
+    if (x < v.left || x > v.right || y < v.top || y > v.bottom) continue; // off the view: not drawn
+    const top = document.elementFromPoint(x, y);
+    if (top !== view) out.push({ what: `label “${l.text}” under ${top?.tagName.toLowerCase()}#${top?.id}.${[...(top?.classList ?? [])].join('.')}`, rect: [x, y].map(Math.round) });
+  }
+  return out;
+}, scene);
+
 for (const l of LAYOUTS) {
-  test(`${l.width}×${l.height}${l.touch ? ' (touch)' : ''}: the HUD shows the class's figures and never covers the drawn scene`, async () => {
+  test(`${l.width}×${l.height}${l.touch ? ' (touch)' : ''}: the HUD shows the class's figures; nothing of the page covers the drawn scene or its readouts, with or without a lesson, the plots shown`, async () => {
     plain ??= await launchBrowser();
     const context = await plain.newContext({ viewport: { width: l.width, height: l.height }, hasTouch: !!l.touch, isMobile: !!l.touch });
-    for (const hash of ['#lesson=friction_angle', '#scene=column_collapse&dim=3']) {
+    for (const hash of ['#lesson=friction_angle', '#lesson=column_collapse', '#scene=column_collapse&dim=3']) {
       const { page, errors } = await openPage(context, URL_ROOT + hash);
       await page.waitForFunction(() => document.querySelector('[data-hud="quality"]'), null, { timeout: 20_000 });
       const keys = await page.$$eval('#hud [data-hud]', (els) => els.map((e) => e.dataset.hud));
       assert.deepEqual(keys, ['time', 'speed', 'quality'], `${hash}: the class's figures by default`);
       assert.match(await page.textContent('[data-hud="quality"]'), /run-out [+−][\d.]+ %.*against experiments/);
+      if ((await page.getAttribute('#toggle-plots', 'aria-pressed')) === 'false') await page.click('#toggle-plots');
+      if (hash === '#lesson=column_collapse') {
+        // its run-out ruler and the experiments' marks on the floor, drawn
+        await page.click('#play');
+        await page.waitForFunction(() => mpm.simTime > 0.5 && mpm.overlay.labels.some((x) => x.kind === 'runout'), null, { timeout: 120_000 });
+      }
       for (const details of [false, true]) {
         if (details) {
           await page.click('#hud-details');
           await page.waitForFunction(() => document.querySelector('[data-hud="fps"]'), null, { timeout: 10_000 });
         }
         await page.evaluate(() => window.scrollTo(0, 0));
-        await page.waitForTimeout(150);
+        await page.waitForTimeout(300);
+        const what = `${hash}, details ${details}`;
         const hud = await rectOf(page, '.hud-bar');
         const scene = await sceneBounds(page);
-        assert.ok(hud && scene.width > 50 && scene.height > 50, `${hash}: ${JSON.stringify({ hud, scene })}`);
-        assert.equal(overlap(hud, scene), 0, `${hash}, details ${details}: the HUD ${JSON.stringify(hud)} covers the scene ${JSON.stringify(scene)}`);
+        assert.ok(hud && scene.width > 50 && scene.height > 50, `${what}: ${JSON.stringify({ hud, scene })}`);
+        assert.equal(overlap(hud, scene), 0, `${what}: the HUD ${JSON.stringify(hud)} covers the scene ${JSON.stringify(scene)}`);
+        assert.deepEqual(await coverings(page, scene), [], `${what}: covering the scene ${JSON.stringify(scene)}`);
+        // on the first screen, whole
+        assert.ok(scene.y >= 0 && scene.y + scene.height <= l.height + 1, `${what}: the scene ${JSON.stringify(scene)} on the first screen`);
+        assert.ok(await rectOf(page, '.panel.plots'), `${what}: the plots are shown`);
       }
-      if (hash.includes('lesson')) await page.screenshot({ path: join(OUT, `hud-${l.width}x${l.height}.png`) });
+      await page.screenshot({ path: join(OUT, `layout-${l.width}x${l.height}-${hash.replace(/\W+/g, '-').replace(/^-/, '')}.png`) });
       assert.deepEqual(errors, []);
       await page.close();
     }
