@@ -82,14 +82,18 @@ export function hud(rows, slow, details) {
 /// renderer, solver.
 export function hudRows(st, d, { particles, asleep = 0, playing, stableDt, time, renderer, quality, thread, resolution, label, dim }) {
   const a = resolution.accuracy;
+  const c3 = dim === 3 ? resolution.column_3d ?? null : null;
   return {
     main: [
       ['time', formatTime(time)],
       ['speed', speedWords(st.ratio, playing)],
-      ['quality', accuracyNote(label, a),
-        'The errors at this resolution, measured on the validation cases at the same cell factor and particles per cell ' +
-        `(docs/playground.md): column collapse run-out ${pct(a.column_runout)} and height ${pct(a.column_height)} against ` +
-        `Lube et al. (2005)'s experiments, vibrating bar period ${pct(a.bar_period)} (L2 ${pct(a.bar_l2)}), resting column settlement ${pct(a.resting_settlement)}`],
+      ['quality', accuracyNote(label, a, c3), c3
+        ? 'The errors at this resolution, measured on the 3D column collapse (a = 2) sampled at the same cell factor and particles ' +
+          `per cell (docs/playground.md): run-out ${pct(c3.runout)} and final height ${pct(c3.height)} against Lube et al. (2004)'s ` +
+          'axisymmetric experiments, whose marks the page draws'
+        : 'The errors at this resolution, measured on the validation cases at the same cell factor and particles per cell ' +
+          `(docs/playground.md): column collapse run-out ${pct(a.column_runout)} and height ${pct(a.column_height)} against ` +
+          `Lube et al. (2005)'s experiments, vibrating bar period ${pct(a.bar_period)} (L2 ${pct(a.bar_l2)}), resting column settlement ${pct(a.resting_settlement)}`],
     ],
     tech: [
       ['fps', st.fps.toFixed(0)],

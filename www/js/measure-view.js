@@ -21,8 +21,10 @@ export function speedWords(ratio, playing) {
 }
 
 /// What the quality level costs, in a sentence: the column test's errors against the
-/// experiments at this resolution (docs/playground.md).
-export function accuracyNote(label, a) {
+/// experiments at this resolution (docs/playground.md): the plane column's (`a`, the
+/// resolution's `accuracy`) in 2D, the 3D column's (`column3d`) in 3D.
+export function accuracyNote(label, a, column3d = null) {
+  if (column3d) return `${label}: 3D column run-out ${pct(column3d.runout)}, height ${pct(column3d.height)} against experiments`;
   return `${label}: column run-out ${pct(a.column_runout)}, height ${pct(a.column_height)} against experiments`;
 }
 

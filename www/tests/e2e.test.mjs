@@ -409,3 +409,22 @@ test('every link opens a working page: unusable entries are named in one message
   assert.deepEqual(errors, []);
   await page.close();
 });
+
+test('the energy note\'s claim: the energies count from the last change of bodies, a drop of the link landing included', async () => {
+  const { page, errors } = await open('#scene=sandbox&dim=2&drop=0:box:von_mises:0.2:0.5,0.2&drop=0.4:ball:elastic:0.15:1.2,0.5');
+  const note = await page.textContent('#energy-note');
+  assert.match(note, /count from the last change of bodies/);
+  await page.waitForFunction(() => mpm.sim.bodies === 2 && mpm.energyPlot.samples.length > 3, null, { timeout: 60_000 });
+  const landed = await page.evaluate(() => mpm.drops[1].t);
+  const ref = await page.evaluate(() => mpm.energyPlot.ref);
+  assert.ok(ref.time >= landed - 1e-6 && ref.time < landed + 0.2, `counted from the ball's entry at ${landed} s: from ${ref.time} s`);
+  // and from a click's drop
+  const [x, y] = await screenOf(page, 0.8, 0.5, 0);
+  const t = await page.evaluate(() => mpm.simTime);
+  await page.mouse.click(x, y);
+  await page.waitForFunction(() => mpm.sim.bodies === 3 && mpm.energyPlot.samples.length > 3, null, { timeout: 60_000 });
+  const again = await page.evaluate(() => mpm.energyPlot.ref.time);
+  assert.ok(again >= t, `counted from the click's drop after ${t} s: from ${again} s`);
+  assert.deepEqual(errors, []);
+  await page.close();
+});
