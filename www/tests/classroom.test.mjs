@@ -179,7 +179,8 @@ async function assertFreshLesson(page, lesson, what) {
   }
   if (s.energyRef !== null) assert.ok(s.energyRef < 0.5, `the energy plot counts from the lesson's start: ${at}`);
   assert.ok(s.energyTimes.every((t) => t >= 0 && t < 1), at);
-  assert.ok(s.dissipated.every((d) => d > -1e-6 * (1 + Math.abs(d))), `dissipation counts from zero: ${at}`);
+  // (from zero: rounding leaves it within a few mJ of it; counted from the scene before, tens of J)
+  assert.ok(s.dissipated.every((d) => d > -0.05), `dissipation counts from zero: ${at}`);
   if (lesson.view.inspect) {
     for (const id of [s.stressId, s.mohrId]) assert.ok(id === null || id === s.probe, `its own particle's plots: ${at}`);
     assert.ok(s.note === '' || s.note.startsWith(`particle #${s.probe} `), `its own particle's note: ${at}`);
@@ -192,7 +193,7 @@ async function assertFreshLesson(page, lesson, what) {
 }
 
 test('a lesson opened from the menu after any shipped scene or lesson starts unjudged, with its own plots and notes', async () => {
-  const { page, errors } = await open('#scene=sandbox&dim=2');
+  const { page, errors } = await open('#scene=sandbox&dim=2&drop=0:box:von_mises:0.2:0.5,0.2');
   // The column collapse judges itself at 1.5 s: the scene before it runs past that.
   const order = [...LESSONS].sort((a, b) => (b.id === 'column_collapse') - (a.id === 'column_collapse'));
   for (const scene of SCENES) {

@@ -330,7 +330,7 @@ async function follow(page, warnings, hash) {
 }
 
 test('every link opens a working page: unusable entries are named in one message and in the console, the rest is used, the fallback is the default scene', async () => {
-  const { page, errors, warnings } = await open('#scene=sandbox&dim=2');
+  const { page, errors, warnings } = await open('#scene=sandbox&dim=2&drop=0:box:von_mises:0.2:0.5,0.2');
   const named = (r, entry) => {
     assert.ok(r.warnings.some((w) => w.includes(entry)), `the console names ${entry}: ${JSON.stringify(r.warnings)}`);
     assert.ok(r.toast.includes(entry), `the message names ${entry}: ${r.toast}`);

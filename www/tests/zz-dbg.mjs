@@ -1,0 +1,10 @@
+import { chromium } from 'playwright-core';
+const b = await chromium.launch({ executablePath: '/usr/bin/chromium', headless: true, args: ['--headless', '--no-sandbox', '--disable-gpu'] });
+const p = await b.newPage({ viewport: { width: 1366, height: 768 } });
+p.on('console', (m) => console.log('console', m.type(), m.text()));
+p.on('pageerror', (e) => console.log('pageerror', e.message));
+await p.goto(process.env.URL + (process.argv[2] || ''));
+await p.waitForTimeout(Number(process.argv[3] || 8000));
+console.log(await p.evaluate(() => JSON.stringify({ frames: mpm?.stats.frames, t: mpm?.simTime, gen: mpm?.session.generation, fg: mpm?.frame?.generation, scene: mpm?.view.scene, hash: location.hash })));
+await p.screenshot({ path: '/tmp/page-dbg.png' });
+await b.close();
