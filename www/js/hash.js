@@ -46,7 +46,7 @@ export function readHash(hash, names, choices = {}) {
   for (const [k, v] of q) {
     if (k === 'sleep' && v !== '0' && v !== '1') errors.push(`sleep=${v}: 0 (material at rest is stepped) or 1 (it sleeps)`);
     else if (allowed[k] && !allowed[k].includes(v)) errors.push(`${k}=${v}: not one of ${allowed[k].join(', ')}`);
-    else if (k === 'size' && !(NUMBER.test(v) && Number(v) > 0)) errors.push(`size=${v}: not a size in metres`);
+    else if (k === 'size' && !(NUMBER.test(v) && Number(v) > 0 && Number.isFinite(Number(v)))) errors.push(`size=${v}: not a size in metres`);
     else if ((k === 'scene' || k === 'lesson') && !v) errors.push(`${k}=: names none`);
     else if (VIEW_KEYS.includes(k)) view[k] = v;
     else if (k === 'drop') {
@@ -58,7 +58,7 @@ export function readHash(hash, names, choices = {}) {
     } else if (k === 'cleared') cleared = v === '1';
     else if (k === 'quality') quality = v;
     else if (isParam(k)) {
-      if (NUMBER.test(v)) params.push([k, Number(v)]);
+      if (NUMBER.test(v) && Number.isFinite(Number(v))) params.push([k, Number(v)]);
       else errors.push(`${k}=${v}: not a number`);
     } else errors.push(`${k}=${v}: not a setting of the page`);
   }
@@ -74,7 +74,7 @@ export function parseDrop(text) {
   if (parts.length < 5 || parts.length > 6) throw new Error(`${parts.length} fields, ${expected}`);
   const [time, object, material, size, centre, velocity] = parts;
   const number = (what, s) => {
-    if (!NUMBER.test(s)) throw new Error(`${what} “${s}” is not a number; ${expected}`);
+    if (!NUMBER.test(s) || !Number.isFinite(Number(s))) throw new Error(`${what} “${s}” is not a number; ${expected}`);
     return Number(s);
   };
   const vector = (what, s) => {

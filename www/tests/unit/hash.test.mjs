@@ -85,4 +85,8 @@ test('view entries outside the page\'s menus are named with what is allowed, the
   assert.match(errors[0], /not one of 2, 3/);
   assert.match(errors[5], /not one of live, balanced, fine/);
   assert.deepEqual(readHash('#quality=balanced', NAMES, choices).session.quality, 'balanced');
+  // Numbers beyond a double's range are not numbers (the solver would get null).
+  const huge = readHash('#gravity=1e999&size=1e999&drop=0:ball:elastic:0.2:1e999,0.5', NAMES, choices);
+  assert.deepEqual([huge.session.params, huge.session.drops, huge.view], [[], [], {}]);
+  assert.equal(huge.errors.length, 3);
 });
