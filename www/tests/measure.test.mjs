@@ -300,3 +300,23 @@ test('the stress-path lesson\'s caption against the page: on the cone while it f
   assert.deepEqual(errors, []);
   await page.close();
 });
+
+test('at 1366×768 the plots start hidden; Inspect shows them with the particle\'s stress path in view', async () => {
+  plain ??= await launchBrowser();
+  const context = await plain.newContext({ viewport: { width: 1366, height: 768 } });
+  const { page, errors } = await openPage(context, `${URL_ROOT}#scene=column_collapse&dim=2`);
+  assert.equal(await page.getAttribute('#toggle-plots', 'aria-pressed'), 'false', 'hidden below 1500 px');
+  await page.click('#tool-inspect');
+  const [x, y] = await screenOf(page, 0.5, 0.05, 0);
+  await page.mouse.click(x, y);
+  await page.waitForFunction(() => mpm.probeId !== null && mpm.stressPlot.point, null, { timeout: 20_000 });
+  await page.waitForTimeout(300);
+  assert.equal(await page.getAttribute('#toggle-plots', 'aria-pressed'), 'true', 'Inspect showed the plots');
+  const seen = await page.evaluate(() => {
+    const r = document.getElementById('pq').getBoundingClientRect();
+    return document.elementFromPoint(r.left + r.width / 2, r.top + r.height / 2)?.id;
+  });
+  assert.equal(seen, 'pq', 'the stress path is in view');
+  assert.deepEqual(errors, []);
+  await context.close();
+});
