@@ -100,7 +100,8 @@ export class App {
       return this.loadScene(session, this.fallBack(e.message, ignored));
     }
     if (token !== this.loadToken) return; // a later choice overtook this one
-    const out = await this.session.load(source, session, this.view.dim);
+    // A lesson that asks first starts paused: not a step before Play.
+    const out = await this.session.load(source, session, this.view.dim, false, lesson?.question ? false : undefined);
     if (token !== this.loadToken) return; // a later choice is loading; it shows itself
     if (out.invalid) {
       // The host shows the sandbox meanwhile; the default scene follows unless it was this one.
@@ -365,7 +366,9 @@ export class App {
 
   /// Restarts the scene with the current parameters; the drops and a Clear are forgotten.
   async reset() {
-    const error = await this.session.reset();
+    // A lesson that asks first starts again paused, its question asked again.
+    if (this.lesson?.question) this.playing = false;
+    const error = await this.session.reset(this.lesson?.question ? false : undefined);
     if (error) toast(error);
     this.restarted();
     this.updateHash();

@@ -151,9 +151,10 @@ export class Session {
   setBunny(bunny) { return this.request('bunny', bunny); }
   /// Loads scene `source` ({text, assets} or {sandbox: dim}; an invalid one falls back to the
   /// sandbox of dimension `dim`, or with `keep` leaves the simulation as it was) and replays
-  /// `session` ({quality, params, cleared, drops}). Resolves to what did not apply: {invalid,
-  /// rejected, refused, kept}.
-  load(source, session, dim, keep = false) { return this.request('load', { source, session, dim, keep }); }
+  /// `session` ({quality, params, cleared, drops}); with `playing` false it starts paused (a
+  /// lesson that asks first: not a step before Play). Resolves to what did not apply:
+  /// {invalid, rejected, refused, kept}.
+  load(source, session, dim, keep = false, playing = undefined) { return this.request('load', { source, session, dim, keep, playing }); }
   /// Validates a lesson (its text, its scene file's text or null, the scene's files as JSON);
   /// rejects with the message naming the field.
   checkLesson(text, scene, assets) { return this.request('checkLesson', { text, scene, assets }); }
@@ -169,8 +170,9 @@ export class Session {
   /// '' if `size` (m) is a size objects may be dropped at, else the message.
   checkSize(size) { return this.message('checkSize', { size }); }
   clear() { return this.message('clear'); }
-  /// Restarts the scene with the current parameters: '' or the message.
-  reset() { return this.message('reset'); }
+  /// Restarts the scene with the current parameters ('' or the message), paused when
+  /// `playing` is false.
+  reset(playing = undefined) { return this.message('reset', { playing }); }
   /// Samples the scene again at quality level `quality`; resolves to the drops refused.
   setQuality(quality) { return this.request('setQuality', { quality }); }
   /// The stable id of the particle nearest `point`, or null.

@@ -107,7 +107,7 @@ export class SimHost {
   /// `session.quality` (the current one, else the default) and replays `session`. Returns what
   /// did not apply: {invalid, rejected, refused} (with `keep` and an invalid scene, only
   /// {invalid, kept: true}).
-  cmd_load({ source, session = {}, dim, keep = false }) {
+  cmd_load({ source, session = {}, dim, keep = false, playing }) {
     const levels = JSON.parse(qualityLevels());
     const current = this.pg ? JSON.parse(this.pg.quality()).quality : levels.default;
     const asked = session.quality ?? current;
@@ -128,6 +128,7 @@ export class SimHost {
     }
     this.pg?.free();
     this.pg = pg;
+    if (playing !== undefined) this.playing = playing;
     const out = JSON.parse(pg.replay(JSON.stringify({ ...session, quality: session.quality ?? quality })));
     this.restarted();
     return { invalid, ...out };
@@ -158,7 +159,8 @@ export class SimHost {
     this.pg.clear();
     this.restarted();
   }
-  cmd_reset() {
+  cmd_reset({ playing }) {
+    if (playing !== undefined) this.playing = playing;
     try {
       this.pg.reset();
     } finally {
