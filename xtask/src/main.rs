@@ -426,7 +426,7 @@ fn build() -> Result<u64, String> {
         "--package",
         "mpm",
     ]))?;
-    let wasm = root().join("target/wasm32-unknown-unknown/release/mpm.wasm");
+    let wasm = wasm_opt(&root().join("target/wasm32-unknown-unknown/release/mpm.wasm"))?;
     let pkg = root().join("www/pkg");
     run(
         "wasm-bindgen",
@@ -439,7 +439,6 @@ fn build() -> Result<u64, String> {
             &wasm.to_string_lossy(),
         ],
     )?;
-    wasm_opt(&pkg.join("mpm_bg.wasm"))?;
     let scenes = write_scene_list()?;
     write_lesson_list()?;
     let size = std::fs::metadata(pkg.join("mpm_bg.wasm"))
@@ -467,28 +466,27 @@ const WASM_OPT_FEATURES: [&str; 7] = [
     "--enable-multivalue",
 ];
 
-/// Optimises `wasm` in place with binaryen's wasm-opt at [`WASM_OPT_LEVEL`]; without wasm-opt
-/// on PATH (Debian: the `binaryen` package) it says so and leaves the file as it is.
-fn wasm_opt(wasm: &Path) -> Result<(), String> {
+/// rustc's `wasm` optimised by binaryen's wasm-opt at [`WASM_OPT_LEVEL`], debug information
+/// stripped, as `opt/mpm.wasm` beside it (the name wasm-bindgen's output is named after); without
+/// wasm-opt on PATH (Debian: the `binaryen` package) it says so and returns `wasm` itself. It
+/// runs before wasm-bindgen: Debian's binaryen 108 predates the externref table wasm-bindgen
+/// emits, and a module it optimised after wasm-bindgen no longer instantiates.
+fn wasm_opt(wasm: &Path) -> Result<PathBuf, String> {
     if output("wasm-opt", &["--version"]).is_none() {
         eprintln!(
             "xtask: wasm-opt not found (Debian: apt-get install binaryen): mpm_bg.wasm left unoptimised"
         );
-        return Ok(());
+        return Ok(wasm.to_path_buf());
     }
-    let before = std::fs::metadata(wasm).map(|m| m.len()).unwrap_or(0);
-    let path = wasm.to_string_lossy();
-    let mut args = vec![WASM_OPT_LEVEL];
+    let dir = wasm.with_file_name("opt");
+    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let out = dir.join("mpm.wasm");
+    let (from, to) = (wasm.to_string_lossy(), out.to_string_lossy());
+    let mut args = vec![WASM_OPT_LEVEL, "--strip-debug"];
     args.extend(WASM_OPT_FEATURES);
-    args.extend([path.as_ref(), "-o", path.as_ref()]);
+    args.extend([from.as_ref(), "-o", to.as_ref()]);
     run("wasm-opt", &args)?;
-    let after = std::fs::metadata(wasm).map(|m| m.len()).unwrap_or(0);
-    eprintln!(
-        "xtask: wasm-opt {WASM_OPT_LEVEL}: mpm_bg.wasm {:.0} KiB → {:.0} KiB",
-        before as f64 / 1024.0,
-        after as f64 / 1024.0
-    );
-    Ok(())
+    Ok(out)
 }
 
 fn flag<'a>(args: &'a [String], name: &str) -> Option<&'a str> {
