@@ -320,3 +320,24 @@ test('at 1366×768 the plots start hidden; Inspect shows them with the particle\
   assert.deepEqual(errors, []);
   await context.close();
 });
+
+test('in 3D the quality line quotes the 3D column\'s errors, and the page\'s own 3D column at rest agrees with them', async () => {
+  const { page, errors } = await open('#scene=column_collapse&dim=3');
+  const c3 = await page.evaluate(() => mpm.sim.quality.column_3d);
+  assert.ok(c3 && Number.isFinite(c3.runout) && Number.isFinite(c3.height), `the resolution carries the 3D column's figures: ${JSON.stringify(c3)}`);
+  const pct = (x) => `${x > 0 ? '+' : x < 0 ? '−' : ''}${(100 * Math.abs(x)).toPrecision(2)} %`;
+  await page.waitForFunction(() => document.querySelector('[data-hud="quality"]'), null, { timeout: 20_000 });
+  const line = await page.textContent('[data-hud="quality"]');
+  assert.equal(line, `Live: 3D column run-out ${pct(c3.runout)}, height ${pct(c3.height)} against experiments`);
+  // The page's column at rest, measured by its readouts against the markers it draws.
+  await page.waitForFunction(() => mpm.simTime > 3, null, { timeout: 300_000 });
+  const m = await page.evaluate(() => {
+    const d = mpm.frame.measures[0];
+    return { ratio: d.runout.runout[0] / d.column.column.half_width, law: d.column.law.runout[0], height: d.heap.height, lawHeight: d.column.height };
+  });
+  const runout = m.ratio / m.law - 1, height = m.height / m.lawHeight - 1;
+  assert.ok(Math.abs(runout - c3.runout) < 0.08, `run-out: the page's ${pct(runout)}, the line's ${pct(c3.runout)}`);
+  assert.ok(Math.abs(height - c3.height) < 0.08, `height: the page's ${pct(height)}, the line's ${pct(c3.height)}`);
+  assert.deepEqual(errors, []);
+  await page.close();
+});
