@@ -451,9 +451,10 @@ fn build() -> Result<u64, String> {
     Ok(size)
 }
 
-/// The wasm-opt level of the page's wasm: of -O2, -O3, -O4 and -Os, the fastest in the browser
-/// benchmarks at no more than the unoptimised size (docs/performance.md, *Page weight*).
-const WASM_OPT_LEVEL: &str = "-O3";
+/// The wasm-opt level of the page's wasm: smaller than none at the same speed in Node
+/// (docs/performance.md, *Page weight (wasm-opt)*); -O3 inlines the pass functions the wasm
+/// build keeps apart and runs slower.
+const WASM_OPT_LEVEL: &str = "-O1";
 /// The wasm features the build uses (wasm-opt must neither reject nor add others): rustc's
 /// defaults for wasm32-unknown-unknown and simd128.
 const WASM_OPT_FEATURES: [&str; 7] = [
