@@ -1,7 +1,7 @@
 // Time per step of a scene in the release wasm (www/pkg/, built by `cargo xtask build`) under
 // Node, the same steps as `cargo bench --bench playground` takes natively.
 //
-//   node www/bench/node-bench.mjs SCENE.json [STEPS]
+//   node www/bench/node-bench.mjs SCENE.json [STEPS]    (MPM_PKG=DIR: another build)
 // prints `wasm scene=<path> particles=<n> steps=<k> median_ms_per_step=<x> mean_ms_per_step=<y>`.
 import { readFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
@@ -11,8 +11,11 @@ const root = fileURLToPath(new URL('../../', import.meta.url));
 const [path = 'www/test-scenes/bench_3d.json', stepsArg = '200'] = process.argv.slice(2);
 const steps = Number(stepsArg);
 
-const wasm = await import(new URL('www/pkg/mpm.js', `file://${root}`));
-wasm.initSync({ module: readFileSync(`${root}www/pkg/mpm_bg.wasm`) });
+// MPM_PKG: another build's directory of `mpm.js` and `mpm_bg.wasm` (one wasm-opt level
+// against another), instead of www/pkg/.
+const pkg = process.env.MPM_PKG ? `${process.env.MPM_PKG.replace(/\/$/, '')}/` : `${root}www/pkg/`;
+const wasm = await import(new URL('mpm.js', `file://${pkg}`));
+wasm.initSync({ module: readFileSync(`${pkg}mpm_bg.wasm`) });
 
 const text = readFileSync(`${root}${path}`, 'utf8');
 const dir = path.slice(0, path.lastIndexOf('/') + 1);

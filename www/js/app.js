@@ -11,6 +11,7 @@ import { LEVELS, QualityGovernor, applyQuality } from './quality.js';
 import { insideBox, nearestParticle } from './pointer.js';
 import { OPENED, SANDBOX, sceneSource } from './scenes.js';
 import { buildDropControls, showPlots, syncControls } from './controls.js';
+import { NARROW } from './fold.js';
 import { LessonPanel, bodyParam, fetchLesson } from './lessons.js';
 import { Recorder } from './record.js';
 
@@ -25,6 +26,9 @@ export class App {
     this.hand = null; // the hand tool's line: {a, b, reading} (m)
     // `lesson`: the id of the lesson open (its scene is the one shown), else undefined.
     this.view = { lesson: undefined, scene: SANDBOX, dim: '3', colour: 'body', object: 'bunny', material: 'drucker_prager', time: '1' };
+    // What a link naming no scene nor lesson opens, and where an unusable one falls back to:
+    // a scene with sand, if the scene list has one.
+    this.defaultScene = ['bunny_on_sand_ball', 'notched_sand_block', 'column_collapse'].find((b) => scenes.some((s) => s.base === b)) ?? SANDBOX;
     this.lesson = null; // the lesson open, as its file has it
     this.lessonColours = false; // the lesson about to open sets the colours
     this.opened = null; // the scene file opened from disk: {key, source}
@@ -92,21 +96,36 @@ export class App {
       else if (this.view.scene.startsWith(OPENED)) source = this.openedSource(this.view.scene);
       else source = await sceneSource(this.view.scene, this.view.dim, this.scenes, this.session);
     } catch (e) {
-      if (this.view.lesson) banner('lesson', 'bad', `The lesson cannot open: ${e.message}`, { label: 'Close', run: () => banner('lesson') });
-      else toast(`Cannot load the scene: ${e.message}. Showing the sandbox.`);
-      this.view.lesson = undefined;
-      this.view.scene = SANDBOX;
-      source = { sandbox: this.view.dim };
+      if (token !== this.loadToken) return;
+      return this.loadScene(session, this.fallBack(e.message, ignored));
     }
     if (token !== this.loadToken) return; // a later choice overtook this one
-    const out = await this.session.load(source, session, this.view.dim);
+    // A lesson that asks first starts paused: not a step before Play.
+    const out = await this.session.load(source, session, this.view.dim, false, lesson?.question ? false : undefined);
+    if (token !== this.loadToken) return; // a later choice is loading; it shows itself
     if (out.invalid) {
-      toast(`The scene is invalid: ${out.invalid}`);
-      this.view.scene = SANDBOX;
-      this.view.lesson = undefined;
+      // The host shows the sandbox meanwhile; the default scene follows unless it was this one.
+      const more = this.fallBack(`invalid: ${out.invalid}`, ignored);
+      if (this.view.scene !== SANDBOX) return this.loadScene(session, more);
+      ignored = more;
       lesson = null;
     }
     await this.loaded(out, ignored, lesson);
+  }
+
+  /// The scene or lesson of the view cannot open (`why`): a lesson says so in its banner, a
+  /// scene joins the messages of the link (`ignored`, returned with it); the view falls back
+  /// to the default scene, or to the sandbox if that was the one.
+  fallBack(why, ignored) {
+    const fallback = this.view.lesson || this.view.scene !== this.defaultScene ? this.defaultScene : SANDBOX;
+    const instead = fallback === SANDBOX ? 'the empty sandbox instead' : 'the default scene instead';
+    if (this.view.lesson) {
+      banner('lesson', 'bad', `The lesson cannot open: ${why}. Showing ${instead.replace(' instead', '')}.`, { label: 'Close', run: () => banner('lesson') });
+      console.warn(`lesson=${this.view.lesson}: ${why}; ${instead}`);
+    } else ignored = [...ignored, `scene=${this.view.scene}: ${why}; ${instead}`];
+    this.view.lesson = undefined;
+    this.view.scene = fallback;
+    return ignored;
   }
 
   /// The source of a scene file opened from disk (`key` is `file:NAME`).
@@ -141,7 +160,7 @@ export class App {
   /// After a scene loaded: the messages of what did not apply, the camera, the controls, and
   /// a lesson's view (colours, plot, sliders, the particle inspected).
   async loaded(out, ignored, lesson) {
-    for (const msg of ignored) console.warn(`ignored from the link: ${msg}`);
+    for (const msg of [...ignored, ...out.rejected]) console.warn(`ignored from the link: ${msg}`);
     const refused = this.refused(out.refused);
     const messages = [...ignored, ...out.rejected, ...refused];
     if (messages.length) toast(`Ignored from the link: ${messages.join('; ')}`);
@@ -161,6 +180,8 @@ export class App {
     const model = (lv.params ?? []).map((n) => (bodyParam(n)?.name ?? n).split('.')).find((p) => p.length === 2)?.[0];
     if (lesson && model) this.view.material = model;
     this.restarted();
+    // A lesson that asks first waits for Play from its first frame.
+    if (lesson?.question) this.playing = false;
     this.session.timeScale(Number(this.view.time));
     this.session.sleeping(this.view.sleep !== '0');
     this.session.colour(this.view.colour);
@@ -206,9 +227,14 @@ export class App {
 
   /// Loads what the link says (on the first visit, and when the hash changes).
   loadFromHash() {
-    const { view, session, errors } = readHash(location.hash, this.session.table.names);
+    const t = this.session.table;
+    const { view, session, errors } = readHash(location.hash, t.names, {
+      object: t.objects.map((o) => o.id), material: t.models.map((m) => m.id),
+      quality: this.session.qualities.levels.map((l) => l.id),
+    });
     Object.assign(this.view, view);
     this.view.lesson = view.lesson;
+    if (!view.lesson && !view.scene) this.view.scene = this.defaultScene; // a link of settings alone
     this.view.sleep = view.sleep === '0' ? '0' : undefined; // on unless the link says sleep=0
     this.lessonColours = !!view.lesson && !view.colour; // the lesson's, unless the link names others
     return this.loadScene(session, errors);
@@ -280,6 +306,17 @@ export class App {
     const point = Array.from(f.positions.subarray(i * f.stride, i * f.stride + dim));
     this.setProbe(await this.session.pick(point));
     document.getElementById('pq-note').textContent = '';
+    this.revealStressPlot();
+  }
+
+  /// Shows the stress path and Mohr circles of the particle just inspected: the plots when
+  /// hidden, scrolled into their column, or on narrow screens (below the view) a word where.
+  revealStressPlot() {
+    const hidden = document.body.classList.contains('no-plots');
+    if (hidden) showPlots(true);
+    if (window.matchMedia(`(max-width: ${NARROW - 0.02}px)`).matches) {
+      if (hidden) toast('Its stress path and Mohr circles: in the plots below the view.');
+    } else document.getElementById('pq').closest('.card').scrollIntoView({ block: 'nearest' });
   }
 
   /// The hand tool: a drag from screen point `from` to `to` (CSS pixels on the view) measures
@@ -329,7 +366,9 @@ export class App {
 
   /// Restarts the scene with the current parameters; the drops and a Clear are forgotten.
   async reset() {
-    const error = await this.session.reset();
+    // A lesson that asks first starts again paused, its question asked again.
+    if (this.lesson?.question) this.playing = false;
+    const error = await this.session.reset(this.lesson?.question ? false : undefined);
     if (error) toast(error);
     this.restarted();
     this.updateHash();
@@ -341,6 +380,7 @@ export class App {
   /// What a new start forgets: the inspected particle, the plots, the failure banner.
   restarted() {
     this.setProbe(null);
+    document.getElementById('pq-note').textContent = '';
     this.stressPlot.clear();
     this.mohrPlot?.clear();
     this.energyPlot.restart();

@@ -15,6 +15,13 @@
 // fragment) to keep links short. Pure (tested under `node --test`) but for `writeHash`.
 
 const VIEW_KEYS = ['lesson', 'scene', 'dim', 'colour', 'object', 'material', 'time', 'size', 'sleep'];
+/// The values a view entry may take (the page's menus); `object`, `material` and `quality`
+/// come from the solver (`readHash`'s `choices`). A link with another value has it named.
+export const VIEW_CHOICES = {
+  dim: ['2', '3'],
+  colour: ['body', 'speed', 'pressure', 'plastic_strain', 'yield', 'sleeping'],
+  time: ['1', '0.5', '0.25', '0.1'],
+};
 const NUMBER = /^-?\d+(\.\d+)?(e[-+]?\d+)?$/;
 /// A material parameter of one body: `bodies[i].<model>.<field>` (captures `<model>.<field>`).
 const BODY_PARAM = /^bodies\[\d+\]\.(.+)$/;
@@ -22,9 +29,11 @@ const BODY_PARAM = /^bodies\[\d+\]\.(.+)$/;
 /// The state of `hash`: { view, session: { quality, params, cleared, drops }, errors } (no
 /// `quality` when the hash names none). `names` are the
 /// parameter names (the solver's table); without them every `name` or `model.field` key counts
-/// as a parameter. A malformed or unknown entry is left out, with a message naming it in
-/// `errors` (never an exception).
-export function readHash(hash, names) {
+/// as a parameter. `choices` adds the values allowed for `object`, `material` and `quality`
+/// (to VIEW_CHOICES'). A malformed or unknown entry, or a value not allowed, is left out, with
+/// a message naming it and what is allowed in `errors` (never an exception).
+export function readHash(hash, names, choices = {}) {
+  const allowed = { ...VIEW_CHOICES, ...choices };
   const q = new URLSearchParams(hash.replace(/^#/, ''));
   const view = {};
   const params = [];
@@ -36,6 +45,9 @@ export function readHash(hash, names) {
     : (k) => /^(bodies\[\d+\]\.)?[a-z_]+(\.[a-z_]+)?$/.test(k);
   for (const [k, v] of q) {
     if (k === 'sleep' && v !== '0' && v !== '1') errors.push(`sleep=${v}: 0 (material at rest is stepped) or 1 (it sleeps)`);
+    else if (allowed[k] && !allowed[k].includes(v)) errors.push(`${k}=${v}: not one of ${allowed[k].join(', ')}`);
+    else if (k === 'size' && !(NUMBER.test(v) && Number(v) > 0 && Number.isFinite(Number(v)))) errors.push(`size=${v}: not a size in metres`);
+    else if ((k === 'scene' || k === 'lesson') && !v) errors.push(`${k}=: names none`);
     else if (VIEW_KEYS.includes(k)) view[k] = v;
     else if (k === 'drop') {
       try {
@@ -46,7 +58,7 @@ export function readHash(hash, names) {
     } else if (k === 'cleared') cleared = v === '1';
     else if (k === 'quality') quality = v;
     else if (isParam(k)) {
-      if (NUMBER.test(v)) params.push([k, Number(v)]);
+      if (NUMBER.test(v) && Number.isFinite(Number(v))) params.push([k, Number(v)]);
       else errors.push(`${k}=${v}: not a number`);
     } else errors.push(`${k}=${v}: not a setting of the page`);
   }
@@ -62,7 +74,7 @@ export function parseDrop(text) {
   if (parts.length < 5 || parts.length > 6) throw new Error(`${parts.length} fields, ${expected}`);
   const [time, object, material, size, centre, velocity] = parts;
   const number = (what, s) => {
-    if (!NUMBER.test(s)) throw new Error(`${what} “${s}” is not a number; ${expected}`);
+    if (!NUMBER.test(s) || !Number.isFinite(Number(s))) throw new Error(`${what} “${s}” is not a number; ${expected}`);
     return Number(s);
   };
   const vector = (what, s) => {

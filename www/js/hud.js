@@ -61,13 +61,16 @@ export function warnCost(spec, value, p, before, session) {
 /// class's figures always, the technical ones when `details` is on. The real-time figure is
 /// marked when `slow`.
 export function hud(rows, slow, details) {
-  const item = ([k, v, title = ''], tech) => el('span', { class: `row${tech ? ' tech' : ''}` },
-    el('span', { class: 'k' }, k),
-    el('span', {
-      class: `v${k === 'speed' && slow ? ' slow' : ''}`,
-      'data-hud': k,
-      title: k === 'speed' && slow ? 'Slow motion: the simulation steps slower than real time at this resolution' : title,
-    }, v));
+  const item = ([k, v, title = ''], tech) => {
+    const marked = k === 'speed' && slow && v.startsWith('slow motion');
+    return el('span', { class: `row${tech ? ' tech' : ''}` },
+      el('span', { class: 'k' }, k),
+      el('span', {
+        class: `v${marked ? ' slow' : ''}`,
+        'data-hud': k,
+        title: marked ? 'Slow motion: the simulation steps slower than real time at this resolution' : title,
+      }, v));
+  };
   $('hud').replaceChildren(...rows.main.map((r) => item(r, false)), ...(details ? rows.tech.map((r) => item(r, true)) : []));
 }
 
@@ -79,14 +82,18 @@ export function hud(rows, slow, details) {
 /// renderer, solver.
 export function hudRows(st, d, { particles, asleep = 0, playing, stableDt, time, renderer, quality, thread, resolution, label, dim }) {
   const a = resolution.accuracy;
+  const c3 = dim === 3 ? resolution.column_3d ?? null : null;
   return {
     main: [
       ['time', formatTime(time)],
-      ['speed', speedWords(st.ratio, playing, st.fellBehind)],
-      ['quality', accuracyNote(label, a),
-        'The errors at this resolution, measured on the validation cases at the same cell factor and particles per cell ' +
-        `(docs/playground.md): column collapse run-out ${pct(a.column_runout)} and height ${pct(a.column_height)} against ` +
-        `Lube et al. (2005)'s experiments, vibrating bar period ${pct(a.bar_period)} (L2 ${pct(a.bar_l2)}), resting column settlement ${pct(a.resting_settlement)}`],
+      ['speed', speedWords(st.ratio, playing)],
+      ['quality', accuracyNote(label, a, c3), c3
+        ? 'The errors at this resolution, measured on the 3D column collapse (a = 2) sampled at the same cell factor and particles ' +
+          `per cell (docs/playground.md): run-out ${pct(c3.runout)} and final height ${pct(c3.height)} against Lube et al. (2004)'s ` +
+          'axisymmetric experiments, whose marks the page draws'
+        : 'The errors at this resolution, measured on the validation cases at the same cell factor and particles per cell ' +
+          `(docs/playground.md): column collapse run-out ${pct(a.column_runout)} and height ${pct(a.column_height)} against ` +
+          `Lube et al. (2005)'s experiments, vibrating bar period ${pct(a.bar_period)} (L2 ${pct(a.bar_l2)}), resting column settlement ${pct(a.resting_settlement)}`],
     ],
     tech: [
       ['fps', st.fps.toFixed(0)],

@@ -46,12 +46,17 @@ function received(app, f) {
   const refused = app.refused(f.report.refused);
   if (refused.length) toast(`Ignored from the link: ${refused.join('; ')}`);
   if (f.state) app.updateHash();
+  // The energies count from the last change of bodies (a drop of the link landing, a body of
+  // the scene entering at its time, as well as a click's drop, Clear and every start).
+  const bodies = `${app.session.state.bodies}:${f.count}`;
+  if (bodies !== app.energyBodies) app.energyPlot.restart();
+  app.energyBodies = bodies;
   if (f.report.substeps > 0 && f.count > 0) app.energyPlot.push(f.diagnostics);
   const note = document.getElementById('pq-note');
   if (f.stress?.gone) {
     app.probeId = null;
     note.textContent = 'The inspected particle is gone.';
-  } else if (f.stress && app.probeId !== null) {
+  } else if (f.stress && app.probeId !== null && f.stress.id === app.probeId) {
     const sp = f.stress;
     if (f.report.substeps > 0 || !app.stressPlot.point) app.stressPlot.push(sp);
     app.mohrPlot?.set(sp, app.domain.length);

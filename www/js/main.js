@@ -1,6 +1,6 @@
 // The MPM playground page: starts the solver (wasm, in a Web Worker), loads the scene and
 // lesson lists and the shipped bunny, builds the controls from the solver's parameter table,
-// opens the scene or lesson of the link (or a sand scene on a first visit) and starts the
+// opens the scene or lesson of the link (or the default, a sand scene) and starts the
 // frame loop. See app.js for the
 // state and its actions, session.js for the simulation, loop.js for the frame loop.
 
@@ -50,11 +50,6 @@ async function main() {
     overlay: new Overlay($('overlay')),
   });
   window.mpm = app; // for tests, benchmarks and curious students
-  if (!location.hash) {
-    // First visit: a scene with sand, if the scene list has one.
-    const pick = ['bunny_on_sand_ball', 'notched_sand_block', 'column_collapse'].find((b) => scenes.some((s) => s.base === b));
-    if (pick) app.view.scene = pick;
-  }
   buildControls(app);
   buildLessonMenu(app, lessons);
   setupFiles(app, document.querySelector('.stage'));

@@ -8,18 +8,23 @@ export function pct(x) {
   return `${x > 0 ? '+' : x < 0 ? '−' : ''}${(100 * Math.abs(x)).toPrecision(2)} %`;
 }
 
-/// The real-time factor in words: how the simulated time runs against the clock.
-export function speedWords(ratio, playing, slow) {
+/// The real-time factor `ratio` (simulated per real time) in words: how the simulated time
+/// runs against the clock. Within 5 % below and 10 % above 1 it is real time; below, slow
+/// motion, the figure said ("1 s takes 1.1 s") always above 1; above, faster than real time.
+/// (Whether the steps fell behind their budget does not change the words: the ratio says it.)
+export function speedWords(ratio, playing) {
   if (!playing) return 'paused';
   if (!(ratio > 0)) return 'starting';
   if (ratio > 1.1) return `faster than real time (${ratio.toFixed(1)}×)`;
-  if (ratio >= 0.9 && !slow) return 'real time';
+  if (ratio >= 0.95) return 'real time';
   return `slow motion: 1 s takes ${(1 / ratio).toPrecision(2)} s`;
 }
 
 /// What the quality level costs, in a sentence: the column test's errors against the
-/// experiments at this resolution (docs/playground.md).
-export function accuracyNote(label, a) {
+/// experiments at this resolution (docs/playground.md): the plane column's (`a`, the
+/// resolution's `accuracy`) in 2D, the 3D column's (`column3d`) in 3D.
+export function accuracyNote(label, a, column3d = null) {
+  if (column3d) return `${label}: 3D column run-out ${pct(column3d.runout)}, height ${pct(column3d.height)} against experiments`;
   return `${label}: column run-out ${pct(a.column_runout)}, height ${pct(a.column_height)} against experiments`;
 }
 

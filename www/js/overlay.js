@@ -47,18 +47,34 @@ export class Overlay {
     if (hand?.a && hand?.b) this.hand(hand, dim, P);
   }
 
+  /// Writes `text` at `p` (aligned `align`), kept whole on the view and clear of the labels
+  /// written before it: moved in from the edges, then up or down a line at a time (up to
+  /// three) until it overlaps none.
   label(kind, text, p, colour, align = 'left') {
     if (!p) return;
     const ctx = this.ctx;
     ctx.font = '600 13px system-ui, sans-serif';
-    ctx.textAlign = align;
+    const w = ctx.measureText(text).width + 4, h = 16;
+    const W = this.canvas.clientWidth, Hc = this.canvas.clientHeight;
+    let left = align === 'left' ? p[0] : align === 'right' ? p[0] - w : p[0] - w / 2;
+    left = Math.max(2, Math.min(W - w - 2, left));
+    const box = (top) => ({ x: left, y: top, w, h });
+    const clear = (b) => b.y >= 0 && b.y + b.h <= Hc &&
+      this.labels.every((l) => b.x >= l.box.x + l.box.w || l.box.x >= b.x + b.w || b.y >= l.box.y + l.box.h || l.box.y >= b.y + b.h);
+    let b = box(p[1] - h / 2);
+    for (const dy of [-h, h, -2 * h, 2 * h, -3 * h, 3 * h]) {
+      if (clear(b)) break;
+      b = box(p[1] - h / 2 + dy);
+    }
+    const [x, y] = [left + 2, b.y + h / 2];
+    ctx.textAlign = 'left';
     ctx.textBaseline = 'middle';
     ctx.lineWidth = 3;
     ctx.strokeStyle = 'rgba(255,255,255,0.9)';
-    ctx.strokeText(text, p[0], p[1]);
+    ctx.strokeText(text, x, y);
     ctx.fillStyle = colour;
-    ctx.fillText(text, p[0], p[1]);
-    this.labels.push({ kind, text, x: p[0], y: p[1] });
+    ctx.fillText(text, x, y);
+    this.labels.push({ kind, text, x, y, box: b });
   }
 
   line(a, b, colour, width = 2, dash = []) {

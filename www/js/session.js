@@ -61,6 +61,9 @@ export class Session {
     this.unseen = null; // a frame not drawn yet
     this.host = null; // on the page's thread: the host itself
     this.onFrame = null;
+    // The host's count of starts (load, Clear, Reset, quality) when it last replied: a frame
+    // of an earlier one is of the simulation as it was before, and is never shown.
+    this.generation = 0;
   }
 
   async init() {
@@ -84,8 +87,13 @@ export class Session {
   }
 
   receive(m) {
+    if (m.type === 'frame' && m.generation < this.generation) {
+      if (this.transfer) this.tell('drawn', { buffers: buffersOf(m) }, buffersOf(m));
+      return;
+    }
     if (m.state) this.state = m.state;
     if (m.type === 'reply') {
+      if (m.generation > this.generation) this.started(m.generation);
       const w = this.waiting.get(m.id);
       this.waiting.delete(m.id);
       if (m.error !== undefined) w?.reject(new Error(m.error));
@@ -96,6 +104,16 @@ export class Session {
       this.unseen = m;
       this.onFrame?.(m);
     } else if (m.type === 'failed') this.onFailed?.(m.error);
+  }
+
+  /// The host started the simulation again (generation `g`): the frames of the one before,
+  /// drawn or not, are dropped (their buffers go back), so that nothing of it is shown, plotted
+  /// or measured after the start: the next frame is the new start's.
+  started(g) {
+    this.generation = g;
+    for (const f of [this.unseen, this.frame]) if (f && this.transfer) this.tell('drawn', { buffers: buffersOf(f) }, buffersOf(f));
+    this.unseen = null;
+    this.frame = null;
   }
 
   /// The frame to draw now: a new one if it came and `fresh` is wanted (the one drawn before
@@ -133,9 +151,10 @@ export class Session {
   setBunny(bunny) { return this.request('bunny', bunny); }
   /// Loads scene `source` ({text, assets} or {sandbox: dim}; an invalid one falls back to the
   /// sandbox of dimension `dim`, or with `keep` leaves the simulation as it was) and replays
-  /// `session` ({quality, params, cleared, drops}). Resolves to what did not apply: {invalid,
-  /// rejected, refused, kept}.
-  load(source, session, dim, keep = false) { return this.request('load', { source, session, dim, keep }); }
+  /// `session` ({quality, params, cleared, drops}); with `playing` false it starts paused (a
+  /// lesson that asks first: not a step before Play). Resolves to what did not apply:
+  /// {invalid, rejected, refused, kept}.
+  load(source, session, dim, keep = false, playing = undefined) { return this.request('load', { source, session, dim, keep, playing }); }
   /// Validates a lesson (its text, its scene file's text or null, the scene's files as JSON);
   /// rejects with the message naming the field.
   checkLesson(text, scene, assets) { return this.request('checkLesson', { text, scene, assets }); }
@@ -151,8 +170,9 @@ export class Session {
   /// '' if `size` (m) is a size objects may be dropped at, else the message.
   checkSize(size) { return this.message('checkSize', { size }); }
   clear() { return this.message('clear'); }
-  /// Restarts the scene with the current parameters: '' or the message.
-  reset() { return this.message('reset'); }
+  /// Restarts the scene with the current parameters ('' or the message), paused when
+  /// `playing` is false.
+  reset(playing = undefined) { return this.message('reset', { playing }); }
   /// Samples the scene again at quality level `quality`; resolves to the drops refused.
   setQuality(quality) { return this.request('setQuality', { quality }); }
   /// The stable id of the particle nearest `point`, or null.

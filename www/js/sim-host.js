@@ -47,6 +47,9 @@ export class SimHost {
     this.owed = 0; // simulated time owed to real time (s)
     this.pool = []; // free buffers
     this.seq = 0;
+    // Counts the starts (load, Clear, Reset, quality): every reply and frame carries it, so
+    // that the page can tell a frame of the simulation before a start from one after it.
+    this.generation = 0;
     this.flushMs = 0;
     this.pending = fresh();
   }
@@ -62,7 +65,7 @@ export class SimHost {
     if (id !== undefined) {
       const state = this.stateChanged && this.pg ? this.state() : undefined;
       this.stateChanged = false;
-      this.post({ type: 'reply', id, result, error, state });
+      this.post({ type: 'reply', id, result, error, state, generation: this.generation });
     }
     this.flush();
   }
@@ -104,7 +107,7 @@ export class SimHost {
   /// `session.quality` (the current one, else the default) and replays `session`. Returns what
   /// did not apply: {invalid, rejected, refused} (with `keep` and an invalid scene, only
   /// {invalid, kept: true}).
-  cmd_load({ source, session = {}, dim, keep = false }) {
+  cmd_load({ source, session = {}, dim, keep = false, playing }) {
     const levels = JSON.parse(qualityLevels());
     const current = this.pg ? JSON.parse(this.pg.quality()).quality : levels.default;
     const asked = session.quality ?? current;
@@ -125,6 +128,7 @@ export class SimHost {
     }
     this.pg?.free();
     this.pg = pg;
+    if (playing !== undefined) this.playing = playing;
     const out = JSON.parse(pg.replay(JSON.stringify({ ...session, quality: session.quality ?? quality })));
     this.restarted();
     return { invalid, ...out };
@@ -152,7 +156,8 @@ export class SimHost {
     this.pg.clear();
     this.restarted();
   }
-  cmd_reset() {
+  cmd_reset({ playing }) {
+    if (playing !== undefined) this.playing = playing;
     try {
       this.pg.reset();
     } finally {
@@ -235,7 +240,9 @@ export class SimHost {
 
   /// A new start (load, Clear, Reset, quality): the failure is forgotten.
   restarted() {
+    this.generation++;
     this.failed = '';
+    this.probe = null; // the page inspects again after a start
     this.pg.setColourMode(this.colour);
     if (this.pg.sleeping() !== this.sleeping) this.pg.setSleeping(this.sleeping);
     this.pending = fresh();
@@ -316,7 +323,7 @@ export class SimHost {
     this.bodies = pg.bodyCount();
     this.particles = count;
     const message = {
-      type: 'frame', seq: ++this.seq, positions, values, stride, count, range,
+      type: 'frame', seq: ++this.seq, generation: this.generation, positions, values, stride, count, range,
       time: pg.time(), stableDt: pg.stableDt(), report, stress, asleep: pg.asleep(),
       // each sand body's flank angles, run-out and the experiments' markers (mpm::measure)
       measures: JSON.parse(pg.measures()),

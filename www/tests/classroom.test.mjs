@@ -118,13 +118,13 @@ test('the Lessons menu opens a lesson; its sliders set one body and go in the li
   assert.deepEqual(bodies, [20, 30], 'only that body changed (the lifted walls are elastic)');
   const hash = await page.evaluate(() => location.hash);
   assert.match(decodeURIComponent(hash), /bodies\[1\]\.drucker_prager\.friction_angle=30/);
-  // The caption closes; the view grows into its place.
+  // The caption, beside the view, closes; the view stays as it was, the plots move up.
   const before = await rectOf(page, '#view');
   await page.click('#lesson-close');
   await page.waitForFunction(() => document.getElementById('lesson').hidden);
   await page.waitForTimeout(100);
   const after = await rectOf(page, '#view');
-  assert.ok(after.height > before.height, `the view grew: ${before.height} → ${after.height}`);
+  assert.ok(after.height >= before.height && after.width >= before.width, `the view kept its place: ${JSON.stringify([before, after])}`);
   assert.deepEqual(errors, []);
   await page.close();
   // The link opens the lesson with that body's angle.
@@ -137,6 +137,96 @@ test('the Lessons menu opens a lesson; its sliders set one body and go in the li
   await again.page.waitForFunction(() => !mpm.lesson && document.getElementById('lesson').hidden && /scene=column_collapse/.test(location.hash), null, { timeout: 30_000 });
   assert.deepEqual(again.errors, []);
   await again.page.close();
+});
+
+const SCENES = readdirSync('scenes').filter((f) => f.endsWith('.json')).sort()
+  .map((f) => ({ base: f.replace(/_[23]d\.json$/, ''), dim: JSON.parse(readFileSync(join('scenes', f), 'utf8')).dim }));
+
+/// What a lesson just opened shows: whether it was judged, its plots' and notes' sources.
+const lessonStart = (page) => page.evaluate(() => {
+  const q = mpm.lessonPanel;
+  return {
+    id: mpm.lesson?.id, playing: mpm.playing, time: mpm.simTime, answer: q.answer,
+    verdict: document.getElementById('lesson-verdict')?.textContent ?? null,
+    marked: document.querySelectorAll('#lesson-question [data-choice].answer, #lesson-question [aria-pressed=true]').length,
+    energyRef: mpm.energyPlot.ref?.time ?? null, energyTimes: mpm.energyPlot.samples.map((s) => s.time),
+    dissipated: mpm.energyPlot.samples.map((s) => s.dissipated),
+    probe: mpm.probeId, stressId: mpm.stressPlot.point?.id ?? null, mohrId: mpm.mohrPlot.point?.id ?? null,
+    note: document.getElementById('pq-note').textContent,
+    frameGeneration: mpm.frame?.generation ?? null, generation: mpm.session.generation,
+  };
+});
+
+/// Asserts that lesson `lesson` just opened after `what` starts afresh: unjudged (paused at
+/// its start, no choice marked, the prompt to predict) when it asks first; its energy plot from
+/// its own start (dissipation from zero); the stress path and note of its own particle or none.
+async function assertFreshLesson(page, lesson, what) {
+  // the lesson's first frame drawn, and a while after it (a frame of the scene before could
+  // only come now)
+  await page.waitForFunction(() => mpm.frame && mpm.frame.generation === mpm.session.generation, null, { timeout: 30_000 });
+  if (lesson.view.inspect) await page.waitForFunction(() => mpm.probeId !== null, null, { timeout: 10_000 });
+  await page.waitForTimeout(300);
+  const s = await lessonStart(page);
+  const at = `${lesson.id} after ${what}: ${JSON.stringify(s)}`;
+  assert.equal(s.id, lesson.id, at);
+  assert.ok(s.frameGeneration === null || s.frameGeneration === s.generation, `the frame shown is the lesson's: ${at}`);
+  if (lesson.question) {
+    assert.equal(s.answer, null, `not judged: ${at}`);
+    assert.equal(s.playing, false, `waits for Play: ${at}`);
+    assert.ok(s.time < 0.05, `at its start: ${at}`);
+    assert.equal(s.marked, 0, `no choice marked: ${at}`);
+    assert.match(s.verdict, /^Predict first/, at);
+  }
+  if (s.energyRef !== null) assert.ok(s.energyRef < 0.5, `the energy plot counts from the lesson's start: ${at}`);
+  assert.ok(s.energyTimes.every((t) => t >= 0 && t < 1), at);
+  // (from zero: rounding leaves it within a few mJ of it; counted from the scene before, tens of J)
+  assert.ok(s.dissipated.every((d) => d > -0.05), `dissipation counts from zero: ${at}`);
+  if (lesson.view.inspect) {
+    for (const id of [s.stressId, s.mohrId]) assert.ok(id === null || id === s.probe, `its own particle's plots: ${at}`);
+    assert.ok(s.note === '' || s.note.startsWith(`particle #${s.probe} `), `its own particle's note: ${at}`);
+  } else {
+    assert.equal(s.probe, null, at);
+    assert.equal(s.stressId, null, `no stress path: ${at}`);
+    assert.equal(s.mohrId, null, `no Mohr circles: ${at}`);
+    assert.equal(s.note, '', `no p–q note: ${at}`);
+  }
+}
+
+test('a lesson opened from the menu after any shipped scene or lesson starts unjudged, with its own plots and notes', async () => {
+  const { page, errors } = await open('#scene=sandbox&dim=2&drop=0:box:von_mises:0.2:0.5,0.2');
+  // The column collapse judges itself at 1.5 s: the scene before it runs past that.
+  const order = [...LESSONS].sort((a, b) => (b.id === 'column_collapse') - (a.id === 'column_collapse'));
+  for (const scene of SCENES) {
+    const what = `${scene.base} (${scene.dim}D)`;
+    for (const [k, lesson] of order.entries()) {
+      const g = await page.evaluate((h) => { location.hash = h; return mpm.session.generation; }, `#scene=${scene.base}&dim=${scene.dim}`);
+      await page.waitForFunction((g) => mpm.session.generation > g && !mpm.lesson && mpm.frame?.generation === mpm.session.generation, g, { timeout: 30_000 });
+      await page.evaluate(() => { if (!mpm.playing) mpm.setPlaying(true); });
+      // an inspected particle of the scene, whose path and note must not carry over
+      await page.evaluate(async () => mpm.setProbe(await mpm.session.pick(mpm.domain.map((x) => x / 2))));
+      await page.waitForFunction((t) => mpm.simTime > t, k === 0 ? 1.6 : 0.2, { timeout: 120_000 });
+      await page.selectOption('#lessons', lesson.id);
+      await page.waitForFunction((id) => mpm.lesson?.id === id, lesson.id, { timeout: 30_000 });
+      await assertFreshLesson(page, lesson, what);
+    }
+  }
+  // Lesson after lesson, each run for a while first (a question's lesson with a choice made).
+  let previous = LESSONS[LESSONS.length - 1];
+  await page.selectOption('#lessons', previous.id);
+  await page.waitForFunction((id) => mpm.lesson?.id === id, previous.id, { timeout: 30_000 });
+  for (const lesson of LESSONS) {
+    if (previous.question) {
+      await page.click('#lesson-question [data-choice="0"]');
+      await page.click('#play');
+    }
+    await page.waitForFunction(() => mpm.simTime > 0.3, null, { timeout: 60_000 });
+    await page.selectOption('#lessons', lesson.id);
+    await page.waitForFunction((id) => mpm.lesson?.id === id && mpm.simTime < 0.3, lesson.id, { timeout: 30_000 });
+    await assertFreshLesson(page, lesson, `lesson ${previous.id}`);
+    previous = lesson;
+  }
+  assert.deepEqual(errors, []);
+  await page.close();
 });
 
 test('a lesson the solver refuses shows its message naming the field', async () => {
@@ -153,9 +243,10 @@ test('a lesson the solver refuses shows its message naming the field', async () 
   const msg = await page.textContent('#banners .banner.bad');
   assert.match(msg, /lessons\/pic_flip\.json: view\.params\[0\] = von_mises\.yield_stress: does not apply/, msg);
   assert.equal(await page.evaluate(() => mpm.lesson), null);
-  // The banner shows first; the sandbox loads after it and then writes the link.
-  await page.waitForFunction(() => /^#scene=sandbox/.test(location.hash), null, { timeout: 30_000 })
-    .catch(async () => assert.fail(`the sandbox instead: ${await page.evaluate(() => location.hash)}`));
+  assert.match(msg, /Showing the default scene/, msg);
+  // The banner shows first; the default scene loads after it and then writes the link.
+  await page.waitForFunction(() => /^#scene=bunny_on_sand_ball/.test(location.hash), null, { timeout: 30_000 })
+    .catch(async () => assert.fail(`the default scene instead: ${await page.evaluate(() => location.hash)}`));
   assert.deepEqual(errors, []);
   await page.close();
 });
@@ -387,7 +478,7 @@ for (const [width, height] of [[390, 844], [768, 1024]]) {
     await page.touchscreen.tap(fx, fy);
     await page.waitForFunction(() => mpm.sim.bodies === 1, null, { timeout: 10_000 });
 
-    // A lesson: its caption above the view, the view still clear.
+    // A lesson: its caption below the view, the view still clear and on the first screen.
     await page.evaluate(() => { location.hash = '#lesson=yield_stress'; });
     await page.waitForFunction(() => mpm.lesson?.id === 'yield_stress', null, { timeout: 30_000 });
     await page.evaluate(() => window.scrollTo(0, 0));

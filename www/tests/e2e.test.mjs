@@ -307,3 +307,124 @@ test('2D: sleeping is on by default, the settled sand falls asleep and shows in 
   assert.deepEqual(again.errors, []);
   await again.page.close();
 });
+
+// --- links ----------------------------------------------------------------------------------
+
+/// Opens link `hash` in the page as a link opens (the hash set, then read), and waits until
+/// it shows: resolves to {scene, dim, toast, warnings since}.
+async function follow(page, warnings, hash) {
+  const before = warnings.length;
+  await page.evaluate(async (h) => {
+    history.replaceState(null, '', h);
+    await mpm.loadFromHash();
+  }, hash);
+  await page.waitForFunction(() => mpm.frame?.generation === mpm.session.generation && document.querySelector('[data-hud="time"]'), null, { timeout: 30_000 });
+  return {
+    ...(await page.evaluate(() => ({
+      scene: mpm.view.scene, lesson: mpm.view.lesson ?? null, dim: mpm.sim.scene.dim, colour: mpm.view.colour,
+      quality: mpm.sim.quality.quality, toast: document.getElementById('toast').textContent,
+      hud: [...document.querySelectorAll('#hud [data-hud]')].map((e) => e.textContent),
+    }))),
+    warnings: warnings.slice(before),
+  };
+}
+
+test('every link opens a working page: unusable entries are named in one message and in the console, the rest is used, the fallback is the default scene', async () => {
+  const { page, errors, warnings } = await open('#scene=sandbox&dim=2&drop=0:box:von_mises:0.2:0.5,0.2');
+  const named = (r, entry) => {
+    assert.ok(r.warnings.some((w) => w.includes(entry)), `the console names ${entry}: ${JSON.stringify(r.warnings)}`);
+    assert.ok(r.toast.includes(entry), `the message names ${entry}: ${r.toast}`);
+  };
+  let r = await follow(page, warnings, '#dim=7');
+  assert.equal(r.scene, 'bunny_on_sand_ball', 'the default scene');
+  named(r, 'dim=7');
+  await page.click('#dim2');
+  await page.waitForFunction(() => mpm.sim.scene.dim === 2 && mpm.frame?.generation === mpm.session.generation, null, { timeout: 30_000 });
+  r = await follow(page, warnings, '#quality=balanced');
+  assert.deepEqual([r.scene, r.quality], ['bunny_on_sand_ball', 'balanced'], 'settings alone: the default scene at that level');
+  assert.ok(r.hud.every((t) => t.trim()), `the HUD: ${r.hud}`);
+  r = await follow(page, warnings, '#scene=column_collapse&dim=2&quality=ultra&drucker_prager.friction_angle=200&colour=speed');
+  assert.deepEqual([r.scene, r.dim, r.colour], ['column_collapse', 2, 'speed'], 'the rest of the link is used');
+  named(r, 'quality=ultra');
+  named(r, 'drucker_prager.friction_angle');
+  assert.ok(/friction_angle = 200/.test(r.toast) && /quality=ultra/.test(r.toast), `one message names both: ${r.toast}`);
+  r = await follow(page, warnings, '#scene=nope&colour=pressure');
+  assert.deepEqual([r.scene, r.colour], ['bunny_on_sand_ball', 'pressure']);
+  named(r, 'scene=nope');
+  r = await follow(page, warnings, '#scene=file:gone.json&dim=2');
+  assert.equal(r.scene, 'bunny_on_sand_ball');
+  named(r, 'scene=file:gone.json');
+
+  // The parser's fuzz, extended to the page: links of random entries, and good links mutated.
+  let seed = 48;
+  const rand = () => {
+    seed = (seed + 0x6d2b79f5) | 0;
+    let t = Math.imul(seed ^ (seed >>> 15), 1 | seed);
+    t = (t + Math.imul(t ^ (t >>> 7), 61 | t)) ^ t;
+    return ((t ^ (t >>> 14)) >>> 0) / 4294967296;
+  };
+  const pick = (a) => a[Math.floor(rand() * a.length)];
+  const KEYS = ['scene', 'lesson', 'dim', 'colour', 'object', 'material', 'time', 'size', 'sleep', 'quality', 'cleared', 'drop',
+    'gravity', 'cfl', 'wall_friction', 'drucker_prager.friction_angle', 'elastic.youngs_modulus', 'von_mises.yield_stress',
+    'bodies[0].drucker_prager.friction_angle', 'bodies[9].elastic.flip', 'warp', ''];
+  const VALUES = ['', '-1', '0', '1', '2', '3', '7', '200', '1e999', '-1e-300', 'NaN', 'ultra', 'live', 'fine', 'x', '%', '%ZZ',
+    '0.0000001', '99999999', '[', 'sandbox', 'nope', 'column_collapse', 'friction_angle', 'stress_path', 'file:x.json',
+    '../../etc/passwd', 'speed', 'bunny', 'box', 'von_mises', '0.5', '0:ball:elastic:0.2:0.5,0.5', '1e9:box:elastic:0.1:0.5,0.5,0.5',
+    '0:bunny:drucker_prager:5:0.5,0.5:0,-1e6', '0:ball:elastic:0.2:NaN,0.5'];
+  const GOOD = [
+    '#scene=column_collapse&dim=2&colour=speed&quality=live&drucker_prager.friction_angle=30&gravity=9.81&drop=0.5:ball:elastic:0.2:0.5,0.5',
+    '#lesson=friction_angle&bodies%5B1%5D.drucker_prager.friction_angle=30',
+    '#scene=bunny_on_sand_ball&dim=3&object=box&material=von_mises&size=0.2&time=0.5&sleep=0&drop=0:bunny:drucker_prager:0.25:1,0.5,0.5:0,-1,0',
+    '#scene=sandbox&dim=2&cleared=1&cfl=0.4',
+  ];
+  const CHARS = '&=:,.#%[]-e0123456789abcxyz_ ';
+  const mutate = (link) => {
+    let s = link;
+    for (let k = 0, n = 1 + Math.floor(rand() * 3); k < n; k++) {
+      const i = Math.floor(rand() * s.length);
+      const how = Math.floor(rand() * 5);
+      if (how === 0) s = s.slice(0, i) + s.slice(i + 1);
+      else if (how === 1) s = s.slice(0, i) + pick([...CHARS]) + s.slice(i);
+      else {
+        const entries = s.replace(/^#/, '').split('&');
+        const j = Math.floor(rand() * entries.length);
+        const [key] = entries[j].split('=');
+        if (how === 2) entries[j] = `${key}=${pick(VALUES)}`;
+        else if (how === 3) entries.splice(j, 0, entries[j]);
+        else entries[j] = `${pick(KEYS)}=${entries[j].split('=').slice(1).join('=')}`;
+        s = `#${entries.join('&')}`;
+      }
+    }
+    return s;
+  };
+  const links = [];
+  for (let k = 0; k < 24; k++) links.push(mutate(pick(GOOD)));
+  for (let k = 0; k < 12; k++) links.push(`#${Array.from({ length: 1 + Math.floor(rand() * 5) }, () => `${pick(KEYS)}=${pick(VALUES)}`).join('&')}`);
+  for (const link of links) {
+    const r = await follow(page, warnings, link).catch((e) => assert.fail(`${link}: ${e.message}`));
+    assert.ok([2, 3].includes(r.dim), `${link}: ${JSON.stringify(r)}`);
+    assert.ok(r.hud.length === 3 && r.hud.every((t) => t.trim()), `${link}: the HUD ${JSON.stringify(r.hud)}`);
+    assert.deepEqual(errors, [], `${link}: no page error`);
+  }
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test('the energy note\'s claim: the energies count from the last change of bodies, a drop of the link landing included', async () => {
+  const { page, errors } = await open('#scene=sandbox&dim=2&drop=0:box:von_mises:0.2:0.5,0.2&drop=0.4:ball:elastic:0.15:1.2,0.5');
+  const note = await page.textContent('#energy-note');
+  assert.match(note, /count from the last change of bodies/);
+  await page.waitForFunction(() => mpm.sim.bodies === 2 && mpm.energyPlot.samples.length > 3, null, { timeout: 60_000 });
+  const landed = await page.evaluate(() => mpm.drops[1].t);
+  const ref = await page.evaluate(() => mpm.energyPlot.ref);
+  assert.ok(ref.time >= landed - 1e-6 && ref.time < landed + 0.2, `counted from the ball's entry at ${landed} s: from ${ref.time} s`);
+  // and from a click's drop
+  const [x, y] = await screenOf(page, 0.8, 0.5, 0);
+  const t = await page.evaluate(() => mpm.simTime);
+  await page.mouse.click(x, y);
+  await page.waitForFunction(() => mpm.sim.bodies === 3 && mpm.energyPlot.samples.length > 3, null, { timeout: 60_000 });
+  const again = await page.evaluate(() => mpm.energyPlot.ref.time);
+  assert.ok(again >= t, `counted from the click's drop after ${t} s: from ${again} s`);
+  assert.deepEqual(errors, []);
+  await page.close();
+});

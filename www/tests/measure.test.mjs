@@ -57,29 +57,74 @@ const LAYOUTS = [
   { width: 390, height: 844, touch: true },
 ];
 
+/// What of the page covers the drawn scene (the domain's box on the view) or a readout drawn
+/// on it: every shown element but the view's canvases and what holds them, as
+/// [{what, rect}]; and the readouts' labels not on the view's top element.
+const coverings = (page, scene) => page.evaluate((scene) => {
+  const view = document.getElementById('view');
+  const out = [];
+  const hit = (r) => Math.min(r.right, scene.x + scene.width) - Math.max(r.left, scene.x) > 0.5 &&
+    Math.min(r.bottom, scene.y + scene.height) - Math.max(r.top, scene.y) > 0.5;
+  for (const e of document.body.querySelectorAll('*')) {
+    if (e === view || e.id === 'overlay' || e.contains(view)) continue;
+    const r = e.getBoundingClientRect();
+    const cs = getComputedStyle(e);
+    if (r.width === 0 || r.height === 0 || cs.visibility === 'hidden' || Number(cs.opacity) === 0) continue;
+    if (hit(r)) out.push({ what: `${e.tagName.toLowerCase()}${e.id ? `#${e.id}` : ''}.${[...e.classList].join('.')}`, rect: [r.x, r.y, r.width, r.height].map(Math.round) });
+  }
+  const v = view.getBoundingClientRect();
+  // each label whole on the view, none over another
+  mpm.overlay.labels.forEach((l, i) => {
+    const b = l.box;
+    if (b.x < 0 || b.y < 0 || b.x + b.w > v.width + 0.5 || b.y + b.h > v.height + 0.5) out.push({ what: `label “${l.text}” cut off`, rect: [b.x, b.y, b.w, b.h].map(Math.round) });
+    for (const o of mpm.overlay.labels.slice(0, i)) {
+      const c = o.box;
+      if (b.x < c.x + c.w && c.x < b.x + b.w && b.y < c.y + c.h && c.y < b.y + b.h) out.push({ what: `label “${l.text}” over “${o.text}”`, rect: [b.x, b.y, b.w, b.h].map(Math.round) });
+    }
+  });
+  for (const l of mpm.overlay.labels) {
+    const [x, y] = [v.left + l.x, v.top + l.y];
+    if (x < v.left || x > v.right || y < v.top || y > v.bottom) continue; // off the view: not drawn
+    const top = document.elementFromPoint(x, y);
+    if (top !== view) out.push({ what: `label “${l.text}” under ${top?.tagName.toLowerCase()}#${top?.id}.${[...(top?.classList ?? [])].join('.')}`, rect: [x, y].map(Math.round) });
+  }
+  return out;
+}, scene);
+
 for (const l of LAYOUTS) {
-  test(`${l.width}×${l.height}${l.touch ? ' (touch)' : ''}: the HUD shows the class's figures and never covers the drawn scene`, async () => {
+  test(`${l.width}×${l.height}${l.touch ? ' (touch)' : ''}: the HUD shows the class's figures; nothing of the page covers the drawn scene or its readouts, with or without a lesson, the plots shown`, async () => {
     plain ??= await launchBrowser();
     const context = await plain.newContext({ viewport: { width: l.width, height: l.height }, hasTouch: !!l.touch, isMobile: !!l.touch });
-    for (const hash of ['#lesson=friction_angle', '#scene=column_collapse&dim=3']) {
+    for (const hash of ['#lesson=friction_angle', '#lesson=column_collapse', '#scene=column_collapse&dim=3']) {
       const { page, errors } = await openPage(context, URL_ROOT + hash);
       await page.waitForFunction(() => document.querySelector('[data-hud="quality"]'), null, { timeout: 20_000 });
       const keys = await page.$$eval('#hud [data-hud]', (els) => els.map((e) => e.dataset.hud));
       assert.deepEqual(keys, ['time', 'speed', 'quality'], `${hash}: the class's figures by default`);
       assert.match(await page.textContent('[data-hud="quality"]'), /run-out [+−][\d.]+ %.*against experiments/);
+      if ((await page.getAttribute('#toggle-plots', 'aria-pressed')) === 'false') await page.click('#toggle-plots');
+      if (hash === '#lesson=column_collapse') {
+        // its run-out ruler and the experiments' marks on the floor, drawn
+        await page.click('#play');
+        await page.waitForFunction(() => mpm.simTime > 0.5 && mpm.overlay.labels.some((x) => x.kind === 'runout'), null, { timeout: 120_000 });
+      }
       for (const details of [false, true]) {
         if (details) {
           await page.click('#hud-details');
           await page.waitForFunction(() => document.querySelector('[data-hud="fps"]'), null, { timeout: 10_000 });
         }
         await page.evaluate(() => window.scrollTo(0, 0));
-        await page.waitForTimeout(150);
+        await page.waitForTimeout(300);
+        const what = `${hash}, details ${details}`;
         const hud = await rectOf(page, '.hud-bar');
         const scene = await sceneBounds(page);
-        assert.ok(hud && scene.width > 50 && scene.height > 50, `${hash}: ${JSON.stringify({ hud, scene })}`);
-        assert.equal(overlap(hud, scene), 0, `${hash}, details ${details}: the HUD ${JSON.stringify(hud)} covers the scene ${JSON.stringify(scene)}`);
+        assert.ok(hud && scene.width > 50 && scene.height > 50, `${what}: ${JSON.stringify({ hud, scene })}`);
+        assert.equal(overlap(hud, scene), 0, `${what}: the HUD ${JSON.stringify(hud)} covers the scene ${JSON.stringify(scene)}`);
+        assert.deepEqual(await coverings(page, scene), [], `${what}: covering the scene ${JSON.stringify(scene)}`);
+        // on the first screen, whole
+        assert.ok(scene.y >= 0 && scene.y + scene.height <= l.height + 1, `${what}: the scene ${JSON.stringify(scene)} on the first screen`);
+        assert.ok(await rectOf(page, '.panel.plots'), `${what}: the plots are shown`);
       }
-      if (hash.includes('lesson')) await page.screenshot({ path: join(OUT, `hud-${l.width}x${l.height}.png`) });
+      await page.screenshot({ path: join(OUT, `layout-${l.width}x${l.height}-${hash.replace(/\W+/g, '-').replace(/^-/, '')}.png`) });
       assert.deepEqual(errors, []);
       await page.close();
     }
@@ -140,6 +185,18 @@ test('the friction-angle lesson asks first, runs on Play, its angle readouts are
   assert.match(check.verdict, /measured on the view: [\d.]+°/);
   assert.ok(Math.abs(check.answer.value - (mean(check.framed[1]) - mean(check.framed[0]))) < 2,
     'the answer is the difference of the readouts (of its frame)');
+  // The caption's figures against the page's: the heaps' angles it quotes and the steepest
+  // slopes (φ_ps) it names, against the readouts and the cone's plane-strain angle.
+  const caption = await page.textContent('#lesson-caption');
+  const quoted = /stand at about ([\d.]+)° and ([\d.]+)°/.exec(caption).slice(1).map(Number);
+  const limits = /holds in this plane-strain model \(([\d.]+)° and ([\d.]+)°\)/.exec(caption).slice(1).map(Number);
+  const psi = await page.evaluate(() => mpm.frame.measures.map((d) => d.plane_strain_angle));
+  for (const b of [0, 1]) {
+    const a = mean(check.framed[b]);
+    assert.ok(Math.abs(a - quoted[b]) < 2, `heap ${b}: the caption quotes about ${quoted[b]}°, the page reads ${a.toFixed(1)}°`);
+    assert.ok(Math.abs(psi[b] - limits[b]) < 0.05, `heap ${b}: the caption names φ_ps ${limits[b]}°, the page's cone ${psi[b]}`);
+    assert.ok(Math.abs(a - psi[b]) < 3, `heap ${b}: within 3° of φ_ps, as the caption says: ${a.toFixed(1)}° against ${psi[b]}`);
+  }
   await page.screenshot({ path: join(OUT, 'friction-answered.png') });
   assert.deepEqual(errors, []);
   await page.close();
@@ -214,4 +271,73 @@ test('an inspected sand particle gets its Mohr circles: one in plane strain, thr
     assert.deepEqual(errors, []);
     await page.close();
   }
+});
+
+test('the stress-path lesson\'s caption against the page: on the cone while it flows, inside it at rest at the q/p it quotes', async () => {
+  const { page, errors } = await open('#lesson=stress_path');
+  await page.waitForFunction(() => mpm.lesson?.id === 'stress_path' && mpm.probeId !== null, null, { timeout: 30_000 });
+  const caption = await page.textContent('#lesson-caption');
+  const [qp, cone] = /to q\/p ≈ ([\d.]+) against the cone's ([\d.]+)/.exec(caption).slice(1).map(Number);
+  // follow the inspected particle's stress as the page receives it, to rest
+  await page.evaluate(() => {
+    window.path = [];
+    const push = mpm.stressPlot.push.bind(mpm.stressPlot);
+    mpm.stressPlot.push = (sp) => { window.path.push({ t: mpm.simTime, p: sp.p, q: sp.q, slope: sp.surface.slope, intercept: sp.surface.intercept }); push(sp); };
+  });
+  await page.waitForFunction(() => mpm.simTime > 2, null, { timeout: 180_000 });
+  const path = await page.evaluate(() => window.path);
+  const onCone = (s) => s.q >= 0.98 * (s.slope * s.p + s.intercept);
+  const flowing = path.filter((s) => s.t > 0.1 && s.t < 0.6 && s.p > 0);
+  assert.ok(flowing.filter(onCone).length >= 0.6 * flowing.length, `on the cone while it flows: ${JSON.stringify(flowing.slice(0, 5))}`);
+  const rest = path.filter((s) => s.t > 1.5);
+  assert.ok(rest.length > 3, `followed to rest: ${path.length} points`);
+  for (const s of rest) {
+    assert.ok(!onCone(s), `inside the cone at rest: ${JSON.stringify(s)}`);
+    // (the heap settles a little differently with each run's time steps: 0.83 to 0.92 seen)
+    assert.ok(Math.abs(s.q / s.p - qp) < 0.08, `q/p ${(s.q / s.p).toFixed(3)} at ${s.t.toFixed(2)} s, the caption says ≈ ${qp}`);
+    assert.ok(Math.abs(s.slope - cone) < 0.06, `the cone's slope ${s.slope.toFixed(3)}, the caption says ${cone}`);
+  }
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test('at 1366×768 the plots start hidden; Inspect shows them with the particle\'s stress path in view', async () => {
+  plain ??= await launchBrowser();
+  const context = await plain.newContext({ viewport: { width: 1366, height: 768 } });
+  const { page, errors } = await openPage(context, `${URL_ROOT}#scene=column_collapse&dim=2`);
+  assert.equal(await page.getAttribute('#toggle-plots', 'aria-pressed'), 'false', 'hidden below 1500 px');
+  await page.click('#tool-inspect');
+  const [x, y] = await screenOf(page, 0.5, 0.05, 0);
+  await page.mouse.click(x, y);
+  await page.waitForFunction(() => mpm.probeId !== null && mpm.stressPlot.point, null, { timeout: 20_000 });
+  await page.waitForTimeout(300);
+  assert.equal(await page.getAttribute('#toggle-plots', 'aria-pressed'), 'true', 'Inspect showed the plots');
+  const seen = await page.evaluate(() => {
+    const r = document.getElementById('pq').getBoundingClientRect();
+    return document.elementFromPoint(r.left + r.width / 2, r.top + r.height / 2)?.id;
+  });
+  assert.equal(seen, 'pq', 'the stress path is in view');
+  assert.deepEqual(errors, []);
+  await context.close();
+});
+
+test('in 3D the quality line quotes the 3D column\'s errors, and the page\'s own 3D column at rest agrees with them', async () => {
+  const { page, errors } = await open('#scene=column_collapse&dim=3');
+  const c3 = await page.evaluate(() => mpm.sim.quality.column_3d);
+  assert.ok(c3 && Number.isFinite(c3.runout) && Number.isFinite(c3.height), `the resolution carries the 3D column's figures: ${JSON.stringify(c3)}`);
+  const pct = (x) => `${x > 0 ? '+' : x < 0 ? '−' : ''}${(100 * Math.abs(x)).toPrecision(2)} %`;
+  await page.waitForFunction(() => document.querySelector('[data-hud="quality"]'), null, { timeout: 20_000 });
+  const line = await page.textContent('[data-hud="quality"]');
+  assert.equal(line, `Live: 3D column run-out ${pct(c3.runout)}, height ${pct(c3.height)} against experiments`);
+  // The page's column at rest, measured by its readouts against the markers it draws.
+  await page.waitForFunction(() => mpm.simTime > 3, null, { timeout: 300_000 });
+  const m = await page.evaluate(() => {
+    const d = mpm.frame.measures[0];
+    return { ratio: d.runout.runout[0] / d.column.column.half_width, law: d.column.law.runout[0], height: d.heap.height, lawHeight: d.column.height };
+  });
+  const runout = m.ratio / m.law - 1, height = m.height / m.lawHeight - 1;
+  assert.ok(Math.abs(runout - c3.runout) < 0.08, `run-out: the page's ${pct(runout)}, the line's ${pct(c3.runout)}`);
+  assert.ok(Math.abs(height - c3.height) < 0.08, `height: the page's ${pct(height)}, the line's ${pct(c3.height)}`);
+  assert.deepEqual(errors, []);
+  await page.close();
 });

@@ -2,8 +2,8 @@
 //!
 //! - `build`     — the browser playground: adds the wasm32 target if missing, installs
 //!   wasm-bindgen-cli at the version in Cargo.lock if that version is not on PATH, builds the
-//!   release wasm with simd128, runs `wasm-bindgen --target web` into `www/pkg/` and writes
-//!   the scene list `www/pkg/scenes.json` from the files in `scenes/`.
+//!   release wasm with simd128, runs `wasm-bindgen --target web` into `www/pkg/`, optimises
+//!   the wasm with binaryen's `wasm-opt` (when on PATH) and writes the scene list `www/pkg/scenes.json` from the files in `scenes/`.
 //!   It also writes the lesson list `www/pkg/lessons.json` from the files in `lessons/`.
 //! - `serve`     — `build`, then serves the repository root on http://127.0.0.1:8080.
 //! - `dist`      — `build`, then writes the page as a self-contained static folder,
@@ -426,7 +426,7 @@ fn build() -> Result<u64, String> {
         "--package",
         "mpm",
     ]))?;
-    let wasm = root().join("target/wasm32-unknown-unknown/release/mpm.wasm");
+    let wasm = wasm_opt(&root().join("target/wasm32-unknown-unknown/release/mpm.wasm"))?;
     let pkg = root().join("www/pkg");
     run(
         "wasm-bindgen",
@@ -449,6 +449,45 @@ fn build() -> Result<u64, String> {
         size as f64 / 1024.0
     );
     Ok(size)
+}
+
+/// The wasm-opt level of the page's wasm: smaller than none at the same speed in Node
+/// (docs/performance.md, *Page weight (wasm-opt)*); -O3 inlines the pass functions the wasm
+/// build keeps apart and runs slower.
+const WASM_OPT_LEVEL: &str = "-O1";
+/// The wasm features the build uses (wasm-opt must neither reject nor add others): rustc's
+/// defaults for wasm32-unknown-unknown and simd128.
+const WASM_OPT_FEATURES: [&str; 7] = [
+    "--enable-simd",
+    "--enable-bulk-memory",
+    "--enable-sign-ext",
+    "--enable-mutable-globals",
+    "--enable-nontrapping-float-to-int",
+    "--enable-reference-types",
+    "--enable-multivalue",
+];
+
+/// rustc's `wasm` optimised by binaryen's wasm-opt at [`WASM_OPT_LEVEL`], debug information
+/// stripped, as `opt/mpm.wasm` beside it (the name wasm-bindgen's output is named after); without
+/// wasm-opt on PATH (Debian: the `binaryen` package) it says so and returns `wasm` itself. It
+/// runs before wasm-bindgen: Debian's binaryen 108 predates the externref table wasm-bindgen
+/// emits, and a module it optimised after wasm-bindgen no longer instantiates.
+fn wasm_opt(wasm: &Path) -> Result<PathBuf, String> {
+    if output("wasm-opt", &["--version"]).is_none() {
+        eprintln!(
+            "xtask: wasm-opt not found (Debian: apt-get install binaryen): mpm_bg.wasm left unoptimised"
+        );
+        return Ok(wasm.to_path_buf());
+    }
+    let dir = wasm.with_file_name("opt");
+    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let out = dir.join("mpm.wasm");
+    let (from, to) = (wasm.to_string_lossy(), out.to_string_lossy());
+    let mut args = vec![WASM_OPT_LEVEL, "--strip-debug"];
+    args.extend(WASM_OPT_FEATURES);
+    args.extend([from.as_ref(), "-o", to.as_ref()]);
+    run("wasm-opt", &args)?;
+    Ok(out)
 }
 
 fn flag<'a>(args: &'a [String], name: &str) -> Option<&'a str> {

@@ -74,3 +74,19 @@ test('sleeping in the link: sleep=0 when off, nothing when on (the default), any
   assert.deepEqual(bad.view, { scene: 'sandbox' });
   assert.match(bad.errors[0], /^sleep=off: 0 \(material at rest is stepped\) or 1/);
 });
+
+test('view entries outside the page\'s menus are named with what is allowed, the rest of the link kept', () => {
+  const choices = { object: ['bunny', 'ball', 'box'], material: ['elastic', 'von_mises', 'drucker_prager'], quality: ['live', 'balanced', 'fine'] };
+  const { view, session, errors } = readHash('#scene=column_collapse&dim=7&colour=rainbow&time=5&size=-1&object=cat&material=elastic&quality=ultra&gravity=5', NAMES, choices);
+  assert.deepEqual(view, { scene: 'column_collapse', material: 'elastic' });
+  assert.deepEqual(session.params, [['gravity', 5]]);
+  assert.equal('quality' in session, false, 'an unknown level: the page keeps its own');
+  assert.deepEqual(errors.map((e) => e.split(':')[0]), ['dim=7', 'colour=rainbow', 'time=5', 'size=-1', 'object=cat', 'quality=ultra']);
+  assert.match(errors[0], /not one of 2, 3/);
+  assert.match(errors[5], /not one of live, balanced, fine/);
+  assert.deepEqual(readHash('#quality=balanced', NAMES, choices).session.quality, 'balanced');
+  // Numbers beyond a double's range are not numbers (the solver would get null).
+  const huge = readHash('#gravity=1e999&size=1e999&drop=0:ball:elastic:0.2:1e999,0.5', NAMES, choices);
+  assert.deepEqual([huge.session.params, huge.session.drops, huge.view], [[], [], {}]);
+  assert.equal(huge.errors.length, 3);
+});

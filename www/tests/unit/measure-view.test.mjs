@@ -9,7 +9,22 @@ test('the real-time factor in words', () => {
   assert.equal(speedWords(0.5, false, false), 'paused');
   assert.equal(speedWords(0.25, true, true), 'slow motion: 1 s takes 4.0 s');
   assert.match(speedWords(2, true, false), /faster/);
+  // The words agree with the figure they are made of, for every ratio (a frame that fell
+  // behind its budget near real time is not "slow motion: 1 s takes 0.98 s").
+  for (let ratio = 0.05; ratio < 3; ratio *= 1.013) {
+    const words = speedWords(ratio, true);
+    const slow = /^slow motion: 1 s takes ([\d.]+) s$/.exec(words);
+    const fast = /^faster than real time \(([\d.]+)×\)$/.exec(words);
+    if (slow) {
+      assert.ok(Number(slow[1]) > 1 && ratio < 1, `${ratio}: ${words}`);
+      assert.ok(Math.abs(Number(slow[1]) * ratio - 1) < 0.05 * Number(slow[1]), `${ratio}: ${words}`);
+    } else if (fast) assert.ok(Number(fast[1]) > 1 && Math.abs(Number(fast[1]) - ratio) <= 0.05, `${ratio}: ${words}`);
+    else assert.ok(words === 'real time' && Math.abs(ratio - 1) <= 0.1, `${ratio}: ${words}`);
+  }
   assert.match(accuracyNote('Live', { column_runout: -0.14, column_height: 0.021 }), /Live: column run-out −14 %, height \+2\.1 %/);
+  // In 3D, the 3D column's figures, not the plane column's.
+  assert.equal(accuracyNote('Live', { column_runout: -0.14, column_height: 0.021 }, { runout: -0.47, height: 0.05 }),
+    'Live: 3D column run-out −47 %, height +5.0 % against experiments');
 });
 
 const deposit = (body, angles, runout, footprint = 0.1) => ({

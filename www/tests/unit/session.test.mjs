@@ -76,3 +76,26 @@ test('on the page\'s own thread frames are read in place: nothing goes back', ()
   s.take();
   assert.deepEqual(s.sent, []);
 });
+
+test('a start (load, Clear, Reset, quality) drops every frame of the simulation before it: drawn, waiting or late', async () => {
+  const s = session();
+  const old = (seq) => ({ ...frame(seq), generation: 1 });
+  const [drawn, waiting, late] = [old(1), old(2), old(3)];
+  s.receive({ type: 'reply', id: 99, result: {}, generation: 1 });
+  s.receive(drawn);
+  s.take();
+  s.receive(waiting);
+  // A lesson loads: its reply comes after every frame of the scene before it.
+  const load = s.load({ text: '{}' }, {}, '2');
+  s.receive({ type: 'reply', id: 0, result: { rejected: [], refused: [] }, generation: 2 });
+  await load;
+  assert.equal(s.generation, 2);
+  assert.deepEqual(s.take(), { frame: null, fresh: false }, 'nothing of the scene before is shown, plotted or measured');
+  s.receive(late); // cannot come after the reply from one worker, but a stale frame is never taken
+  assert.deepEqual(s.take(), { frame: null, fresh: false });
+  const back = s.sent.filter((m) => m.cmd === 'drawn').flatMap((m) => m.args.buffers);
+  for (const f of [drawn, waiting, late]) assert.ok(back.includes(f.positions.buffer) && back.includes(f.values.buffer), `frame ${f.seq}'s buffers go back`);
+  const fresh = { ...frame(4), generation: 2 };
+  s.receive(fresh);
+  assert.equal(s.take().frame, fresh, 'the new start\'s frames are drawn');
+});
