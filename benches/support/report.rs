@@ -68,8 +68,8 @@ impl Filters {
 }
 
 /// The commit the figures are measured at, for a report's header: `git rev-parse --short HEAD`,
-/// with "plus uncommitted changes" when tracked files differ from it, or "an unknown commit"
-/// outside a git checkout.
+/// with "plus uncommitted changes" when tracked files outside docs/ differ from it, or "an
+/// unknown commit" outside a git checkout.
 pub fn measured_at() -> String {
     let git = |args: &[&str]| {
         std::process::Command::new("git")
@@ -82,7 +82,15 @@ pub fn measured_at() -> String {
     };
     match git(&["rev-parse", "--short", "HEAD"]) {
         None => "an unknown commit".to_string(),
-        Some(head) => match git(&["status", "--porcelain", "--untracked-files=no"]) {
+        // changes under docs/ (reports written while this one runs) do not change the figures
+        Some(head) => match git(&[
+            "status",
+            "--porcelain",
+            "--untracked-files=no",
+            "--",
+            ".",
+            ":!docs",
+        ]) {
             Some(changes) if changes.is_empty() => format!("`{head}`"),
             _ => format!("`{head}` plus uncommitted changes"),
         },
