@@ -97,7 +97,7 @@ fn main() {
         return;
     }
     let generated = format!(
-        "{BEGIN}\n\n{}\nMeasured at {}: each scene as written (the page's *Fine* level), sleeping off, stepped natively in one thread pinned to one core of the shared two-core development machine (`taskset -c 0`); wall-clock seconds, and in brackets the seconds the thread was on the core (the steadier figure when other work loads the machine).\n\n{}\n\n{END}",
+        "{BEGIN}\n\n{}\nMeasured at {}: each scene as written (the page's *Fine* level), sleeping off, stepped natively in one thread ({}) of the shared two-core development machine; wall-clock seconds, and in brackets the seconds the thread was on the core (the steadier figure when other work loads the machine).\n\n{}\n\n{END}",
         table(
             &[
                 "scene",
@@ -111,6 +111,7 @@ fn main() {
             &rows
         ),
         measured_at(),
+        placement(),
         solver_line(&["solid", "sand"], "cargo xtask scene-times"),
     );
     let doc = root().join("docs/scenes.md");

@@ -68,8 +68,8 @@ impl Filters {
 }
 
 /// The commit the figures are measured at, for a report's header: `git rev-parse --short HEAD`,
-/// with "plus uncommitted changes" when tracked files outside docs/ differ from it, or "an
-/// unknown commit" outside a git checkout.
+/// with "plus uncommitted changes" when tracked files other than documents (docs/, *.md)
+/// differ from it, or "an unknown commit" outside a git checkout.
 pub fn measured_at() -> String {
     let git = |args: &[&str]| {
         std::process::Command::new("git")
@@ -82,7 +82,7 @@ pub fn measured_at() -> String {
     };
     match git(&["rev-parse", "--short", "HEAD"]) {
         None => "an unknown commit".to_string(),
-        // changes under docs/ (reports written while this one runs) do not change the figures
+        // changes to documents (reports written while this one runs) do not change the figures
         Some(head) => match git(&[
             "status",
             "--porcelain",
@@ -90,6 +90,7 @@ pub fn measured_at() -> String {
             "--",
             ".",
             ":!docs",
+            ":!*.md",
         ]) {
             Some(changes) if changes.is_empty() => format!("`{head}`"),
             _ => format!("`{head}` plus uncommitted changes"),
@@ -111,6 +112,21 @@ pub fn on_core<T>(f: impl FnOnce() -> T) -> (T, f64) {
     let out = f();
     let wall = start.elapsed().as_secs_f64();
     (out, c0.zip(cpu_seconds()).map_or(wall, |(a, b)| b - a))
+}
+
+/// How the process is placed: "pinned to core N" when it may run on one core only (as
+/// `taskset -c N` leaves it), "not pinned to a core" otherwise (Linux; "" elsewhere).
+pub fn placement() -> String {
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    match status
+        .lines()
+        .find_map(|l| l.strip_prefix("Cpus_allowed_list:"))
+        .map(str::trim)
+    {
+        Some(cpus) if cpus.parse::<usize>().is_ok() => format!("pinned to core {cpus}"),
+        Some(_) => "not pinned to a core".to_string(),
+        None => String::new(),
+    }
 }
 
 /// A markdown table.
