@@ -129,6 +129,15 @@ pub fn placement() -> String {
     }
 }
 
+/// The machine's one-minute load average, e.g. "a load average of 1.2" (Linux; "" elsewhere):
+/// wall-clock run times taken under load are longer by about that factor over the cores.
+pub fn load_average() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .and_then(|s| s.split_whitespace().next().map(str::to_string))
+        .map_or(String::new(), |l| format!("a load average of {l}"))
+}
+
 /// A markdown table.
 pub fn table(header: &[&str], rows: &[Vec<String>]) -> String {
     let mut s = String::new();
