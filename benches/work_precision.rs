@@ -7,8 +7,9 @@
 //! (`src/playground/quality.rs`): each level's largest cell factor and the particles per cell
 //! the page gives the shipped scenes at that level, with each kernel.
 //!
-//! `taskset -c 0 cargo bench --bench work_precision` (about 20 minutes on one core; the
-//! run times are single-core wall-clock seconds). Arguments filter the studies:
+//! `taskset -c 0 cargo bench --bench work_precision` (about 5 minutes of one core's time;
+//! the run times are the seconds each run spent on a core, `report::on_core`). Arguments
+//! filter the studies:
 //! `bar`, `column`, `resting`, `quality`.
 
 #[path = "support/report.rs"]
