@@ -164,7 +164,9 @@ fn main() {
     let mut md = String::new();
     let _ = writeln!(
         md,
-        "# Cost of each pass (generated)\n\nRegenerate with `taskset -c 0 cargo bench --bench passes` (or `cargo xtask passes`). Nanoseconds per particle per step, the median of fifteen rounds (five on each of three fresh simulations; 100 steps in 2D, 30 in 3D, after as many warm-up steps), one core; the last column is the total against the one elastic body of the same dimension. Written by `benches/passes.rs`; the discussion is in [work-precision.md](../work-precision.md#skipping-what-a-scene-does-not-need).\n\n{}",
+        "# Cost of each pass (generated)\n\nRegenerate with `taskset -c 0 cargo bench --bench passes` (or `cargo xtask passes`). Nanoseconds per particle per step, the median of fifteen rounds (five on each of three fresh simulations; 100 steps in 2D, 30 in 3D, after as many warm-up steps), one core; the last column is the total against the one elastic body of the same dimension. Written by `benches/passes.rs`; the discussion is in [work-precision.md](../work-precision.md#skipping-what-a-scene-does-not-need). Measured at {}.\n\n{}\n\n{}",
+        measured_at(),
+        solver_line(&["solid", "sand"], "cargo xtask passes"),
         table(
             &[
                 "dim",

@@ -52,8 +52,14 @@ fn main() {
     let mut md = String::new();
     let _ = writeln!(
         md,
-        "# Validation report (generated)\n\nRegenerate with `taskset -c 0 cargo bench --bench validate` (or `cargo xtask validate`). Written by `benches/validate.rs`; the cases, references and discussion are in [validation.md](../validation.md). Run times are wall-clock seconds on one core. Measured at {}.\n",
-        measured_at()
+        "# Validation report (generated)\n\nRegenerate with `taskset -c 0 cargo bench --bench validate` (or `cargo xtask validate`). Written by `benches/validate.rs`; the cases, references and discussion are in [validation.md](../validation.md). Run times are wall-clock seconds on one core. Measured at {}, {}, with {} on the machine's two cores when the run began.\n\n{}\n",
+        measured_at(),
+        placement(),
+        load_average(),
+        solver_line(
+            &families_of(&filters, &["bar", "wave", "squeeze", "resting", "flip"]),
+            &rerun_command("validate", &filters)
+        )
     );
     // the report is rewritten after each case, so that an interrupted run keeps its results
     let path = filters.report_path("validation-report");

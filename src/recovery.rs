@@ -20,7 +20,7 @@ use crate::kernel::Kernel;
 use crate::material::Behaviour;
 use crate::math::{Dim, Real};
 use crate::sim::Simulation;
-use crate::step::with_kernel;
+use crate::kernel::with_kernel;
 
 /// Every particle's stress as shown: the recovered σ̄_p of the sand bodies' particles, the
 /// stress σ_p itself for the others (solids and kinematic bodies).
@@ -71,7 +71,10 @@ fn recovered<D: Dim>(sim: &Simulation<D>, b: usize) -> bool {
     let body = &sim.bodies()[b];
     !body.kinematic
         && !body.range.is_empty()
-        && sim.scene().bodies.get(b).map(|c| c.material.behaviour()) == Some(Behaviour::Granular)
+        && matches!(
+            sim.scene().bodies.get(b).map(|c| c.material.behaviour()),
+            Some(Behaviour::Granular(_))
+        )
 }
 
 /// Per axis: the stencil's first node and weights of a particle at `x` (m).

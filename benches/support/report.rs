@@ -4,6 +4,41 @@
 
 use std::fmt::Write;
 
+#[path = "../../tests/support/digest.rs"]
+pub mod digest;
+
+/// The line a report records its solver with (see `tests/support/digest.rs`): today's digest
+/// of each of `families` ("solid", "sand") and the command that regenerates the report.
+/// `cargo xtask test` fails, naming that command, once the solver's digest changes.
+pub fn solver_line(families: &[&str], regenerate: &str) -> String {
+    digest::stamp_line(families, regenerate)
+}
+
+/// The families a bench run measures, from its filters: `solid` when every filter names a case
+/// of `solid_cases`, `sand` when none does, both otherwise (and for a whole run).
+pub fn families_of(filters: &Filters, solid_cases: &[&str]) -> Vec<&'static str> {
+    let solid = filters
+        .0
+        .iter()
+        .filter(|f| solid_cases.contains(&f.as_str()))
+        .count();
+    if filters.0.is_empty() || (solid > 0 && solid < filters.0.len()) {
+        vec!["solid", "sand"]
+    } else if solid > 0 {
+        vec!["solid"]
+    } else {
+        vec!["sand"]
+    }
+}
+
+/// The xtask command that reruns a bench with the same filters, e.g. `cargo xtask validate bar`.
+pub fn rerun_command(task: &str, filters: &Filters) -> String {
+    std::iter::once(format!("cargo xtask {task}"))
+        .chain(filters.0.iter().cloned())
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
 /// The bench's name filters (its arguments that are not `--flags`, e.g. `bar column`), and
 /// whether the case `name` is wanted (every case when no filter is given).
 pub struct Filters(pub Vec<String>);
@@ -33,8 +68,8 @@ impl Filters {
 }
 
 /// The commit the figures are measured at, for a report's header: `git rev-parse --short HEAD`,
-/// with "plus uncommitted changes" when tracked files differ from it, or "an unknown commit"
-/// outside a git checkout.
+/// with "plus uncommitted changes" when tracked files other than documents (docs/, *.md)
+/// differ from it, or "an unknown commit" outside a git checkout.
 pub fn measured_at() -> String {
     let git = |args: &[&str]| {
         std::process::Command::new("git")
@@ -47,11 +82,60 @@ pub fn measured_at() -> String {
     };
     match git(&["rev-parse", "--short", "HEAD"]) {
         None => "an unknown commit".to_string(),
-        Some(head) => match git(&["status", "--porcelain", "--untracked-files=no"]) {
+        // changes to documents (reports written while this one runs) do not change the figures
+        Some(head) => match git(&[
+            "status",
+            "--porcelain",
+            "--untracked-files=no",
+            "--",
+            ".",
+            ":!docs",
+            ":!*.md",
+        ]) {
             Some(changes) if changes.is_empty() => format!("`{head}`"),
             _ => format!("`{head}` plus uncommitted changes"),
         },
     }
+}
+
+/// Seconds this thread has spent on a core (Linux's schedstat); `None` elsewhere.
+pub fn cpu_seconds() -> Option<f64> {
+    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    Some(s.split_whitespace().next()?.parse::<f64>().ok()? * 1e-9)
+}
+
+/// Runs `f` and returns its result with the seconds it took on a core (wall-clock seconds
+/// where the system does not say): on a machine shared with other work, the time the run
+/// needed rather than the time it also waited for a core.
+pub fn on_core<T>(f: impl FnOnce() -> T) -> (T, f64) {
+    let (start, c0) = (std::time::Instant::now(), cpu_seconds());
+    let out = f();
+    let wall = start.elapsed().as_secs_f64();
+    (out, c0.zip(cpu_seconds()).map_or(wall, |(a, b)| b - a))
+}
+
+/// How the process is placed: "pinned to core N" when it may run on one core only (as
+/// `taskset -c N` leaves it), "not pinned to a core" otherwise (Linux; "" elsewhere).
+pub fn placement() -> String {
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    match status
+        .lines()
+        .find_map(|l| l.strip_prefix("Cpus_allowed_list:"))
+        .map(str::trim)
+    {
+        Some(cpus) if cpus.parse::<usize>().is_ok() => format!("pinned to core {cpus}"),
+        Some(_) => "not pinned to a core".to_string(),
+        None => String::new(),
+    }
+}
+
+/// The machine's one-minute load average, e.g. "a load average of 1.2" (Linux; "" elsewhere):
+/// wall-clock run times taken under load are longer by about that factor over the cores.
+pub fn load_average() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .and_then(|s| s.split_whitespace().next().map(str::to_string))
+        .map_or(String::new(), |l| format!("a load average of {l}"))
 }
 
 /// A markdown table.

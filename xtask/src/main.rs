@@ -27,6 +27,7 @@
 //!   docs/reports/work-precision-report.md and the SVG diagrams.
 //! - `passes`    — the cost of each pass for scenes that need different work; writes
 //!   docs/reports/passes-report.md.
+//! - `scene-times` — the shipped scenes' run times; rewrites the table in docs/scenes.md.
 //! - `screenshot` — the README's picture of the page in headless Chromium: docs/playground.jpg.
 //! - `stress`    — the long stability sweep (`MPM_LONG=1`: more random scenes, longer resting
 //!   runs, more fuzzing).
@@ -68,11 +69,12 @@ fn main() -> ExitCode {
         Some("validate") => report_bench("validate", rest),
         Some("work-precision") => report_bench("work_precision", rest),
         Some("passes") => report_bench("passes", rest),
+        Some("scene-times") => report_bench("scenes", rest),
         Some("stress") => stress(),
         Some("screenshot") => screenshot(),
         _ => {
             eprintln!(
-                "usage: cargo xtask <build|serve|dist|test|bench-web|live|quality|validate|work-precision|passes|stress|screenshot>"
+                "usage: cargo xtask <build|serve|dist|test|bench-web|live|quality|validate|work-precision|passes|scene-times|stress|screenshot>"
             );
             eprintln!(
                 "  build              build the browser playground into www/pkg/ (wasm, simd128)"
@@ -104,6 +106,7 @@ fn main() -> ExitCode {
                 "  work-precision     run time against error -> docs/reports/work-precision-report.md, SVGs"
             );
             eprintln!("  passes             cost of each pass -> docs/reports/passes-report.md");
+            eprintln!("  scene-times        the shipped scenes' run times -> docs/scenes.md");
             eprintln!("  stress             the long stability sweep (MPM_LONG=1)");
             eprintln!(
                 "  screenshot         the README's picture of the page -> docs/playground.jpg"
