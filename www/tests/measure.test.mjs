@@ -4,7 +4,8 @@
 // measure of the same frame, and its question is answered by that readout; the column
 // collapse shows the experiments' markers naming their source (and a scene without a column
 // none); the hand tool reads a length and an angle; an inspected particle gets its Mohr
-// circles (one in plane strain, three in 3D) with the Mohr–Coulomb envelope. Served by
+// circles (one in plane strain, three in 3D) with the Mohr–Coulomb envelope, a Mohr–Coulomb
+// particle with its own envelope and no cone. Served by
 // `cargo xtask test` (MPM_URL).
 //
 //   MPM_URL=http://127.0.0.1:8080/ node --test www/tests/measure.test.mjs
@@ -271,6 +272,20 @@ test('an inspected sand particle gets its Mohr circles: one in plane strain, thr
     assert.deepEqual(errors, []);
     await page.close();
   }
+});
+
+test('an inspected Mohr–Coulomb particle gets its own envelope, at its friction angle, and no cone', async () => {
+  const { page, errors } = await open('#lesson=mohr_coulomb');
+  if ((await page.getAttribute('#toggle-plots', 'aria-pressed')) === 'false') await page.click('#toggle-plots');
+  await page.evaluate(async () => mpm.setProbe(await mpm.session.pick([1.5, 0.05])));
+  await page.waitForFunction(() => mpm.probeId !== null && mpm.mohrPlot.drawn, null, { timeout: 30_000 });
+  const drawn = await page.evaluate(() => ({ ...mpm.mohrPlot.drawn, model: mpm.mohrPlot.point.model }));
+  assert.equal(drawn.model, 'mohr_coulomb', JSON.stringify(drawn));
+  assert.equal(drawn.envelope, true, 'the Mohr–Coulomb envelope');
+  assert.equal(drawn.angle, 40, 'at the material\'s own φ');
+  assert.equal(drawn.cone, null, 'no Drucker–Prager cone');
+  assert.deepEqual(errors, []);
+  await page.close();
 });
 
 test('the stress-path lesson\'s caption against the page: on the cone while it flows, inside it at rest at the q/p it quotes', async () => {
