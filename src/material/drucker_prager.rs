@@ -501,8 +501,14 @@ impl Constitutive for DruckerPrager {
         let energy = e.energy_from_invariants(j2_trial * (ratio * ratio), i1 * (1.0 / 3.0));
         // The plastic work σ:Δε_p with Δε_p = C⁻¹:(σ_tr − σ): the deviator shrinks from s_tr to
         // ratio·s_tr, I1 moves from I1_tr to I1 (see [`StressUpdate::dissipation`]).
-        let work = j2_trial * (ratio - ratio * ratio) * (1.0 / g)
-            + i1 * (i1_trial - i1) * (1.0 / (9.0 * e.k));
+        // Zero inside the cone, where ratio is 1 only to rounding.
+        let work = S::Scalar::select_gt(
+            f,
+            zero,
+            j2_trial * (ratio - ratio * ratio) * (1.0 / g)
+                + i1 * (i1_trial - i1) * (1.0 / (9.0 * e.k)),
+            zero,
+        );
         StressUpdate {
             plastic_strain: (sqrt_j2_trial - sqrt_j2_trial * ratio) * (1.0 / (SQRT_3 * g)),
             dissipation: work,
