@@ -12,10 +12,10 @@
 use super::Step;
 use super::stress::internal_force;
 use super::transfer::Transfer;
-use super::walk::{Share, Walker, scatter as spread};
+use super::walk::{Walker, scatter as spread};
 use crate::grid::Grid;
 use crate::kernel::{Kernel, with_kernel};
-use crate::math::{Dim, Real};
+use crate::math::{Dim, Real, VectorOps};
 
 impl<D: Dim> Step<'_, D> {
     /// Step 1 (and the forces of step 4, stress updated last) for every body.
@@ -90,16 +90,23 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
         ($force:expr, $affine:expr, $gradient:expr) => {
             for q in 0..ps.x.len() {
                 let at = walker.at(ps.x, q);
-                // m_i += w_ip m_p, (mv)_i += w_ip (m_p v_p + A_p d_i), f_i += F_p ∇w_ip,
-                // ∇m_i += m_p ∇w_ip.
                 let m = ps.mass[q];
-                let share = Share {
-                    mass: Some((m, ps.v[q] * m)),
-                    affine: $affine(q),
-                    force: $force(q),
-                };
-                let g = $gradient.then_some(&mut mass_grad[..]);
-                spread::<D, K, S>(nodes, g, &at, share);
+                let (mv, affine, force) = (ps.v[q] * m, $affine(q), $force(q));
+                // m_i += w_ip m_p, (mv)_i += w_ip (m_p v_p + A_p d_i), f_i += F_p ∇w_ip.
+                spread::<D, K, S, _>(nodes, &at, |n, w| {
+                    let p = match affine {
+                        None => mv,
+                        Some(a) => w.plus_offset(mv, a),
+                    };
+                    n.vm += p.with_mass(m) * w.value();
+                    if let Some(f) = force {
+                        n.new_vel += w.gradient_times(f);
+                    }
+                });
+                if $gradient {
+                    // ∇m_i += m_p ∇w_ip.
+                    spread::<D, K, S, _>(mass_grad, &at, |g, w| *g += w.gradient() * m);
+                }
             }
         };
     }

@@ -45,7 +45,7 @@
 use super::Step;
 use super::report::StressReport;
 use super::volumetric::{sum_cell_dilatation, with_volumetric_rate};
-use super::walk::{self, At, CHUNK, Rates, Share, Walker};
+use super::walk::{self, At, CHUNK, Rates, Walker};
 use crate::grid::Grid;
 use crate::kernel::{Kernel, KernelKind, Stencil, with_kernel};
 use crate::material::{Constitutive, VolumetricRate, WithModel};
@@ -212,12 +212,8 @@ pub fn update_stress_first<
             if report.bad > bad && !(force.is_finite() && v > 0.0) {
                 continue;
             }
-            let share = Share {
-                mass: None,
-                affine: None,
-                force: Some(force),
-            };
-            walk::scatter::<D, K, S>(nodes, None, &at[i], share);
+            // f_i += F_p ∇w_ip.
+            walk::scatter::<D, K, S, _>(nodes, &at[i], |n, w| n.new_vel += w.gradient_times(force));
         }
     }
     grid.reduce_nodes(|o, h| o.new_vel += h.new_vel);
