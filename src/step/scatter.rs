@@ -10,12 +10,11 @@
 //! Eq. 20.
 
 use super::Step;
-use super::stress::internal_force;
 use super::transfer::Transfer;
 use super::walk::{Walker, scatter as spread};
 use crate::grid::Grid;
 use crate::kernel::{Kernel, with_kernel};
-use crate::math::{Dim, Real, VectorOps};
+use crate::math::{Dim, Real, SymTensor, VectorOps};
 
 impl<D: Dim> Step<'_, D> {
     /// Step 1 (and the forces of step 4, stress updated last) for every body.
@@ -43,6 +42,22 @@ impl<D: Dim> Step<'_, D> {
             with_kernel!(self.world.kernel, K, S => scatter::<D, K, S>(&mut body.grid, state, inv_h, lp));
         }
     }
+}
+
+/// Step 4's internal force at the nodes is f_i = Σ_p F_p ∇w_ip with, for each particle,
+///
+/// F_p = −V_p (σ_p − q_p I),
+///
+/// its stress less the bulk viscosity's pressure q_p (`viscous`; none for sand) times minus
+/// its volume. Both stress orders scatter it: [`scatter`] the next step's with the stress
+/// updated last, [`super::stress::update_stress_first`] its own.
+#[inline(always)]
+pub fn internal_force<D: Dim>(stress: D::Sym, volume: Real, viscous: Option<Real>) -> D::Sym {
+    let sigma = match viscous {
+        Some(q) => stress - D::Sym::iso(q),
+        None => stress,
+    };
+    sigma * -volume
 }
 
 /// The particles' stress, volume and bulk viscosity's pressure, which make their forces.
