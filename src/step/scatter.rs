@@ -107,13 +107,25 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
                 let at = walker.at(ps.x, q);
                 let m = ps.mass[q];
                 let (mv, affine, force) = (ps.v[q] * m, $affine(q), $force(q));
+                // A_p's columns with mass 0, to add to the momentum with mass m_p.
+                let columns = affine.map(|a: D::Grad| {
+                    [0, 1, 2].map(|c| {
+                        let column = if c < D::DIM {
+                            D::column(&a, c)
+                        } else {
+                            D::Vector::ZERO
+                        };
+                        column.with_mass(0.0)
+                    })
+                });
+                let pm = mv.with_mass(m);
                 // m_i += w_ip m_p, (mv)_i += w_ip (m_p v_p + A_p d_i), f_i += F_p ∇w_ip.
                 spread::<D, K, S, _>(nodes, &at, |n, w| {
-                    let p = match affine {
-                        None => mv,
-                        Some(a) => w.plus_offset(mv, a),
+                    let p = match columns {
+                        None => pm,
+                        Some(c) => w.plus_offset(pm, c),
                     };
-                    n.vm += p.with_mass(m) * w.value();
+                    n.vm += p * w.value();
                     if let Some(f) = force {
                         n.new_vel += w.gradient_times(f);
                     }

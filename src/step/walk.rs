@@ -267,15 +267,19 @@ impl<D: Dim> Weights<D> {
         fx * self.dwiv + fyz * self.wiv
     }
 
-    /// b + A d_i for a matrix A: (b + A e_y d_j + A e_z d_k) + A e_x d_i.
+    /// b + A d_i for a matrix A given by its columns `a` (of any vector type):
+    /// (b + A e_y d_j + A e_z d_k) + A e_x d_i.
     #[inline(always)]
-    pub fn plus_offset(&self, b: D::Vector, a: D::Grad) -> D::Vector {
+    pub fn plus_offset<T>(&self, b: T, a: [T; 3]) -> T
+    where
+        T: Copy + std::ops::Add<Output = T> + std::ops::Mul<Real, Output = T>,
+    {
         let r = &self.row;
-        let mut row = b + D::column(&a, 1) * r.dj;
+        let mut row = b + a[1] * r.dj;
         if D::DIM == 3 {
-            row += D::column(&a, 2) * r.dk;
+            row = row + a[2] * r.dk;
         }
-        row + D::column(&a, 0) * self.di
+        row + a[0] * self.di
     }
 }
 
@@ -879,8 +883,17 @@ mod tests {
             for st in &stencils {
                 let (m, mv, a, f) = share::<D>(&mut seed, affine, force);
                 let at = At { st: *st, origin: 0 };
+                let columns = a.map(|a| {
+                    [0, 1, 2].map(|c| {
+                        if c < D::DIM {
+                            D::column(&a, c)
+                        } else {
+                            D::Vector::ZERO
+                        }
+                    })
+                });
                 scatter::<D, K, S, _>(&mut rows, &at, |n, w| {
-                    let p = a.map_or(mv, |a| w.plus_offset(mv, a));
+                    let p = columns.map_or(mv, |c| w.plus_offset(mv, c));
                     n.vm += p.with_mass(m) * w.value();
                     if let Some(f) = f {
                         n.new_vel += w.gradient_times(f);
