@@ -46,11 +46,13 @@
 //! `D` and the kernel `K` (with `S` nodes per axis). The passes walk no stencil themselves:
 //! [`walk`] alone knows how a stencil lies on the grid (rows, reach, the folded third axis in
 //! 2D, the packed 2D forms) and how the stress update's particles go into SIMD lanes. A pass
-//! states its sums as terms handed to a walk — the scatter a particle's share
-//! ([`walk::Share`]: m_p, m_p v_p, APIC's A_p, a force F_p), the gather and the stress pass
-//! the node fields they sum against w_ip, ∇w_ip and w_ip d_i ([`walk::Sums`]) — and the
-//! stress pass its constitutive step once (`stress::update_group`), run for one particle
-//! or eight in lanes ([`walk::update_in_lanes`]).
+//! states its sums as terms handed to a walk — the scatter and the stress pass their per-node
+//! terms once, in a closure the walk calls on each node with its [`walk::Weights`] (m_i +=
+//! w_ip m_p in `scatter.rs`, f_i += F_p ∇w_ip with F_p = [`scatter::internal_force`]), the
+//! gather and the stress pass the node fields they sum against w_ip, ∇w_ip and w_ip d_i
+//! ([`walk::Sums`]) — and the stress pass its constitutive step once
+//! (`stress::update_group`), run for one particle or eight in lanes
+//! ([`walk::update_in_lanes`]).
 
 pub mod allocate;
 pub mod contact;

@@ -10,12 +10,11 @@
 //! Eq. 20.
 
 use super::Step;
-use super::stress::internal_force;
 use super::transfer::Transfer;
-use super::walk::{Share, Walker, scatter as spread};
+use super::walk::{Walker, scatter as spread};
 use crate::grid::Grid;
 use crate::kernel::{Kernel, with_kernel};
-use crate::math::{Dim, Real};
+use crate::math::{Dim, Real, SymTensor, VectorOps};
 
 impl<D: Dim> Step<'_, D> {
     /// Step 1 (and the forces of step 4, stress updated last) for every body.
@@ -43,6 +42,22 @@ impl<D: Dim> Step<'_, D> {
             with_kernel!(self.world.kernel, K, S => scatter::<D, K, S>(&mut body.grid, state, inv_h, lp));
         }
     }
+}
+
+/// Step 4's internal force at the nodes is f_i = Σ_p F_p ∇w_ip with, for each particle,
+///
+/// F_p = −V_p (σ_p − q_p I),
+///
+/// its stress less the bulk viscosity's pressure q_p (`viscous`; none for sand) times minus
+/// its volume. Both stress orders scatter it: [`scatter`] the next step's with the stress
+/// updated last, [`super::stress::update_stress_first`] its own.
+#[inline(always)]
+pub fn internal_force<D: Dim>(stress: D::Sym, volume: Real, viscous: Option<Real>) -> D::Sym {
+    let sigma = match viscous {
+        Some(q) => stress - D::Sym::iso(q),
+        None => stress,
+    };
+    sigma * -volume
 }
 
 /// The particles' stress, volume and bulk viscosity's pressure, which make their forces.
@@ -90,16 +105,35 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
         ($force:expr, $affine:expr, $gradient:expr) => {
             for q in 0..ps.x.len() {
                 let at = walker.at(ps.x, q);
-                // m_i += w_ip m_p, (mv)_i += w_ip (m_p v_p + A_p d_i), f_i += F_p ∇w_ip,
-                // ∇m_i += m_p ∇w_ip.
                 let m = ps.mass[q];
-                let share = Share {
-                    mass: Some((m, ps.v[q] * m)),
-                    affine: $affine(q),
-                    force: $force(q),
-                };
-                let g = $gradient.then_some(&mut mass_grad[..]);
-                spread::<D, K, S>(nodes, g, &at, share);
+                let (mv, affine, force) = (ps.v[q] * m, $affine(q), $force(q));
+                // A_p's columns with mass 0, to add to the momentum with mass m_p.
+                let columns = affine.map(|a: D::Grad| {
+                    [0, 1, 2].map(|c| {
+                        let column = if c < D::DIM {
+                            D::column(&a, c)
+                        } else {
+                            D::Vector::ZERO
+                        };
+                        column.with_mass(0.0)
+                    })
+                });
+                let pm = mv.with_mass(m);
+                // m_i += w_ip m_p, (mv)_i += w_ip (m_p v_p + A_p d_i), f_i += F_p ∇w_ip.
+                spread::<D, K, S, _>(nodes, &at, |n, w| {
+                    let p = match columns {
+                        None => pm,
+                        Some(c) => w.plus_offset(pm, c),
+                    };
+                    n.vm += p * w.value();
+                    if let Some(f) = force {
+                        n.new_vel += w.gradient_times(f);
+                    }
+                });
+                if $gradient {
+                    // ∇m_i += m_p ∇w_ip.
+                    spread::<D, K, S, _>(mass_grad, &at, |g, w| *g += w.gradient() * m);
+                }
             }
         };
     }

@@ -44,8 +44,9 @@
 
 use super::Step;
 use super::report::StressReport;
+use super::scatter::internal_force;
 use super::volumetric::{sum_cell_dilatation, with_volumetric_rate};
-use super::walk::{self, At, CHUNK, Rates, Share, Walker};
+use super::walk::{self, At, CHUNK, Rates, Walker};
 use crate::grid::Grid;
 use crate::kernel::{Kernel, KernelKind, Stencil, with_kernel};
 use crate::material::{Constitutive, VolumetricRate, WithModel};
@@ -212,32 +213,12 @@ pub fn update_stress_first<
             if report.bad > bad && !(force.is_finite() && v > 0.0) {
                 continue;
             }
-            let share = Share {
-                mass: None,
-                affine: None,
-                force: Some(force),
-            };
-            walk::scatter::<D, K, S>(nodes, None, &at[i], share);
+            // f_i += F_p ∇w_ip.
+            walk::scatter::<D, K, S, _>(nodes, &at[i], |n, w| n.new_vel += w.gradient_times(force));
         }
     }
     grid.reduce_nodes(|o, h| o.new_vel += h.new_vel);
     report
-}
-
-/// Step 4's internal force at the nodes is f_i = Σ_p F_p ∇w_ip with, for each particle,
-///
-/// F_p = −V_p (σ_p − q_p I),
-///
-/// its stress less the bulk viscosity's pressure q_p (`viscous`; none for sand) times minus
-/// its volume. Both stress orders scatter it ([`update_stress_first`], and
-/// [`super::scatter::scatter`] the next step's with the stress updated last).
-#[inline(always)]
-pub fn internal_force<D: Dim>(stress: D::Sym, volume: Real, viscous: Option<Real>) -> D::Sym {
-    let sigma = match viscous {
-        Some(q) => stress - D::Sym::iso(q),
-        None => stress,
-    };
-    sigma * -volume
 }
 
 /// What the gather does with the velocity gradients of each chunk of particles.

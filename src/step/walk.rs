@@ -8,9 +8,11 @@
 //!
 //! **Rows.** The weights are products of one-axis weights, w_ip = w_i w_j w_k and
 //! ∇w_ip = (w'_i w_j w_k, w_i w'_j w_k, w_i w_j w'_k) (grid units folded into w'), so each
-//! walk goes row by row: along the first axis it sums the node terms against w_i, w'_i (and
-//! the offset d_i), then multiplies the row's sums by the row's factors w_j w_k, w'_j w_k and
-//! w_j w'_k. A node then costs a few multiply-adds.
+//! walk goes row by row. The gathers sum the node fields against w_i, w'_i (and the offset
+//! d_i) along the first axis, then multiply the row's sums by the row's factors w_j w_k,
+//! w'_j w_k and w_j w'_k. The scatter ([`scatter`]) calls the pass's per-node terms with the
+//! node's [`Weights`], which form w_ip, ∇w_ip, F ∇w_ip and A d_i with the row's factors
+//! first. A node then costs a few multiply-adds.
 //!
 //! **Axis folding.** 2D runs the same loops with the third axis's weight 1 and derivative 0
 //! and one `k` (`third_axis`); LLVM folds them away.
@@ -20,10 +22,10 @@
 //! not cross a node, three elsewhere (`nodes_along`).
 //!
 //! **2D packing.** In 2D two vectors fit one `Vec4`, so the 2D walks keep two sums side by
-//! side: [`scatter_packed_2d`], [`gather_rows_packed_2d`], [`gather_values_packed_2d`] and
-//! [`gradient_packed_2d`] are packing specialisations of the row walks [`scatter_rows`] and
-//! [`gather_rows`], chosen by [`scatter`], [`gather`] and [`gradient`]; the tests below
-//! compare each with the plain per-node sums.
+//! side: [`gather_rows_packed_2d`], [`gather_values_packed_2d`] and [`gradient_packed_2d`] are
+//! packing specialisations of the row walk [`gather_rows`], chosen by [`gather`] and
+//! [`gradient`], and [`Weights::gradient_times`] forms F ∇w_ip of both columns of F in one
+//! `Vec4`; the tests below compare each with the plain per-node sums.
 //!
 //! **Lanes.** The stress update advances eight particles at once in SIMD lanes;
 //! [`update_in_lanes`] puts a chunk of particles into lanes, pads a short one, and takes the
@@ -72,12 +74,6 @@ impl<const S: usize> At<S> {
     #[inline(always)]
     fn nodes<'a, D: Dim>(&self, nodes: &'a [Node<D::Vector>]) -> &'a [Node<D::Vector>] {
         &nodes[self.origin..][..span::<D, S>()]
-    }
-
-    /// The stencil's nodes, to add to.
-    #[inline(always)]
-    fn nodes_mut<'a, D: Dim>(&self, nodes: &'a mut [Node<D::Vector>]) -> &'a mut [Node<D::Vector>] {
-        &mut nodes[self.origin..][..span::<D, S>()]
     }
 }
 
@@ -209,135 +205,123 @@ fn nodes_along<D: Dim, K: Kernel<S>, const S: usize>(st: &Stencil<S>, a: usize) 
     }
 }
 
-/// What one particle gives each node of its stencil in a scatter.
+/// One stencil node's weights, as [`scatter`] hands them to a pass's terms: w_ip = w_i w_j w_k
+/// and ∇w_ip = (w'_i w_j w_k, w_i w'_j w_k, w_i w_j w'_k) kept as the node's first-axis factors
+/// (w_i, w'_i) and its row's (w_j w_k, w'_j w_k, w_j w'_k), and the node's offset d_i from the
+/// particle in cells. Its methods form the products a term asks for, the row's factors first
+/// (loop-invariant along the row, so the compiler keeps them out of the node loop).
 #[derive(Clone, Copy)]
-pub struct Share<D: Dim> {
-    /// The particle's mass m_p and momentum m_p v_p: m_i += w_ip m_p, (mv)_i += w_ip m_p v_p.
-    pub mass: Option<(Real, D::Vector)>,
-    /// APIC's A_p = m_p C_p h: (mv)_i += w_ip A_p d_i (d_i: the node's offset in cells).
-    pub affine: Option<D::Grad>,
-    /// A symmetric F_p (a force per unit weight gradient): f_i += F_p ∇w_ip, into the nodes'
-    /// `new_vel`.
-    pub force: Option<D::Sym>,
+pub struct Weights<D: Dim> {
+    wi: Real,
+    dwi: Real,
+    di: Real,
+    /// w_i and w'_i as vectors.
+    wiv: D::Vector,
+    dwiv: D::Vector,
+    row: Row,
 }
 
-/// Adds a particle's [`Share`] to the nodes of its stencil, and with `mass_grad` (the grid's
-/// mass gradients, laid out as its nodes) ∇m_i += m_p ∇w_ip. In 2D without the affine term or
-/// the mass gradient this is [`scatter_packed_2d`], else [`scatter_rows`].
-#[inline(always)]
-pub fn scatter<D: Dim, K: Kernel<S>, const S: usize>(
-    nodes: &mut [Node<D::Vector>],
-    mass_grad: Option<&mut [D::Vector]>,
-    at: &At<S>,
-    share: Share<D>,
-) {
-    if D::DIM == 2 && share.affine.is_none() && mass_grad.is_none() {
-        scatter_packed_2d::<D, K, S>(at.nodes_mut::<D>(nodes), &at.st, share);
-    } else {
-        let grad = mass_grad.map(|g| &mut g[at.origin..][..span::<D, S>()]);
-        scatter_rows::<D, K, S>(at.nodes_mut::<D>(nodes), grad, &at.st, share);
+/// A stencil row's factors: w_j w_k, w'_j w_k, w_j w'_k, and the row's offsets d_j, d_k.
+#[derive(Clone, Copy)]
+struct Row {
+    wjk: Real,
+    dwj_wk: Real,
+    wj_dwk: Real,
+    dj: Real,
+    dk: Real,
+}
+
+impl<D: Dim> Weights<D> {
+    /// w_ip.
+    #[inline(always)]
+    pub fn value(&self) -> Real {
+        self.wi * self.row.wjk
+    }
+
+    /// ∇w_ip.
+    #[inline(always)]
+    pub fn gradient(&self) -> D::Vector {
+        let r = &self.row;
+        D::vector([self.dwi * r.wjk, self.wi * r.dwj_wk, self.wi * r.wj_dwk])
+    }
+
+    /// F ∇w_ip for a symmetric F: (F e_x w_j w_k) w'_i + (F e_y w'_j w_k + F e_z w_j w'_k) w_i;
+    /// in 2D, packing specialisation, both columns side by side in one `Vec4`,
+    /// ((F_xx, F_xy) w_j, (F_xy, F_yy) w'_j) ∘ (w'_i, w'_i, w_i, w_i), then the halves added
+    /// (the same products and sums).
+    #[inline(always)]
+    pub fn gradient_times(&self, f: D::Sym) -> D::Vector {
+        let r = &self.row;
+        let [f0, f1, f2] = D::sym_columns(f);
+        if D::DIM == 2 {
+            let fj =
+                Vec4::new(f0[0], f0[1], f1[0], f1[1]) * Vec4::new(r.wjk, r.wjk, r.dwj_wk, r.dwj_wk);
+            let t = fj * Vec4::new(self.dwi, self.dwi, self.wi, self.wi);
+            return D::vector([t.x + t.z, t.y + t.w, 0.0]);
+        }
+        let fx = f0 * r.wjk;
+        let mut fyz = f1 * r.dwj_wk;
+        if D::DIM == 3 {
+            fyz += f2 * r.wj_dwk;
+        }
+        fx * self.dwiv + fyz * self.wiv
+    }
+
+    /// b + A d_i for a matrix A given by its columns `a` (of any vector type):
+    /// (b + A e_y d_j + A e_z d_k) + A e_x d_i.
+    #[inline(always)]
+    pub fn plus_offset<T>(&self, b: T, a: [T; 3]) -> T
+    where
+        T: Copy + std::ops::Add<Output = T> + std::ops::Mul<Real, Output = T>,
+    {
+        let r = &self.row;
+        let mut row = b + a[1] * r.dj;
+        if D::DIM == 3 {
+            row = row + a[2] * r.dk;
+        }
+        row + a[0] * self.di
     }
 }
 
-/// [`scatter`] row by row, for the stencil's `nodes` (from its first), in any dimension:
-/// F ∇w = F e_x w'_i w_j w_k + (F e_y w'_j w_k + F e_z w_j w'_k) w_i with the row's factors
-/// first, and the momentum's affine part A d = A e_x d_i + (A e_y d_j + A e_z d_k).
+/// Calls `term(n, w)` for every node n of the stencil at `at` with weight (`nodes` laid out as
+/// the grid's nodes, from the first), with its [`Weights`] w: row by row, each row's factors
+/// once, over the nodes with weight along each axis (`nodes_along`), and in 2D one `k` with
+/// w_k = 1, w'_k = 0 (`third_axis`). A pass states its per-node terms in `term`.
 #[inline(always)]
-pub fn scatter_rows<D: Dim, K: Kernel<S>, const S: usize>(
-    nodes: &mut [Node<D::Vector>],
-    mut grad: Option<&mut [D::Vector]>,
-    st: &Stencil<S>,
-    share: Share<D>,
+pub fn scatter<D: Dim, K: Kernel<S>, const S: usize, N>(
+    nodes: &mut [N],
+    at: &At<S>,
+    mut term: impl FnMut(&mut N, Weights<D>),
 ) {
     let p = row_length::<D, S>();
-    let nodes = &mut nodes[..span::<D, S>()];
-    let Share {
-        mass,
-        affine,
-        force,
-    } = share;
-    let (m, mv) = mass.unwrap_or((0.0, D::Vector::ZERO));
-    let pm = mv.with_mass(m);
-    let ax = affine
-        .map(|a| D::column(&a, 0).with_mass(0.0))
-        .unwrap_or_default();
-    let [f0, f1, f2] = D::sym_columns(force.unwrap_or(D::Sym::ZERO));
+    let st = &at.st;
+    let nodes = &mut nodes[at.origin..][..span::<D, S>()];
     // The first axis's weights as vectors, once.
-    let w: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.w[i][0]));
-    let dw: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.dw[i][0]));
+    let wv: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.w[i][0]));
+    let dwv: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.dw[i][0]));
     for k in 0..nodes_along::<D, K, S>(st, 2) {
         let (wk, dwk) = third_axis::<D, S>(st, k);
+        let dk = if D::DIM == 3 { st.d[k][2] } else { 0.0 };
         for j in 0..nodes_along::<D, K, S>(st, 1) {
             let base = j * p + k * p * p;
-            let wjk = st.w[j][1] * wk;
-            let fx = f0 * wjk;
-            let mut fyz = f1 * (st.dw[j][1] * wk);
-            if D::DIM == 3 {
-                fyz += f2 * (st.w[j][1] * dwk);
-            }
-            let row = &mut nodes[base..base + S];
-            match affine {
-                None => {
-                    for i in 0..nodes_along::<D, K, S>(st, 0) {
-                        if mass.is_some() {
-                            row[i].vm += pm * (st.w[i][0] * wjk);
-                        }
-                        if force.is_some() {
-                            row[i].new_vel += fx * dw[i] + fyz * w[i];
-                        }
-                    }
-                }
-                Some(a) => {
-                    let mut r = mv + D::column(&a, 1) * st.d[j][1];
-                    if D::DIM == 3 {
-                        r += D::column(&a, 2) * st.d[k][2];
-                    }
-                    let r = r.with_mass(m);
-                    for i in 0..nodes_along::<D, K, S>(st, 0) {
-                        row[i].vm += (r + ax * st.d[i][0]) * (st.w[i][0] * wjk);
-                        if force.is_some() {
-                            row[i].new_vel += fx * dw[i] + fyz * w[i];
-                        }
-                    }
-                }
-            }
-            if let Some(g) = grad.as_deref_mut() {
-                let (djk, wdjk) = (st.dw[j][1] * wk, st.w[j][1] * dwk);
-                for i in 0..nodes_along::<D, K, S>(st, 0) {
-                    g[base + i] +=
-                        D::vector([st.dw[i][0] * wjk, st.w[i][0] * djk, st.w[i][0] * wdjk]) * m;
-                }
-            }
-        }
-    }
-}
-
-/// [`scatter_rows`] in 2D without the affine term or the mass gradient, packing
-/// specialisation: a node's F ∇w from both columns of F in one `Vec4`, (F_xx, F_xy) w'_i w_j
-/// and (F_xy, F_yy) w_i w'_j side by side.
-#[inline(always)]
-pub fn scatter_packed_2d<D: Dim, K: Kernel<S>, const S: usize>(
-    nodes: &mut [Node<D::Vector>],
-    st: &Stencil<S>,
-    share: Share<D>,
-) {
-    debug_assert!(D::DIM == 2 && share.affine.is_none());
-    let p = row_length::<D, S>();
-    let nodes = &mut nodes[..span::<D, S>()];
-    let (m, mv) = share.mass.unwrap_or((0.0, D::Vector::ZERO));
-    let pm = mv.with_mass(m);
-    let [c0, c1, _] = D::sym_columns(share.force.unwrap_or(D::Sym::ZERO));
-    let f = Vec4::new(c0[0], c0[1], c1[0], c1[1]);
-    for j in 0..nodes_along::<D, K, S>(st, 1) {
-        let fj = f * Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
-        let row = &mut nodes[j * p..j * p + S];
-        for i in 0..nodes_along::<D, K, S>(st, 0) {
-            if share.mass.is_some() {
-                row[i].vm += pm * (st.w[i][0] * st.w[j][1]);
-            }
-            if share.force.is_some() {
-                let t = fj * Vec4::new(st.dw[i][0], st.dw[i][0], st.w[i][0], st.w[i][0]);
-                row[i].new_vel += D::vector([t.x + t.z, t.y + t.w, 0.0]);
+            let row = Row {
+                wjk: st.w[j][1] * wk,
+                dwj_wk: st.dw[j][1] * wk,
+                wj_dwk: st.w[j][1] * dwk,
+                dj: st.d[j][1],
+                dk,
+            };
+            let row_nodes = &mut nodes[base..base + S];
+            for i in 0..nodes_along::<D, K, S>(st, 0) {
+                let w = Weights {
+                    wi: st.w[i][0],
+                    dwi: st.dw[i][0],
+                    di: st.d[i][0],
+                    wiv: wv[i],
+                    dwiv: dwv[i],
+                    row,
+                };
+                term(&mut row_nodes[i], w);
             }
         }
     }
@@ -848,40 +832,13 @@ pub(crate) mod plain {
             moment: D::from_columns(b),
         }
     }
-
-    /// The plain [`super::scatter`].
-    pub fn scatter<D: Dim, const S: usize>(
-        nodes: &mut [Node<D::Vector>],
-        grad: &mut [D::Vector],
-        st: &Stencil<S>,
-        share: Share<D>,
-    ) {
-        for_each_node::<D, S>(st, |n, w, gw, d| {
-            if let Some((m, mv)) = share.mass {
-                let mut a = D::Vector::ZERO;
-                if let Some(c) = share.affine {
-                    for x in 0..D::DIM {
-                        a += D::column(&c, x) * d[x];
-                    }
-                }
-                nodes[n].vm += (mv + a).with_mass(m) * w;
-                grad[n] += gw * m;
-            }
-            if let Some(f) = share.force {
-                let c = D::sym_columns(f);
-                for x in 0..D::DIM {
-                    nodes[n].new_vel += c[x] * gw[x];
-                }
-            }
-        });
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::kernel::{Gimp, Linear, QuadraticBspline};
-    use crate::math::{D2, D3, Sym2};
+    use crate::math::{D2, D3};
     use crate::step::test_util::{noise, random_stencils};
 
     /// Whether two vectors agree up to rounding, relative to `scale`.
@@ -895,44 +852,75 @@ mod tests {
             && (x.mass() - y.mass()).abs() <= 1e-5 * (1.0 + y.mass().abs())
     }
 
-    /// A made-up particle share: mass, momentum, (`affine`) A and (`force`) F.
-    fn share<D: Dim>(seed: &mut u64, affine: bool, force: bool) -> Share<D> {
+    /// A made-up particle's mass m, momentum mv, (`affine`) A and (`force`) F.
+    #[allow(clippy::type_complexity)]
+    fn share<D: Dim>(
+        seed: &mut u64,
+        affine: bool,
+        force: bool,
+    ) -> (Real, D::Vector, Option<D::Grad>, Option<D::Sym>) {
         let mut v = || D::vector([0; 3].map(|_| noise(seed)));
         let (mv, a0, a1, a2) = (v(), v(), v(), v());
         let f = D::rate_and_spin(D::from_columns([a2, a1, a0])).0;
-        Share {
-            mass: Some((2.5, mv)),
-            affine: affine.then(|| D::from_columns([a0, a1, a2])),
-            force: force.then_some(f),
-        }
+        (
+            2.5,
+            mv,
+            affine.then(|| D::from_columns([a0, a1, a2])),
+            force.then_some(f),
+        )
     }
 
-    /// The row walk (and in 2D its packing specialisation) adds to the nodes what the plain
-    /// per-node sums add, up to rounding.
+    /// Terms stated with the walk's [`Weights`] add to the nodes what the same terms as plain
+    /// per-node products add, up to rounding: m_i += w_ip m, (mv)_i += w_ip (mv + A d_i),
+    /// f_i += F ∇w_ip, ∇m_i += m ∇w_ip.
     fn scatter_matches_plain<D: Dim, K: Kernel<S>, const S: usize>() {
         let (nodes, stencils) = random_stencils::<D, K, S>(40, row_length::<D, S>());
         let mut seed = 3;
         for (affine, force) in [(false, false), (false, true), (true, false), (true, true)] {
-            let (mut rows, mut packed, mut plain) = (nodes.clone(), nodes.clone(), nodes.clone());
+            let (mut rows, mut plain) = (nodes.clone(), nodes.clone());
             let mut g_rows = vec![D::Vector::ZERO; nodes.len()];
             let mut g_plain = g_rows.clone();
             for st in &stencils {
-                let s = share::<D>(&mut seed, affine, force);
-                scatter_rows::<D, K, S>(&mut rows, Some(&mut g_rows), st, s);
-                plain::scatter::<D, S>(&mut plain, &mut g_plain, st, s);
-                if D::DIM == 2 && !affine {
-                    scatter_packed_2d::<D, K, S>(&mut packed, st, s);
-                }
+                let (m, mv, a, f) = share::<D>(&mut seed, affine, force);
+                let at = At { st: *st, origin: 0 };
+                let columns = a.map(|a| {
+                    [0, 1, 2].map(|c| {
+                        if c < D::DIM {
+                            D::column(&a, c)
+                        } else {
+                            D::Vector::ZERO
+                        }
+                    })
+                });
+                scatter::<D, K, S, _>(&mut rows, &at, |n, w| {
+                    let p = columns.map_or(mv, |c| w.plus_offset(mv, c));
+                    n.vm += p.with_mass(m) * w.value();
+                    if let Some(f) = f {
+                        n.new_vel += w.gradient_times(f);
+                    }
+                });
+                scatter::<D, K, S, _>(&mut g_rows, &at, |g, w| *g += w.gradient() * m);
+                plain::for_each_node::<D, S>(st, |n, w, gw, d| {
+                    let mut p = mv;
+                    if let Some(a) = a {
+                        for x in 0..D::DIM {
+                            p += D::column(&a, x) * d[x];
+                        }
+                    }
+                    plain[n].vm += p.with_mass(m) * w;
+                    g_plain[n] += gw * m;
+                    if let Some(f) = f {
+                        let c = D::sym_columns(f);
+                        for x in 0..D::DIM {
+                            plain[n].new_vel += c[x] * gw[x];
+                        }
+                    }
+                });
             }
             for (n, (x, y)) in rows.iter().zip(&plain).enumerate() {
                 assert!(same_mass(x, y), "momentum at node {n}");
                 assert!(near(x.new_vel, y.new_vel, y.new_vel.length()), "force {n}");
                 assert!(near(g_rows[n], g_plain[n], g_plain[n].length()), "∇m {n}");
-                if D::DIM == 2 && !affine {
-                    let z = &packed[n];
-                    assert!(same_mass(z, y), "packed momentum {n}");
-                    assert!(near(z.new_vel, y.new_vel, y.new_vel.length()), "packed {n}");
-                }
             }
         }
     }
@@ -1011,28 +999,5 @@ mod tests {
         gather_matches_plain::<D3, Linear, 2>();
         gather_matches_plain::<D3, QuadraticBspline, 3>();
         gather_matches_plain::<D3, Gimp, 3>();
-    }
-
-    /// Without mass the scatter adds the force alone (the stress pass's use).
-    #[test]
-    fn a_share_without_mass_adds_only_the_force() {
-        let (nodes, stencils) = random_stencils::<D2, Gimp, 3>(10, row_length::<D2, 3>());
-        let f = Sym2 {
-            xx: 1.5,
-            yy: -0.7,
-            zz: 0.2,
-            xy: 0.4,
-        };
-        let mut a = nodes.clone();
-        for st in &stencils {
-            let s = Share::<D2> {
-                mass: None,
-                affine: None,
-                force: Some(f),
-            };
-            scatter_packed_2d::<D2, Gimp, 3>(&mut a, st, s);
-        }
-        assert!(a.iter().zip(&nodes).all(|(x, y)| x.vm == y.vm));
-        assert!(a.iter().zip(&nodes).any(|(x, y)| x.new_vel != y.new_vel));
     }
 }
