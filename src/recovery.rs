@@ -17,10 +17,10 @@
 //! kernel's reach): one pass to scatter, one to gather, as the step's own transfers.
 
 use crate::kernel::Kernel;
+use crate::kernel::with_kernel;
 use crate::material::Behaviour;
 use crate::math::{Dim, Real};
 use crate::sim::Simulation;
-use crate::kernel::with_kernel;
 
 /// Every particle's stress as shown: the recovered σ̄_p of the sand bodies' particles, the
 /// stress σ_p itself for the others (solids and kinematic bodies).

@@ -239,8 +239,10 @@ impl WebPlayground {
     /// The quality level and resolution the scene is sampled at, as JSON: `quality` (the level's
     /// id), `cell_size`, `scene_cell_size` (m), `particles_per_cell`, and `accuracy`, the
     /// validation errors at that resolution (bar_period, bar_l2, column_runout, column_height,
-    /// resting_settlement: relative errors), and for a 3D scene `column_3d` (the 3D column's
-    /// runout and height errors), else null.
+    /// resting_settlement: relative errors), and `sand`, the level's sand figures in the
+    /// scene's dimension (cell_size, particles_per_cell, runout and farthest: relative errors
+    /// of the shipped column's run-out at one grain's thickness and at the farthest particle;
+    /// flank in degrees).
     pub fn quality(&self) -> String {
         json(self.core.quality())
     }

@@ -297,7 +297,8 @@ fn elastic_plastic_and_granular_bunnies_differ() {
 }
 
 /// The inspected particle of the collapsing sand reaches the Drucker–Prager cone within a few
-/// hundredths of a second, flows with the sand and stays on the cone.
+/// hundredths of a second and, as the caption says, slides along it while the sand flows
+/// (0.1–0.6 s; the page's browser test asks the same of the stress it shows).
 #[test]
 fn the_inspected_sand_particle_reaches_the_cone() {
     let (lesson, scene) = load("stress_path.json");
@@ -314,20 +315,24 @@ fn the_inspected_sand_particle_reaches_the_cone() {
     let (mut frames, mut on_cone, mut first) = (0, 0, None);
     run(&mut pg, lesson.duration, |pg| {
         let s = pg.stress_point(pg.index_of(id).unwrap()).unwrap();
-        frames += 1;
-        if s.surface.reached(s.p, s.q) {
-            on_cone += 1;
-            first.get_or_insert(pg.time());
+        let t = pg.time();
+        let reached = s.surface.reached(s.p, s.q);
+        if reached {
+            first.get_or_insert(t);
+        }
+        if t > 0.1 && t < 0.6 {
+            frames += 1;
+            on_cone += reached as usize;
         }
     });
     let end = pg.stress_point(pg.index_of(id).unwrap()).unwrap().position;
     let moved =
         ((end[0] - start[nearest][0]).powi(2) + (end[1] - start[nearest][1]).powi(2)).sqrt();
     println!(
-        "on the cone in {on_cone} of {frames} frames, first at {first:?} s; moved {moved:.3} m"
+        "on the cone in {on_cone} of {frames} frames while it flows, first at {first:?} s; moved {moved:.3} m"
     );
     assert!(first.is_some_and(|t| t < 0.1), "{first:?}");
-    assert!(on_cone * 10 >= frames * 8, "{on_cone} of {frames}");
+    assert!(frames > 10 && on_cone * 10 >= frames * 6, "{on_cone} of {frames}");
     assert!(moved > 0.05, "a particle of the flowing sand: {moved}");
 }
 

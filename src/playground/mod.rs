@@ -27,8 +27,8 @@ pub use colours::ColourMode;
 pub use drops::{DroppedBody, Refused, Replay};
 pub use objects::{BunnyAssets, OBJECTS, ObjectInfo, ball_bunny, object_shape};
 pub use quality::{
-    ACCURACY, Accuracy, COLUMN_3D, Column3d, DEFAULT_QUALITY, MAX_PPC, QUALITIES, Quality,
-    Resolution, SandCost, accuracy, body_ppc, column_3d, resample,
+    ACCURACY, Accuracy, DEFAULT_QUALITY, MAX_PPC, QUALITIES, Quality, Resolution, SandCost,
+    accuracy, body_ppc, resample,
 };
 
 use crate::config::{BodyConfig, SceneConfig};

@@ -203,49 +203,6 @@ const fn acc(
     }
 }
 
-/// The 3D column at a cell factor and particles per cell: the shipped axisymmetric collapse
-/// (`scenes/column_collapse_3d.json`, a = 2, R0 = 0.12 m, h = 0.02 m as written) sampled as the
-/// page samples it, run 3 s with material at rest asleep, measured with the page's readouts:
-/// the errors of its run-out (the mean over the sectors, over R0) and final height against Lube
-/// et al. (2004)'s axisymmetric laws, the markers the page draws. Each error is relative.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Column3d {
-    pub cell_factor: f64,
-    pub particles_per_cell: u32,
-    pub runout: f64,
-    pub height: f64,
-}
-
-/// The 3D column at the samplings of the 3D levels, measured with the page's own build
-/// (`node www/bench/quality-3d.mjs`; the commit they were measured at is in
-/// docs/playground.md).
-pub static COLUMN_3D: [Column3d; 3] = [
-    col3(1.0, 2, -0.2519, -0.0723),
-    col3(10.0 / 7.0, 3, -0.3399, -0.0157),
-    col3(2.0, 3, -0.4362, -0.0373),
-];
-
-const fn col3(cell_factor: f64, particles_per_cell: u32, runout: f64, height: f64) -> Column3d {
-    Column3d {
-        cell_factor,
-        particles_per_cell,
-        runout,
-        height,
-    }
-}
-
-/// The measured 3D column nearest a cell factor and particles per cell.
-pub fn column_3d(cell_factor: f64, particles_per_cell: u32) -> Column3d {
-    let distance = |a: &Column3d| {
-        (a.cell_factor / cell_factor).ln().abs()
-            + 0.1 * (a.particles_per_cell as f64 - particles_per_cell as f64).abs()
-    };
-    *COLUMN_3D
-        .iter()
-        .min_by(|a, b| distance(a).total_cmp(&distance(b)))
-        .expect("a table")
-}
-
 /// The measured row nearest a cell factor and particles per cell.
 pub fn accuracy(cell_factor: f64, particles_per_cell: u32) -> Accuracy {
     let distance = |a: &Accuracy| {
@@ -271,9 +228,9 @@ pub struct Resolution {
     pub particles_per_cell: u32,
     /// The validation errors at this cell factor and particles per cell.
     pub accuracy: Accuracy,
-    /// A 3D scene's: the 3D column's errors at the nearest sampling (the 2D cases' figures
-    /// do not carry over to 3D).
-    pub column_3d: Option<Column3d>,
+    /// What the level's grid costs for sand in the scene's dimension: the level's
+    /// [`Quality::sand`] entry for 2D or 3D (the 2D cases' figures do not carry over to 3D).
+    pub sand: SandCost,
 }
 
 /// `scene` sampled at level `q`: the cheapest sampling that keeps at least
@@ -377,7 +334,7 @@ pub fn resample(
         scene_cell_size: h0,
         particles_per_cell: ppc,
         accuracy: accuracy(out.cell_size / h0, ppc),
-        column_3d: (dim == 3).then(|| column_3d(out.cell_size / h0, ppc)),
+        sand: q.sand[if dim == 2 { 0 } else { 1 }],
     };
     Ok((out, resolution))
 }
@@ -387,38 +344,10 @@ mod tests {
     use super::*;
     use crate::playground::Playground;
 
-    /// The 3D column's rows are its samplings at the 3D levels (each level finds its own row),
-    /// a 3D scene carries the row nearest its sampling, and a 2D scene none.
-    #[test]
-    fn the_3d_rows_are_the_3d_column_at_each_level() {
-        let column =
-            SceneConfig::from_json(include_str!("../../scenes/column_collapse_3d.json")).unwrap();
-        let mut rows = Vec::new();
-        for q in &QUALITIES {
-            let pg = Playground::with_quality(column.clone(), q).unwrap();
-            let r = pg.quality();
-            let c = r
-                .column_3d
-                .expect("a 3D scene carries the 3D column's figures");
-            assert!(
-                (c.cell_factor - r.cell_size / r.scene_cell_size).abs() < 1e-9
-                    && c.particles_per_cell == r.particles_per_cell,
-                "{}: sampled at {} × {}, row {c:?}",
-                q.id,
-                r.cell_size / r.scene_cell_size,
-                r.particles_per_cell
-            );
-            rows.push(c);
-        }
-        assert_eq!(rows.len(), COLUMN_3D.len());
-        let plane =
-            SceneConfig::from_json(include_str!("../../scenes/column_collapse_2d.json")).unwrap();
-        assert_eq!(Playground::new(plane).unwrap().quality().column_3d, None);
-    }
-
     /// Each level's sand figures were measured at the sampling the level gives the shipped
     /// collapses today: a change of the levels or of the scenes shows here, and the figures
-    /// are to be measured again (`cargo xtask quality sand`).
+    /// are to be measured again (`cargo xtask quality sand`). A scene's resolution carries its
+    /// dimension's entry, the figures the page's quality line quotes.
     #[test]
     fn sand_figures_match_the_levels_sampling() {
         let scenes = [
@@ -434,6 +363,7 @@ mod tests {
                     pg.scene().bodies[0].particles_per_cell,
                 );
                 let s = q.sand[k];
+                assert_eq!(pg.quality().sand, s, "{} {}D", q.id, k + 2);
                 assert!(
                     (h / s.cell_size - 1.0).abs() < 1e-9 && ppc == s.particles_per_cell,
                     "{} {}D: sampled at h = {h}, ppc {ppc}; figures for h = {}, ppc {}",

@@ -77,20 +77,21 @@ export function hud(rows, slow, details) {
 /// The HUD's rows from the frame statistics `st`, diagnostics `d` and the rest. `main`, what
 /// a class needs: the simulated time, the real-time factor in words, the quality level with
 /// what its resolution costs in accuracy (the validation cases' errors at that cell size and
-/// particles per cell, `resolution.accuracy`). `tech`, behind Details: frame rate, particles,
+/// particles per cell, `resolution.accuracy`; in 3D the level's 3D sand figures,
+/// `resolution.sand`). `tech`, behind Details: frame rate, particles,
 /// particles asleep, steps per frame, time step, CFL number, cost per step, the resolution,
 /// renderer, solver.
 export function hudRows(st, d, { particles, asleep = 0, playing, stableDt, time, renderer, quality, thread, resolution, label, dim }) {
   const a = resolution.accuracy;
-  const c3 = dim === 3 ? resolution.column_3d ?? null : null;
+  const sand = dim === 3 ? resolution.sand : null;
   return {
     main: [
       ['time', formatTime(time)],
       ['speed', speedWords(st.ratio, playing)],
-      ['quality', accuracyNote(label, a, c3), c3
-        ? 'The errors at this resolution, measured on the 3D column collapse (a = 2) sampled at the same cell factor and particles ' +
-          `per cell (docs/playground.md): run-out ${pct(c3.runout)} and final height ${pct(c3.height)} against Lube et al. (2004)'s ` +
-          'axisymmetric experiments, whose marks the page draws'
+      ['quality', accuracyNote(label, a, sand), sand
+        ? 'What this level\'s grid costs for sand, measured on the shipped 3D column collapse (a = 2) sampled at this level and run to ' +
+          `rest (docs/playground.md): run-out where the deposit is one grain thick ${pct(sand.runout)} against Lube et al. (2004)'s ` +
+          `axisymmetric experiments, whose marks the page draws (farthest particle ${pct(sand.farthest)}); flank ${sand.flank.toFixed(1)}°`
         : 'The errors at this resolution, measured on the validation cases at the same cell factor and particles per cell ' +
           `(docs/playground.md): column collapse run-out ${pct(a.column_runout)} and height ${pct(a.column_height)} against ` +
           `Lube et al. (2005)'s experiments, vibrating bar period ${pct(a.bar_period)} (L2 ${pct(a.bar_l2)}), resting column settlement ${pct(a.resting_settlement)}`],

@@ -21,10 +21,12 @@ export function speedWords(ratio, playing) {
 }
 
 /// What the quality level costs, in a sentence: the column test's errors against the
-/// experiments at this resolution (docs/playground.md): the plane column's (`a`, the
-/// resolution's `accuracy`) in 2D, the 3D column's (`column3d`) in 3D.
-export function accuracyNote(label, a, column3d = null) {
-  if (column3d) return `${label}: 3D column run-out ${pct(column3d.runout)}, height ${pct(column3d.height)} against experiments`;
+/// experiments at this resolution (docs/playground.md): in 2D the plane column's (`a`, the
+/// resolution's `accuracy`), in 3D the level's 3D sand figures (`sand`, the resolution's
+/// `sand`: the shipped 3D column's run-out where its deposit is one grain thick against Lube
+/// et al. (2004), and its flank).
+export function accuracyNote(label, a, sand = null) {
+  if (sand) return `${label}: 3D column run-out ${pct(sand.runout)} against experiments, flank ${sand.flank.toFixed(1)}°`;
   return `${label}: column run-out ${pct(a.column_runout)}, height ${pct(a.column_height)} against experiments`;
 }
 

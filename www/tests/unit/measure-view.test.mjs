@@ -22,9 +22,9 @@ test('the real-time factor in words', () => {
     else assert.ok(words === 'real time' && Math.abs(ratio - 1) <= 0.1, `${ratio}: ${words}`);
   }
   assert.match(accuracyNote('Live', { column_runout: -0.14, column_height: 0.021 }), /Live: column run-out −14 %, height \+2\.1 %/);
-  // In 3D, the 3D column's figures, not the plane column's.
-  assert.equal(accuracyNote('Live', { column_runout: -0.14, column_height: 0.021 }, { runout: -0.47, height: 0.05 }),
-    'Live: 3D column run-out −47 %, height +5.0 % against experiments');
+  // In 3D, the level's 3D sand figures, not the plane column's.
+  assert.equal(accuracyNote('Live', { column_runout: -0.14, column_height: 0.021 }, { runout: -0.3637, farthest: -0.3841, flank: 23.9 }),
+    'Live: 3D column run-out −36 % against experiments, flank 23.9°');
 });
 
 const deposit = (body, angles, runout, footprint = 0.1) => ({
