@@ -332,7 +332,10 @@ fn the_inspected_sand_particle_reaches_the_cone() {
         "on the cone in {on_cone} of {frames} frames while it flows, first at {first:?} s; moved {moved:.3} m"
     );
     assert!(first.is_some_and(|t| t < 0.1), "{first:?}");
-    assert!(frames > 10 && on_cone * 10 >= frames * 6, "{on_cone} of {frames}");
+    assert!(
+        frames > 10 && on_cone * 10 >= frames * 6,
+        "{on_cone} of {frames}"
+    );
     assert!(moved > 0.05, "a particle of the flowing sand: {moved}");
 }
 
