@@ -17,6 +17,10 @@ import { Recorder } from './record.js';
 
 /// Frames per second the page aims at (the frame's stepping budget and the quality governor).
 export const TARGET_FPS = 30;
+/// Where the page remembers the user's quality level (localStorage).
+export const LEVEL_KEY = 'mpm.quality';
+/// Why a lesson opens at the solver's default level, for the HUD.
+const LESSON_LEVEL = 'the level the lessons are measured at';
 
 export class App {
   constructor({ session, renderer, camera, canvas, energyPlot, stressPlot, mohrPlot, overlay, scenes, lessons = [], bunny }) {
@@ -90,6 +94,7 @@ export class App {
   /// 2D/3D switch); `ignored` lists what the link held that cannot be used, for the message.
   async loadScene(session = {}, ignored = []) {
     const token = (this.loadToken = (this.loadToken || 0) + 1);
+    if (!this.view.lesson && this.levelWhy === LESSON_LEVEL) this.levelWhy = ''; // a scene after a lesson
     let source, lesson = null;
     try {
       if (this.view.lesson) ({ lesson, source } = await fetchLesson(this.view.lesson, this.lessons, this.session));
@@ -134,12 +139,14 @@ export class App {
     throw new Error(`${key.slice(OPENED.length)} was opened from a file: open it again with Open scene`);
   }
 
-  /// Opens lesson `id` of the list, at the current quality level, in the view it asks for.
+  /// Opens lesson `id` of the list in the view it asks for, at the solver's default level (Live):
+  /// the level its captions' figures are measured and tested at.
   openLesson(id) {
     this.view.lesson = id;
     this.lessonColours = true;
     this.view.size = undefined;
-    return this.loadScene({ quality: this.session.quality.quality });
+    this.levelWhy = LESSON_LEVEL;
+    return this.loadScene({ quality: this.session.qualities.default });
   }
 
   /// Opens scene file `name` (`source`: {text, assets}) at the current quality level; resolves
@@ -214,11 +221,46 @@ export class App {
     }
     const msgs = this.refused(refused);
     const q = this.session.quality;
+    // The user's choice wins over the probe's from now on, here and on the next visit.
+    try {
+      localStorage.setItem(LEVEL_KEY, q.quality);
+    } catch { /* storage refused: the link still carries it */ }
+    this.levelWhy = 'your choice, remembered';
     toast(`${this.qualityLabel(q.quality)}: ${this.session.state.particles.toLocaleString('en')} particles, ` +
       `cells of ${+(100 * q.cell_size).toPrecision(3)} cm${msgs.length ? `; not dropped: ${msgs.join('; ')}` : ''}`);
     this.restarted();
     syncControls(this);
     this.updateHash();
+  }
+
+  /// The level a visit opens at when its link names none: the one the user chose last
+  /// (remembered in localStorage), else the finest that runs live here by a short probe in the
+  /// worker: the default scene of the view's dimension stepped from its start (its bodies
+  /// falling and landing) at Balanced for half a second after 0.2 s of warm-up; Balanced when
+  /// that keeps up with real time in 2D or half of it in 3D, else Live. Resolves to {id, why}, `why` the HUD's words for it. A test forces the probe's
+  /// answer with `window.mpmProbe = 'live'` or `'balanced'` set before the page loads.
+  async pickLevel() {
+    const levels = this.session.qualities.levels;
+    const label = (id) => this.qualityLabel(id);
+    let stored = null;
+    try {
+      stored = localStorage.getItem(LEVEL_KEY);
+    } catch { /* storage refused (a private window): nothing remembered */ }
+    if (levels.some((l) => l.id === stored)) return { id: stored, why: 'your choice, remembered' };
+    const forced = globalThis.mpmProbe;
+    if (levels.some((l) => l.id === forced)) return { id: forced, why: `the probe's answer set to ${label(forced)}` };
+    const need = this.view.dim === '2' ? 1 : 0.5;
+    try {
+      const source = await sceneSource(this.defaultScene, this.view.dim, this.scenes, this.session);
+      const { ratio } = await this.session.levelProbe(source, 'balanced', 500);
+      const r = ratio >= 10 ? ratio.toFixed(0) : ratio.toPrecision(2);
+      return ratio >= need
+        ? { id: 'balanced', why: `picked here: Balanced runs ${r}× real time` }
+        : { id: 'live', why: `picked here: Balanced runs ${r}× real time, too slow` };
+    } catch (e) {
+      console.warn(`the level probe failed (${e.message}); opening at Live`);
+      return { id: 'live', why: 'the level probe failed' };
+    }
   }
 
   qualityLabel(id) {
@@ -237,6 +279,18 @@ export class App {
     if (!view.lesson && !view.scene) this.view.scene = this.defaultScene; // a link of settings alone
     this.view.sleep = view.sleep === '0' ? '0' : undefined; // on unless the link says sleep=0
     this.lessonColours = !!view.lesson && !view.colour; // the lesson's, unless the link names others
+    if (session.quality !== undefined) this.levelWhy = '';
+    else if (view.lesson) {
+      this.levelWhy = LESSON_LEVEL;
+      return this.loadScene({ ...session, quality: this.session.qualities.default }, errors);
+    } else if (!this.levelPicked) {
+      // The first page of a visit whose link names no level: the user's last choice, else the probe's.
+      this.levelPicked = true;
+      return this.pickLevel().then(({ id, why }) => {
+        this.levelWhy = why;
+        return this.loadScene({ ...session, quality: id }, errors);
+      });
+    }
     return this.loadScene(session, errors);
   }
 

@@ -74,27 +74,33 @@ export function hud(rows, slow, details) {
   $('hud').replaceChildren(...rows.main.map((r) => item(r, false)), ...(details ? rows.tech.map((r) => item(r, true)) : []));
 }
 
+/// What a level does to a body dropped (the quality line's tooltip; src/playground/figures.rs).
+const DROPS = 'A body dropped takes the scene\'s cells at this level; the empty sandbox keeps its own 2.5 cm cells at ' +
+  'every level, where a dropped sand box rests as one dense heap with its flanks within 5° of the same drop at Fine';
+
 /// The HUD's rows from the frame statistics `st`, diagnostics `d` and the rest. `main`, what
 /// a class needs: the simulated time, the real-time factor in words, the quality level with
 /// what its resolution costs in accuracy (the validation cases' errors at that cell size and
 /// particles per cell, `resolution.accuracy`; in 3D the level's 3D sand figures,
-/// `resolution.sand`). `tech`, behind Details: frame rate, particles,
+/// `resolution.sand`) and, when given, why the page opened at that level (`why`). `tech`, behind Details: frame rate, particles,
 /// particles asleep, steps per frame, time step, CFL number, cost per step, the resolution,
 /// renderer, solver.
-export function hudRows(st, d, { particles, asleep = 0, playing, stableDt, time, renderer, quality, thread, resolution, label, dim }) {
+export function hudRows(st, d, { particles, asleep = 0, playing, stableDt, time, renderer, quality, thread, resolution, label, dim, why = '' }) {
   const a = resolution.accuracy;
   const sand = dim === 3 ? resolution.sand : null;
   return {
     main: [
       ['time', formatTime(time)],
       ['speed', speedWords(st.ratio, playing)],
-      ['quality', accuracyNote(label, a, sand), sand
+      ['quality', `${accuracyNote(label, a, sand)}${why ? ` (${why})` : ''}`, sand
         ? 'What this level\'s grid costs for sand, measured on the shipped 3D column collapse (a = 2) sampled at this level and run to ' +
           `rest (docs/playground.md): run-out where the deposit is one grain thick ${pct(sand.runout)} against Lube et al. (2004)'s ` +
-          `axisymmetric experiments, whose marks the page draws (farthest particle ${pct(sand.farthest)}); flank ${sand.flank.toFixed(1)}°`
+          `axisymmetric experiments, whose marks the page draws (farthest particle ${pct(sand.farthest)}); flank ${sand.flank.toFixed(1)}°` +
+          `. ${DROPS}`
         : 'The errors at this resolution, measured on the validation cases at the same cell factor and particles per cell ' +
           `(docs/playground.md): column collapse run-out ${pct(a.column_runout)} and height ${pct(a.column_height)} against ` +
-          `Lube et al. (2005)'s experiments, vibrating bar period ${pct(a.bar_period)} (L2 ${pct(a.bar_l2)}), resting column settlement ${pct(a.resting_settlement)}`],
+          `Lube et al. (2005)'s experiments, vibrating bar period ${pct(a.bar_period)} (L2 ${pct(a.bar_l2)}), resting column settlement ${pct(a.resting_settlement)}` +
+          `. ${DROPS}`],
     ],
     tech: [
       ['fps', st.fps.toFixed(0)],

@@ -135,7 +135,7 @@ function refresh(app, f) {
   const rows = hudRows(app.stats, f.diagnostics, {
     particles: f.count, asleep: f.asleep, playing: app.playing, stableDt: f.stableDt, time: f.time,
     renderer: app.renderer.kind, quality: app.quality, thread: s.kind,
-    resolution: s.quality, label: app.qualityLabel(s.quality.quality), dim: app.domain.length,
+    resolution: s.quality, label: app.qualityLabel(s.quality.quality), dim: app.domain.length, why: app.levelWhy,
   });
   hud(rows, app.playing && app.stats.fellBehind, app.hudDetails);
   app.mohrPlot?.draw();

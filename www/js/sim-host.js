@@ -133,6 +133,32 @@ export class SimHost {
     this.restarted();
     return { invalid, ...out };
   }
+  /// The level probe: scene `source` sampled at level `quality` and stepped from its start (the
+  /// bodies falling and landing: the busy case, as after a drop) in frames of 1/60 s, for
+  /// `warm` ms (the engine tiers the hot wasm functions up) and then `ms` ms of wall time.
+  /// Returns {ratio: simulated seconds per real second over the `ms`, particles}.
+  cmd_levelProbe({ source, quality, ms = 500, warm = 200 }) {
+    const text = source.sandbox ? sandboxScene(Number(source.sandbox)) : source.text;
+    const pg = new Playground(text, source.assets ?? undefined, quality);
+    try {
+      pg.setSleeping(this.sleeping);
+      const run = (budget) => {
+        const t0 = performance.now();
+        let now = t0;
+        while (now - t0 < budget && !pg.failure()) {
+          pg.frame(1 / 60, 50);
+          now = performance.now();
+        }
+        return now - t0;
+      };
+      run(warm);
+      const sim0 = pg.time();
+      const wall = run(ms);
+      return { ratio: (pg.time() - sim0) / (wall / 1000), particles: pg.particleCount() };
+    } finally {
+      pg.free();
+    }
+  }
   /// Sets a parameter; returns {error, prediction, before} (the cost of the new value and of
   /// the old one, see `Playground::predict`; null on error), the state unchanged on error.
   cmd_setParameter({ name, value }) {

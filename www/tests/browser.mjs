@@ -10,10 +10,19 @@ export const FLAGS = [
   '--disable-background-networking', '--disable-component-update', '--disable-sync',
 ];
 
+/// Before every page the tests open (unless `level` is false): the level probe's answer forced
+/// to Live and no level remembered, so that a page opened without `quality=` in its link is
+/// at the level the tests were written for, whatever the machine's load.
+export const LEVEL_LIVE = () => {
+  window.mpmProbe = 'live';
+  localStorage.removeItem('mpm.quality');
+};
+
 /// Opens the playground at `url` in a new page of `context` (an init script `init` first),
 /// collecting console errors and uncaught exceptions, and console warnings; resolves when the
 /// simulation has drawn a few frames (one, for a lesson waiting for Play behind its question).
-export async function openPage(context, url, init) {
+/// `level` (default [`LEVEL_LIVE`]) runs before `init`; false leaves the level to the page.
+export async function openPage(context, url, init, level = LEVEL_LIVE) {
   const page = await context.newPage();
   const errors = [], warnings = [];
   page.on('console', (m) => {
@@ -21,6 +30,7 @@ export async function openPage(context, url, init) {
     if (m.type() === 'warning') warnings.push(m.text());
   });
   page.on('pageerror', (e) => errors.push(e.message));
+  if (level) await page.addInitScript(level);
   if (init) await page.addInitScript(init);
   await page.goto(url);
   // A lesson that asks before it shows waits paused for Play: its first frame is enough.

@@ -428,3 +428,77 @@ test('the energy note\'s claim: the energies count from the last change of bodie
   assert.deepEqual(errors, []);
   await page.close();
 });
+
+test('the energy note\'s claim: a sand box dropped in the sandbox settles with the plotted sum level', async () => {
+  const { page, errors } = await open('#scene=sandbox&dim=2&drop=0:box:drucker_prager:0.25:1,0.3');
+  assert.match(await page.textContent('#energy-note'), /so the sum stays level; where it moves, the account misses/);
+  await page.waitForFunction(() => mpm.simTime > 3 && mpm.energyPlot.samples.length > 20, null, { timeout: 120_000 });
+  const s = await page.evaluate(() => mpm.energyPlot.samples.map(({ time, kinetic, potential, elastic, dissipated, total }) =>
+    ({ time, kinetic, potential, elastic, dissipated, total })));
+  // The terms as plotted: the box fell, hit the floor and came to rest.
+  const last = s[s.length - 1];
+  const released = -Math.min(...s.map((x) => x.potential));
+  const drift = Math.max(...s.map((x) => Math.abs(x.total)));
+  const figures = `released ${released.toFixed(2)} J/m, dissipated ${last.dissipated.toFixed(2)} J/m, kinetic at the end ` +
+    `${last.kinetic.toExponential(2)} J/m, largest |sum| ${drift.toExponential(2)} J/m over ${s[0].time.toFixed(2)}–${last.time.toFixed(2)} s`;
+  console.log(figures);
+  assert.ok(released > 0 && last.kinetic < 0.01 * released, `at rest: ${figures}`);
+  assert.ok(last.dissipated > 0.5 * released, `the fall's energy went to dissipation: ${figures}`);
+  // The sum stays level: within 5 % of the energy the fall released, all the way.
+  assert.ok(drift <= 0.05 * released, figures);
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test('the page opens at the level the probe picks, says why, and the user\'s choice wins, is remembered and goes in the link', async () => {
+  const forced = (id) => () => {
+    window.mpmProbe = id;
+    localStorage.removeItem('mpm.quality');
+  };
+  const line = (page) => page.textContent('[data-hud="quality"]');
+  const shown = (page) => page.waitForFunction(() => document.querySelector('[data-hud="quality"]'), null, { timeout: 20_000 });
+  // The probe's answer forced both ways: the default scene opens at that level, the HUD says so.
+  for (const [id, label] of [['balanced', 'Balanced'], ['live', 'Live']]) {
+    const { page, errors } = await openPage(browser.context, `${URL_ROOT}#dim=2`, undefined, forced(id));
+    await shown(page);
+    const s = await stats(page);
+    assert.equal(s.quality.quality, id);
+    assert.match(s.hash, new RegExp(`quality=${id}`));
+    assert.match(await line(page), new RegExp(`^${label}: .*\\(the probe's answer set to ${label}\\)$`));
+    assert.equal(await page.inputValue('#quality'), id);
+    assert.deepEqual(errors, []);
+    await page.close();
+  }
+  // The probe itself: its answer follows from the rate it measured (Balanced at 1× real time in
+  // 2D), said in the HUD's quality line.
+  {
+    const { page, errors } = await openPage(browser.context, `${URL_ROOT}#dim=2`, undefined, () => localStorage.removeItem('mpm.quality'));
+    await shown(page);
+    const s = await stats(page);
+    const text = await line(page);
+    const m = text.match(/\(picked here: Balanced runs ([\d.]+)× real time(, too slow)?\)$/);
+    assert.ok(m, text);
+    assert.equal(s.quality.quality, Number(m[1]) >= 1 ? 'balanced' : 'live', text);
+    assert.equal(!!m[2], s.quality.quality === 'live', text);
+    assert.deepEqual(errors, []);
+    await page.close();
+  }
+  // The user's choice wins over the probe's, goes in the link and is remembered for the next visit.
+  const { page, errors } = await openPage(browser.context, `${URL_ROOT}#dim=2`, undefined, forced('live'));
+  await shown(page);
+  await page.selectOption('#quality', 'fine');
+  await page.waitForFunction(() => mpm.sim.quality.quality === 'fine' && /quality=fine/.test(location.hash), null, { timeout: 30_000 });
+  assert.equal(await page.evaluate(() => localStorage.getItem('mpm.quality')), 'fine');
+  await page.close();
+  const next = await openPage(browser.context, `${URL_ROOT}#dim=2`, undefined, () => { window.mpmProbe = 'live'; });
+  await shown(next.page);
+  assert.equal((await stats(next.page)).quality.quality, 'fine', 'the remembered choice, not the probe\'s');
+  assert.match(await line(next.page), /^Fine: .*\(your choice, remembered\)$/);
+  await next.page.close();
+  // A link naming a level wins over the remembered one.
+  const linked = await openPage(browser.context, `${URL_ROOT}#dim=2&quality=balanced`, undefined, () => { window.mpmProbe = 'live'; });
+  assert.equal((await stats(linked.page)).quality.quality, 'balanced');
+  await linked.page.evaluate(() => localStorage.removeItem('mpm.quality'));
+  await linked.page.close();
+  assert.deepEqual([...errors, ...next.errors, ...linked.errors], []);
+});

@@ -508,11 +508,14 @@ test('the quality line quotes the level\'s 3D sand figures in 3D and the 2D accu
   // 2D: the plane validation cases' accuracy at the resolution, not the sand entry.
   const { page, errors } = await open('#scene=column_collapse&dim=2');
   await page.waitForFunction(() => mpm.sim?.quality?.accuracy, null, { timeout: 20_000 });
-  const { a, label } = await page.evaluate(() => ({
+  const { a, label, why } = await page.evaluate(() => ({
     a: mpm.sim.quality.accuracy,
     label: mpm.session.qualities.levels.find((l) => l.id === mpm.sim.quality.quality).label,
+    why: mpm.levelWhy,
   }));
-  const expected = `${label}: column run-out ${pct(a.column_runout)}, height ${pct(a.column_height)} against experiments`;
+  // A link naming no level: the line adds why the page opened at it (the probe's answer).
+  assert.match(why, /probe/);
+  const expected = `${label}: column run-out ${pct(a.column_runout)}, height ${pct(a.column_height)} against experiments (${why})`;
   assert.equal(await lineOf(page, expected), expected);
   assert.deepEqual(errors, []);
   await page.close();
