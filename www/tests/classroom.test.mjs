@@ -27,6 +27,9 @@ after(async () => {
 
 const open = (hash = '', init) => openPage(browser.context, URL_ROOT + hash, init);
 
+/// Resolves after two animation frames: the layout after a change and a frame drawn on it.
+const settled = (page) => page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+
 /// Waits until the simulated time passes `t` + `dt`.
 const advanced = (page, t, dt = 0.02) => page.waitForFunction(([t, dt]) => mpm.simTime > t + dt, [t, dt], { timeout: 60_000 });
 
@@ -122,7 +125,7 @@ test('the Lessons menu opens a lesson; its sliders set one body and go in the li
   const before = await rectOf(page, '#view');
   await page.click('#lesson-close');
   await page.waitForFunction(() => document.getElementById('lesson').hidden);
-  await page.waitForTimeout(100);
+  await settled(page);
   const after = await rectOf(page, '#view');
   assert.ok(after.height >= before.height && after.width >= before.width, `the view kept its place: ${JSON.stringify([before, after])}`);
   assert.deepEqual(errors, []);
@@ -161,11 +164,12 @@ const lessonStart = (page) => page.evaluate(() => {
 /// its start, no choice marked, the prompt to predict) when it asks first; its energy plot from
 /// its own start (dissipation from zero); the stress path and note of its own particle or none.
 async function assertFreshLesson(page, lesson, what) {
-  // the lesson's first frame drawn, and a while after it (a frame of the scene before could
-  // only come now)
+  // the lesson's first frame drawn, and every message the host sent before it answers a
+  // request made now (a frame of the scene before could only come before that answer, in order)
   await page.waitForFunction(() => mpm.frame && mpm.frame.generation === mpm.session.generation, null, { timeout: 30_000 });
   if (lesson.view.inspect) await page.waitForFunction(() => mpm.probeId !== null, null, { timeout: 10_000 });
-  await page.waitForTimeout(300);
+  await page.evaluate(() => mpm.session.values([]));
+  await settled(page);
   const s = await lessonStart(page);
   const at = `${lesson.id} after ${what}: ${JSON.stringify(s)}`;
   assert.equal(s.id, lesson.id, at);
@@ -375,7 +379,9 @@ test('Record makes a WebM video of the view and Snapshot a PNG of its size, name
   assert.equal(await page.getAttribute('#record', 'aria-pressed'), 'true');
   const t0 = await page.evaluate(() => mpm.simTime);
   await advanced(page, t0, 0.3);
-  await page.waitForTimeout(800);
+  // some frames filmed
+  const f0 = await page.evaluate(() => mpm.stats.frames);
+  await page.waitForFunction((f0) => mpm.stats.frames > f0 + 10, f0, { timeout: 30_000 });
   const [video] = await Promise.all([page.waitForEvent('download', { timeout: 20_000 }), page.click('#record')]);
   assert.match(video.suggestedFilename(), /^test-sand-block-jelly-box-and-plastic-ball-2d-t\d+\.\d\d-\d+\.\d\ds\.webm$/);
   const path = join(OUT, 'recording.webm');
@@ -495,11 +501,11 @@ test('at desktop widths the plots never cover the view', async () => {
   for (const [width, height] of [[1920, 1080], [1400, 860], [1100, 800], [960, 700]]) {
     await page.setViewportSize({ width, height });
     if ((await page.getAttribute('#toggle-plots', 'aria-pressed')) === 'false') await page.click('#toggle-plots');
-    await page.waitForTimeout(100);
+    await settled(page);
     assert.ok(await rectOf(page, '.panel.plots'), `${width}: the plots are shown`);
     await assertViewUncovered(page, `${width}×${height}, plots shown`, 0.5);
     await page.click('#toggle-plots');
-    await page.waitForTimeout(100);
+    await settled(page);
     assert.equal(await rectOf(page, '.panel.plots'), null, `${width}: the plots are hidden`);
     await assertViewUncovered(page, `${width}×${height}, plots hidden`, 0.5);
   }
