@@ -435,17 +435,20 @@ test('the energy note\'s claim: a sand box dropped in the sandbox settles with t
   await page.waitForFunction(() => mpm.simTime > 3 && mpm.energyPlot.samples.length > 20, null, { timeout: 120_000 });
   const s = await page.evaluate(() => mpm.energyPlot.samples.map(({ time, kinetic, potential, elastic, dissipated, total }) =>
     ({ time, kinetic, potential, elastic, dissipated, total })));
-  // The terms as plotted: the box fell, hit the floor and came to rest.
+  // The terms as plotted (from the first frame after the box entered, which under load may
+  // come while it falls: its kinetic energy then is the sum's level): it fell, hit the floor and
+  // came to rest.
   const last = s[s.length - 1];
   const released = -Math.min(...s.map((x) => x.potential));
-  const drift = Math.max(...s.map((x) => Math.abs(x.total)));
+  const totals = s.map((x) => x.total);
+  const drift = Math.max(...totals) - Math.min(...totals);
   const figures = `released ${released.toFixed(2)} J/m, dissipated ${last.dissipated.toFixed(2)} J/m, kinetic at the end ` +
-    `${last.kinetic.toExponential(2)} J/m, largest |sum| ${drift.toExponential(2)} J/m over ${s[0].time.toFixed(2)}–${last.time.toFixed(2)} s`;
+    `${last.kinetic.toExponential(2)} J/m, the sum from ${s[0].total.toFixed(2)} J/m, moving over ${drift.toExponential(2)} J/m ` +
+    `in ${s[0].time.toFixed(2)}–${last.time.toFixed(2)} s`;
   console.log(figures);
-  assert.ok(released > 0 && last.kinetic < 0.01 * released, `at rest: ${figures}`);
-  assert.ok(last.dissipated > 0.5 * released, `the fall's energy went to dissipation: ${figures}`);
-  // The sum stays level: within 2 % of the energy the fall released, all the way.
-  assert.ok(drift <= 0.02 * released, figures);
+  assert.ok(released > 0 && last.kinetic < 0.01 * last.dissipated, `at rest: ${figures}`);
+  // The sum stays level: within 2 % of the energy the fall dissipated, all the way.
+  assert.ok(drift <= 0.02 * last.dissipated, figures);
   assert.deepEqual(errors, []);
   await page.close();
 });
