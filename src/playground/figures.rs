@@ -204,3 +204,114 @@ fn the_bunny_sinks_into_the_sand_ball() {
         assert!(bottom > 2.0 * pg.scene().cell_size, "{figures}");
     }
 }
+
+/// A 0.25 m sand box dropped on the floor of the empty sandbox at level `quality`, run until
+/// it rests: its particles, the particle spacing, and its flanks (degrees) as the page
+/// measures them. Runs alike (the same cells and particles per cell: the run is deterministic)
+/// are run once, through `done`.
+fn dropped_sand_box(
+    dim: usize,
+    quality: &str,
+    done: &mut HashMap<(u64, u32), (Vec<[f64; 3]>, f64, Vec<f64>)>,
+) -> (Vec<[f64; 3]>, f64, Vec<f64>) {
+    let q = Quality::find(quality).unwrap();
+    let mut pg = Playground::with_quality(Playground::sandbox_scene(dim), q).unwrap();
+    let point = [1.0, 0.0, 0.5];
+    let b = pg
+        .drop_at("box", "drucker_prager", &point[..dim], 0.0, 0.25)
+        .unwrap();
+    let (h, ppc) = (
+        pg.scene().cell_size,
+        pg.scene().bodies[b].particles_per_cell,
+    );
+    done.entry((h.to_bits(), ppc))
+        .or_insert_with(|| {
+            run(&mut pg, 2.5, 0.05, |_| {});
+            let d = pg.measures();
+            let flanks = d[0].heap.flanks.iter().flatten().map(|f| f.angle).collect();
+            (points(&pg, b), h / ppc as f64, flanks)
+        })
+        .clone()
+}
+
+/// What a user drops stays recognisable at every level: a sand box dropped in the empty
+/// sandbox rests as one dense heap (no particle of its interior, two spacings under the
+/// surface of its own and the neighbouring columns, in from its ends, where it is at least four
+/// spacings thick, farther than 1.5 particle spacings from its nearest neighbour: no strands
+/// with gaps between them), and its
+/// flanks lie within 5° of the same drop at the scene's own resolution. No level coarsens the
+/// sandbox's cells.
+#[test]
+fn a_dropped_sand_box_rests_as_one_dense_heap_at_every_level() {
+    let mut failed = vec![];
+    for dim in [2, 3] {
+        let mut done = HashMap::new();
+        let (_, _, fine) = dropped_sand_box(dim, "fine", &mut done);
+        for q in &QUALITIES {
+            let sandbox = Playground::sandbox_scene(dim);
+            let pg = Playground::with_quality(sandbox.clone(), q).unwrap();
+            assert_eq!(pg.scene().cell_size, sandbox.cell_size, "{} {dim}D", q.id);
+            let (p, s, flanks) = dropped_sand_box(dim, q.id, &mut done);
+            // The surface: the highest particle over each cell-wide column.
+            let h = sandbox.cell_size;
+            let column = |x: &[f64; 3]| ((x[0] / h) as i64, (x[2] / h) as i64);
+            let mut top = HashMap::new();
+            for x in &p {
+                let t = top.entry(column(x)).or_insert(x[1]);
+                *t = x[1].max(*t);
+            }
+            // The surface over a particle: the lowest top of its column and the columns around.
+            let surface = |x: &[f64; 3]| {
+                let (i, k) = column(x);
+                let dk = if dim == 3 { -1..=1 } else { 0..=0 };
+                dk.flat_map(|b| (-1..=1).map(move |a| (i + a, k + b)))
+                    .map(|c| top.get(&c).copied().unwrap_or(f64::NEG_INFINITY))
+                    .fold(f64::INFINITY, f64::min)
+            };
+            let (lo, hi) = (
+                [lowest(&p, 0), lowest(&p, 2)],
+                [highest(&p, 0), highest(&p, 2)],
+            );
+            let inside = |x: &[f64; 3]| {
+                x[1] < surface(x) - 2.0 * s
+                    && surface(x) > 4.0 * s
+                    && (0..dim - 1).all(|k| {
+                        let a = 2 * k;
+                        x[a] > lo[k] + 2.0 * s && x[a] < hi[k] - 2.0 * s
+                    })
+            };
+            let nearest = |i: usize| {
+                p.iter()
+                    .enumerate()
+                    .filter(|&(j, _)| j != i)
+                    .map(|(_, y)| (0..3).map(|a| (p[i][a] - y[a]).powi(2)).sum::<f64>())
+                    .fold(f64::INFINITY, f64::min)
+                    .sqrt()
+            };
+            let interior: Vec<usize> = (0..p.len()).filter(|&i| inside(&p[i])).collect();
+            let (widest, at) = interior
+                .iter()
+                .map(|&i| (nearest(i) / s, i))
+                .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
+            let figures = format!(
+                "{dim}D {}: {} particles ({} inside), spacing {s:.4} m, flanks {flanks:.1?}° (fine {fine:.1?}°), \
+                 widest gap to a neighbour inside {widest:.2} spacings (at {:.3?}, surface {:.3})",
+                q.id,
+                p.len(),
+                interior.len(),
+                p[at],
+                surface(&p[at])
+            );
+            eprintln!("{figures}");
+            let like = !flanks.is_empty()
+                && flanks.len() == fine.len()
+                && flanks.iter().zip(&fine).all(|(a, b)| (a - b).abs() <= 5.0);
+            // In 2D a heap with an interior; in 3D the box spreads into a layer about three
+            // spacings thick (its flank about 6°), whose interior may be empty.
+            if (dim == 2 && interior.len() <= p.len() / 4) || widest > 1.5 || !like {
+                failed.push(figures);
+            }
+        }
+    }
+    assert!(failed.is_empty(), "{failed:#?}");
+}
