@@ -205,6 +205,9 @@ fn the_bunny_sinks_into_the_sand_ball() {
     }
 }
 
+/// A deposit: its particles, the particle spacing (m) and its flanks (degrees).
+type Deposited = (Vec<[f64; 3]>, f64, Vec<f64>);
+
 /// A 0.25 m sand box dropped on the floor of the empty sandbox at level `quality`, run until
 /// it rests: its particles, the particle spacing, and its flanks (degrees) as the page
 /// measures them. Runs alike (the same cells and particles per cell: the run is deterministic)
@@ -212,8 +215,8 @@ fn the_bunny_sinks_into_the_sand_ball() {
 fn dropped_sand_box(
     dim: usize,
     quality: &str,
-    done: &mut HashMap<(u64, u32), (Vec<[f64; 3]>, f64, Vec<f64>)>,
-) -> (Vec<[f64; 3]>, f64, Vec<f64>) {
+    done: &mut HashMap<(u64, u32), Deposited>,
+) -> Deposited {
     let q = Quality::find(quality).unwrap();
     let mut pg = Playground::with_quality(Playground::sandbox_scene(dim), q).unwrap();
     let point = [1.0, 0.0, 0.5];
