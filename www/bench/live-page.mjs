@@ -9,7 +9,7 @@
 // settling), then S wall-clock seconds (default 8) in which the simulated time advanced and the
 // frames drawn are counted, then how long 20 commands wait for an answer while it runs
 // (`cargo xtask live` serves the page and runs this). `--quality`
-// picks another level.
+// picks another level than Live, the solver's default.
 //
 // Then the settled phase as seen (unless `--no-settled`; the page's default, sleeping on): once
 // the scene has run 3 s simulated, `rtf_seen_settled` over 3 wall-clock seconds at rest, then
@@ -27,7 +27,9 @@ const noSettled = args.indexOf('--no-settled');
 const settled = noSettled < 0;
 if (!settled) args.splice(noSettled, 1);
 const q = args.indexOf('--quality');
-const quality = q >= 0 ? `&quality=${args.splice(q, 2)[1]}` : '';
+// The level named in the link: without one the page would pick its own by its probe of this
+// machine, and the Node half (`live-node.mjs`) measures the solver's default, Live.
+const quality = `&quality=${q >= 0 ? args.splice(q, 2)[1] : 'live'}`;
 const width = Number(process.env.MPM_WIDTH || 1280), height = Number(process.env.MPM_HEIGHT || 720);
 
 const browser = await launch({ width, height });
