@@ -1,6 +1,6 @@
 // The real-time factor as seen: the playground in headless Chromium (Debian's package, WebGL2
-// drawn on the CPU by SwiftShader: the floor, not a laptop's), stepping and rendering at the
-// page's default quality, for each scene given.
+// drawn on the CPU by SwiftShader: the floor, not a laptop's), stepping and rendering at Live
+// (the solver's default level) or the level `--quality` names, for each scene given.
 //
 //   MPM_URL=http://127.0.0.1:8080/ node www/bench/live-page.mjs [--seconds S] [--quality Q] SCENE.json...
 // prints one line per scene:
