@@ -2,7 +2,7 @@
 //! (2008)'s aluminium-rod collapse against the experiment's digitised surface and failure line.
 
 use crate::report::*;
-use crate::tables::holds;
+use crate::tables::{at_rest, holds};
 use crate::validation::*;
 use mpm::KernelKind;
 use std::fmt::Write;
@@ -44,11 +44,7 @@ pub fn lowcolumn_study(md: &mut String, path: &std::path::Path, grids: &crate::g
                 format!("{:.2}", d.plateau),
                 format!("{:.3}", d.height),
                 holds(d.height >= 1.0 - h / 0.1),
-                match &r.failure {
-                    Some(f) => f.clone(),
-                    None if r.settled_at >= 4.0 - 1e-6 => "moving at 4 s".to_string(),
-                    None => format!("{:.2}", r.settled_at),
-                },
+                at_rest(&r.failure, r.settled_at, Some(4.0)),
                 format!("{:.0}", r.cost.wall_seconds),
             ]);
             std::fs::write(path, &*md).unwrap();
@@ -141,11 +137,7 @@ pub fn bui_study(md: &mut String, path: &std::path::Path) {
                 b.failure_angle - b.experiment_failure_angle
             ),
             format!("{:.3}", r.deposit.height),
-            match &r.failure {
-                Some(f) => f.clone(),
-                None if r.settled_at >= 4.0 - 1e-6 => "moving at 4 s".to_string(),
-                None => format!("{:.2}", r.settled_at),
-            },
+            at_rest(&r.failure, r.settled_at, Some(4.0)),
             format!("{:.0}", r.cost.wall_seconds),
         ]);
         std::fs::write(path, &*md).unwrap();
