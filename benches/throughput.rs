@@ -11,6 +11,10 @@
 //! compute the same thing bit for bit, and (under callgrind, with N and a smaller N) to count
 //! instructions per particle-substep.
 //!
+//! `-- --stress-last` runs the sand blocks of the C¹ kernels with their stress updated at the
+//! end of the step (`"stress_last": true`) instead of first, the default's order; the other
+//! blocks are left out.
+//!
 //! Each figure is printed once for people and once as a machine-readable line:
 //! `bench scene=<name> dim=<2|3> particles=<n> substeps=<k> seconds=<s> particle_substeps_per_s=<x>
 //! cpu_seconds=<c> cpu_particle_substeps_per_s=<y>`. The second rate counts the time the
@@ -62,7 +66,22 @@ fn kernel_name(k: KernelKind) -> &'static str {
     }
 }
 
-fn cases() -> Vec<Case> {
+/// The blocks; with `stress_last`, only the sand blocks of the C¹ kernels, their stress
+/// updated last.
+fn cases(stress_last: bool) -> Vec<Case> {
+    if stress_last {
+        return cases(false)
+            .into_iter()
+            .filter(|c| c.name.starts_with("sand_") && !c.name.contains("linear"))
+            .map(|mut c| {
+                for b in &mut c.scene.bodies {
+                    b.stress_last = Some(true);
+                }
+                c.name = format!("{}_stress_last", c.name);
+                c
+            })
+            .collect();
+    }
     let mut out = Vec::new();
     for dim in [3, 2] {
         for kernel in [
@@ -165,6 +184,7 @@ fn main() {
             }
         }
     });
+    let stress_last = args.iter().any(|a| a == "--stress-last");
     let filters: Vec<String> = args
         .iter()
         .enumerate()
@@ -172,7 +192,7 @@ fn main() {
         .map(|(_, a)| a.clone())
         .collect();
     if let Some(steps) = digest_steps {
-        for case in cases() {
+        for case in cases(stress_last) {
             if !selected(&filters, &case.name) {
                 continue;
             }
@@ -191,7 +211,7 @@ fn main() {
     }
     println!("MPM throughput (median of 5 rounds; particle-substeps per second, higher is better)");
     let mut base: Option<(String, f64)> = None;
-    for case in cases() {
+    for case in cases(stress_last) {
         if !selected(&filters, &case.name) {
             continue;
         }

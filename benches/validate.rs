@@ -18,7 +18,8 @@
 //! axisymmetric collapses, the heaps and the slopes at 10, 20 and 40 cells per column height
 //! (10 and 20 per initial radius in 3D), and the low columns, against their bands, with the change per halving; it
 //! fails, after writing its report, when a collapse's H∞/H0 changes by more than 2 points
-//! between its two finest grids.
+//! between its two finest grids. With `coarse` it runs 10 and 20 cells only, with `fine` 40
+//! only; `stress-last` runs the sweep (and `lowcolumn`) with the sand's stress updated last.
 //!
 //! One module per case family: `solids` (bar, wave, squeeze, FLIP, resting column), `sand`
 //! (collapses, heaps and slopes at the validation's own resolutions), `lowcolumn`, `grids`, the
@@ -93,7 +94,7 @@ fn main() {
     std::fs::write(&path, &md).unwrap();
     // the low columns are part of `grids`; alone when `lowcolumn` is named without it
     if want("lowcolumn") && !want("grids") {
-        lowcolumn::lowcolumn_study(&mut md, &path);
+        lowcolumn::lowcolumn_study(&mut md, &path, &grids::Grids::from_filters(&filters));
     }
     std::fs::write(&path, &md).unwrap();
     if want("lowcolumn") || opt_in("bui") {
@@ -103,7 +104,7 @@ fn main() {
     // the collapses whose final height did not converge (checked once every case has run)
     let mut unconverged = Vec::new();
     if want("grids") {
-        unconverged = grids::grids_study(&mut md, &path);
+        unconverged = grids::grids_study(&mut md, &path, &grids::Grids::from_filters(&filters));
     }
     std::fs::write(&path, &md).unwrap();
     // Opt-in (`cargo bench --bench validate -- stopping`): where flowing sand comes to rest,

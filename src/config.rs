@@ -107,6 +107,12 @@ pub struct BodyConfig {
     /// `gimp` or `quadratic_bspline` kernel.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub apic: Option<bool>,
+    /// Update the stress at the end of the step (`true`) or first, in Sec. 4.2's order
+    /// (`false`). Absent: the material's default ([`crate::recipe::Recipe`]: first for sand,
+    /// last for solids with the `gimp` and `quadratic_bspline` kernels). `true` needs the
+    /// `gimp` or `quadratic_bspline` kernel.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stress_last: Option<bool>,
     /// When the body enters (s of simulated time): it is sampled when the scene is built and
     /// added, with its shape and `velocity`, once the simulation reaches this time. Absent or
     /// 0: from the start. A playground's saved scene gives each dropped body its drop time.
@@ -158,6 +164,7 @@ impl BodyConfig {
             seed: 0,
             kinematic: false,
             apic: None,
+            stress_last: None,
             appear_at: None,
         }
     }
@@ -173,6 +180,11 @@ impl BodyConfig {
     /// Transfers this body's velocities with APIC.
     pub fn with_apic(mut self) -> Self {
         self.apic = Some(true);
+        self
+    }
+    /// Updates this body's stress at the end of the step (`true`) or first (`false`).
+    pub fn with_stress_last(mut self, last: bool) -> Self {
+        self.stress_last = Some(last);
         self
     }
     /// Transfers this body's velocities with the paper's PIC/FLIP blend only (no APIC).
@@ -469,11 +481,19 @@ impl SceneConfig {
     }
 
     /// APIC needs a kernel whose weights spread over every particle: not the linear one (its
-    /// inertia D_p vanishes when a particle sits on a node).
+    /// inertia D_p vanishes when a particle sits on a node); so does the stress updated last
+    /// (the linear kernel keeps Sec. 4.2's order, [`crate::recipe::Recipe`]).
     pub fn check_transfer(&self, body: &BodyConfig, path: &str) -> Result<()> {
         if body.apic == Some(true) && self.kernel == KernelKind::Linear {
             return Err(Error::invalid(
                 format!("{path}.apic"),
+                true,
+                "needs the \"gimp\" or \"quadratic_bspline\" kernel (the scene's kernel is \"linear\")",
+            ));
+        }
+        if body.stress_last == Some(true) && self.kernel == KernelKind::Linear {
+            return Err(Error::invalid(
+                format!("{path}.stress_last"),
                 true,
                 "needs the \"gimp\" or \"quadratic_bspline\" kernel (the scene's kernel is \"linear\")",
             ));

@@ -10,7 +10,7 @@
 //! | volumetric rate ([`VolumetricRate`]) | the material's option | the particle's own |
 //! | artificial bulk viscosity ([`Recipe::bulk_length`]) | none | C h |
 //!
-//! A body's `flip` and `apic` settings override the first two; a kinematic body carries no
+//! A body's `flip`, `apic` and `stress_last` settings override the first three; a kinematic body carries no
 //! stress and so no bulk viscosity. Which column a material takes is its own statement
 //! ([`Material::behaviour`]).
 //!
@@ -69,7 +69,7 @@ impl Recipe {
                 .flip
                 .unwrap_or_else(|| Recipe::default_flip(&body.material)) as Real,
             apic: body.apic.unwrap_or(c1 && granular),
-            stress_order: if c1 && !granular {
+            stress_order: if c1 && body.stress_last.unwrap_or(!granular) {
                 StressOrder::Last
             } else {
                 StressOrder::First
@@ -130,6 +130,10 @@ mod tests {
             h,
         );
         assert!(!r.apic && r.flip == 0.5);
+        let r = Recipe::new(&sand.clone().with_stress_last(true), KernelKind::Gimp, h);
+        assert_eq!(r.stress_order, StressOrder::Last);
+        let r = Recipe::new(&solid.clone().with_stress_last(false), KernelKind::Gimp, h);
+        assert_eq!(r.stress_order, StressOrder::First);
         assert!(Recipe::new(&solid.with_apic(), KernelKind::Gimp, h).apic);
     }
 }

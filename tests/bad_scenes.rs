@@ -94,6 +94,14 @@ fn every_bad_scene_gives_the_expected_error() {
             "scene: EOF while parsing a value at line 1 column 38",
         ),
         (
+            "stress updated last with the linear kernel",
+            scene2(|v| {
+                v["kernel"] = "linear".into();
+                v["bodies"][0]["stress_last"] = true.into();
+            }),
+            "bodies[0].stress_last = true: needs the \"gimp\" or \"quadratic_bspline\" kernel",
+        ),
+        (
             "Poisson ratio 0.5",
             scene2(|v| v["bodies"][0]["material"]["elastic"]["poisson_ratio"] = 0.5.into()),
             "bodies[0].material.elastic.poisson_ratio = 0.5: must be in [0, 0.5)",

@@ -6,6 +6,62 @@ use crate::validation::*;
 use mpm::KernelKind;
 use std::fmt::Write;
 
+/// Which grids and which stress order a resolution sweep runs: by default 10, 20 and 40 cells
+/// per characteristic length with the default numerics; `coarse` runs 10 and 20 only, `fine`
+/// 40 only (so that the finest grids can run last, in a run of their own); `stress-last`
+/// updates the sand's stress at the end of the step instead of first.
+pub struct Grids {
+    /// Cells per characteristic length, coarsest first.
+    pub cells: Vec<f64>,
+    pub stress_last: bool,
+}
+
+impl Grids {
+    pub fn from_filters(filters: &Filters) -> Self {
+        let has = |s: &str| filters.0.iter().any(|f| f == s);
+        let cells = match (has("coarse"), has("fine")) {
+            (true, false) => vec![10.0, 20.0],
+            (false, true) => vec![40.0],
+            _ => vec![10.0, 20.0, 40.0],
+        };
+        Grids {
+            cells,
+            stress_last: has("stress-last"),
+        }
+    }
+    /// The default numerics (GIMP) at cell size `h`, with the sweep's stress order.
+    pub fn numerics(&self, h: f64) -> Numerics {
+        let n = Numerics::new(h, KernelKind::Gimp);
+        if self.stress_last {
+            n.stress_last(true)
+        } else {
+            n
+        }
+    }
+    /// The grids' cells in words, e.g. `10, 20 and 40`; `upto` drops finer ones (3D).
+    pub fn named(&self, upto: f64) -> String {
+        let c: Vec<String> = self
+            .cells
+            .iter()
+            .filter(|&&k| k <= upto)
+            .map(|k| format!("{k:.0}"))
+            .collect();
+        match c.len() {
+            0 => "no".to_string(),
+            1 => c[0].clone(),
+            n => format!("{} and {}", c[..n - 1].join(", "), c[n - 1]),
+        }
+    }
+    /// The report's line saying which stress order the sand takes.
+    pub fn order(&self) -> &'static str {
+        if self.stress_last {
+            "the stress updated last"
+        } else {
+            "the stress updated first"
+        }
+    }
+}
+
 /// The validation claim's resolution sweep: every sand case at 10, 20 and 40 cells per its
 /// characteristic length (plane collapses: the column's height H0; axisymmetric collapses: the
 /// initial radius R0, at 10 and 20 cells only, the 40-cell 3D runs taking hours on one core;
@@ -13,17 +69,15 @@ use std::fmt::Write;
 /// default numerics, each measure against its published law and band at each grid, and the
 /// change of every measure per halving of h. Returns the collapses whose H∞/H0 changes by more
 /// than 2 points between their two finest grids (the bench fails on them once every case ran).
-pub fn grids_study(md: &mut String, path: &std::path::Path) -> Vec<String> {
-    let gimp = |h: f64| Numerics::new(h, KernelKind::Gimp);
+pub fn grids_study(md: &mut String, path: &std::path::Path, grids: &Grids) -> Vec<String> {
+    let gimp = |h: f64| grids.numerics(h);
     let mut unconverged = Vec::new();
     let _ = writeln!(
         md,
-        "Resolution sweep: `cargo xtask validate grids` (`cargo bench --bench validate -- grids`). Default numerics (GIMP, 2 particles per cell and direction, CFL 0.4, APIC base with α = 0.05, the start–stop cone). Bands: the run-out read where the deposit is one grain ({} mm) thick within −20 % / +25 % of the law; the farthest particle (the last before a gap of two particle spacings) at most 2a; a collapse's flank (20–80 % least-squares slope) in [φ_ps − 6°, φ_ps + 1°]; the top kept within one cell of H0 where a < 1; failed slopes at rest in [φ_ps − 5°, φ_ps + 1°], heaps within 3° of φ_ps; plane H∞/H0 ±10 %, axisymmetric ±15 %.\n",
+        "Resolution sweep: `cargo xtask validate grids` (`cargo bench --bench validate -- grids`; `coarse`: 10 and 20 cells only, `fine`: 40 only, `stress-last`: the sand's stress updated last). Default numerics (GIMP, 2 particles per cell and direction, CFL 0.4, APIC base with α = 0.05, the start–stop cone), {}. Bands: the run-out read where the deposit is one grain ({} mm) thick within −20 % / +25 % of the law; the farthest particle (the last before a gap of two particle spacings) at most 2a; a collapse's flank (20–80 % least-squares slope) in [φ_ps − 6°, φ_ps + 1°]; the top kept within one cell of H0 where a < 1; failed slopes at rest in [φ_ps − 5°, φ_ps + 1°], heaps within 3° of φ_ps; plane H∞/H0 ±10 %, axisymmetric ±15 %.\n",
+        grids.order(),
         1e3 * GRAIN
     );
-
-    // low columns on a rough floor first (φ = 20°, 30°, 40°), then the plane collapses
-    crate::lowcolumn::lowcolumn_study(md, path);
 
     // plane collapses: (file, a, H0)
     let plane = [
@@ -32,14 +86,14 @@ pub fn grids_study(md: &mut String, path: &std::path::Path) -> Vec<String> {
         ("column_collapse_a2_2d.json", 2.0, 0.2),
         ("column_collapse_a3_2d.json", 3.0, 0.3),
     ];
-    let cells = [10.0, 20.0, 40.0];
+    let cells = &grids.cells[..];
     let phi_ps = plane_strain_angle(32.0);
     let mut rows = Vec::new();
     let mut halving = Vec::new();
     for (file, a, h0) in plane {
         let [low, high] = mpm::laws::lube_runout_range(a);
         let mut runs: Vec<Collapse> = Vec::new();
-        for k in cells {
+        for &k in cells {
             let n = gimp(h0 / k);
             let c = column_collapse(file, &n, 4.0);
             println!("grids collapse a={a} {k} cells per H0 {}: {c:?}", n.label());
@@ -78,36 +132,25 @@ pub fn grids_study(md: &mut String, path: &std::path::Path) -> Vec<String> {
                 } else {
                     "—".to_string()
                 },
-                match &c.failure {
-                    Some(f) => f.clone(),
-                    None => format!("{:.2}", c.settled_at),
-                },
+                at_rest(&c.failure, c.settled_at, None),
                 format!("{:.1}", c.cost.wall_seconds),
             ]);
             runs.push(c);
             std::fs::write(path, &*md).unwrap();
         }
-        for (i, w) in runs.windows(2).enumerate() {
-            let dh = 100.0 * (w[1].height - w[0].height);
-            halving.push(vec![
-                format!("{a}"),
-                format!("{:.0} → {:.0}", cells[i], cells[i + 1]),
-                format!(
-                    "{:+.3} / {:+.3}",
-                    w[1].runout_thin - w[0].runout_thin,
-                    w[1].runout - w[0].runout
-                ),
-                format!("{:+.1}°", w[1].flank - w[0].flank),
-                format!("{dh:+.1} points"),
-            ]);
-            if i + 2 == runs.len() && dh.abs() > 2.0 {
-                unconverged.push(format!("plane a = {a}: H∞/H0 {dh:+.1} points"));
-            }
-        }
+        halving.extend(collapse_halving(
+            &format!("plane a = {a}"),
+            a,
+            cells,
+            &runs,
+            true,
+            &mut unconverged,
+        ));
     }
     let _ = writeln!(
         md,
-        "## Plane column collapses at 10, 20 and 40 cells per H0 (φ = 32°, φ_ps = {phi_ps:.1}°, floor μ = 0.625; Lube et al. 2005)\n\nLube et al. (2005): (L∞ − L0)/L0 = 1.2 a for a < 1.8 and 1.9 a^(2/3) for a > 2.8; a = 2 lies between the two and is checked against the range 2.40–3.02 (error 0 inside it); H∞/H0 = 1 for a ≲ 1.15, a^(−3/5) above. *a measured*: H0/L0 of the particles as seeded. *Top*: H∞ within one cell of H0 (a < 1). The flank band holds the low columns (a < 1.15, whose top the failure does not reach).\n\n{}\n### Change per halving of h\n\n{}",
+        "## Plane column collapses at {} cells per H0 (φ = 32°, φ_ps = {phi_ps:.1}°, floor μ = 0.625; Lube et al. 2005)\n\nLube et al. (2005): (L∞ − L0)/L0 = 1.2 a for a < 1.8 and 1.9 a^(2/3) for a > 2.8; a = 2 lies between the two and is checked against the range 2.40–3.02 (error 0 inside it); H∞/H0 = 1 for a ≲ 1.15, a^(−3/5) above. *a measured*: H0/L0 of the particles as seeded. *Top*: H∞ within one cell of H0 (a < 1). The flank band holds the low columns (a < 1.15, whose top the failure does not reach).\n\n{}\n### Change per halving of h\n\n{}",
+        grids.named(40.0),
         table(
             &[
                 "a",
@@ -141,7 +184,8 @@ pub fn grids_study(md: &mut String, path: &std::path::Path) -> Vec<String> {
     );
     std::fs::write(path, &*md).unwrap();
 
-    std::fs::write(path, &*md).unwrap();
+    // the low columns on a rough floor (φ = 20°, 30°, 40°)
+    crate::lowcolumn::lowcolumn_study(md, path, grids);
 
     // slopes: the 0.1 m trapezoidal heap, one gentler and one steeper than φ_ps per φ
     let mut rows = Vec::new();
@@ -149,7 +193,7 @@ pub fn grids_study(md: &mut String, path: &std::path::Path) -> Vec<String> {
     for (phi, gentle, steep) in [(20.0, 15.0, 30.0), (32.0, 25.0, 40.0), (45.0, 35.0, 50.0)] {
         for slope in [gentle, steep] {
             let mut runs: Vec<HeapSlope> = Vec::new();
-            for k in cells {
+            for &k in cells {
                 let n = gimp(0.1 / k);
                 let r = heap_slope(phi, slope, 3.5e5, &n, 2.0);
                 println!(
@@ -191,7 +235,8 @@ pub fn grids_study(md: &mut String, path: &std::path::Path) -> Vec<String> {
     }
     let _ = writeln!(
         md,
-        "## Slopes at 10, 20 and 40 cells per heap height (2 s, E = 350 kPa)\n\nA trapezoidal heap 0.1 m high released on a floor with μ = tan φ. *Failed at*: when the flanks had come halfway down from their initial angle to φ_ps. *Creep*: the largest particle displacement from {CREEP_FROM} s to the end. Bound: a slope gentler than φ_ps stands (it does not fail, creep under 1 mm); a steeper one fails within 0.5 s and its flanks come to rest in [φ_ps − 5°, φ_ps + 1°].\n\n{}\n### Change per halving of h\n\n{}",
+        "## Slopes at {} cells per heap height (2 s, E = 350 kPa)\n\nA trapezoidal heap 0.1 m high released on a floor with μ = tan φ. *Failed at*: when the flanks had come halfway down from their initial angle to φ_ps. *Creep*: the largest particle displacement from {CREEP_FROM} s to the end. Bound: a slope gentler than φ_ps stands (it does not fail, creep under 1 mm); a steeper one fails within 0.5 s and its flanks come to rest in [φ_ps − 5°, φ_ps + 1°].\n\n{}\n### Change per halving of h\n\n{}",
+        grids.named(40.0),
         table(
             &[
                 "φ (°)",
@@ -220,7 +265,7 @@ pub fn grids_study(md: &mut String, path: &std::path::Path) -> Vec<String> {
     let mut halving = Vec::new();
     for phi in [20.0, 32.0, 45.0] {
         let mut piles: Vec<Pile> = Vec::new();
-        for k in cells {
+        for &k in cells {
             let n = gimp(0.2 / k);
             let p = repose_pile(&n, repose_duration(LIFT_SPEED), Some(phi), LIFT_SPEED);
             println!("grids repose φ={phi} {k} cells {}: {p:?}", n.label());
@@ -246,7 +291,8 @@ pub fn grids_study(md: &mut String, path: &std::path::Path) -> Vec<String> {
     }
     let _ = writeln!(
         md,
-        "## Heaps at 10, 20 and 40 cells per column height (walls lifted at {LIFT_SPEED} m/s, floor μ = tan φ)\n\nThe sand column 0.2 m high between two walls lifted until they clear it. Bound: within 3° of φ_ps, the plane-strain angle of the cone at rest.\n\n{}\n### Change per halving of h\n\n{}",
+        "## Heaps at {} cells per column height (walls lifted at {LIFT_SPEED} m/s, floor μ = tan φ)\n\nThe sand column 0.2 m high between two walls lifted until they clear it. Bound: within 3° of φ_ps, the plane-strain angle of the cone at rest.\n\n{}\n### Change per halving of h\n\n{}",
+        grids.named(40.0),
         table(
             &[
                 "φ (°)",
@@ -266,10 +312,10 @@ pub fn grids_study(md: &mut String, path: &std::path::Path) -> Vec<String> {
     // axisymmetric collapses, R0 = 0.1 m, at 10 and 20 cells per R0
     let mut rows = Vec::new();
     let mut halving = Vec::new();
-    let cells = [10.0, 20.0];
+    let cells: Vec<f64> = grids.cells.iter().copied().filter(|&k| k <= 20.0).collect();
     for (file, a) in AXI_COLLAPSES {
         let mut runs: Vec<Collapse> = Vec::new();
-        for k in cells {
+        for &k in &cells {
             let n = gimp(0.1 / k);
             let c = axisymmetric_collapse(file, &n, 4.0);
             println!(
@@ -310,34 +356,25 @@ pub fn grids_study(md: &mut String, path: &std::path::Path) -> Vec<String> {
                     "—".to_string()
                 },
                 format!("{:.2}", c.spread),
-                match &c.failure {
-                    Some(f) => f.clone(),
-                    None => format!("{:.2}", c.settled_at),
-                },
+                at_rest(&c.failure, c.settled_at, None),
                 format!("{:.1}", c.cost.wall_seconds),
             ]);
             runs.push(c);
             std::fs::write(path, &*md).unwrap();
         }
-        let (c0, c1) = (&runs[0], &runs[1]);
-        let dh = 100.0 * (c1.height - c0.height);
-        halving.push(vec![
-            format!("{a}"),
-            "10 → 20".to_string(),
-            format!(
-                "{:+.3} / {:+.3}",
-                c1.runout_thin - c0.runout_thin,
-                c1.runout - c0.runout
-            ),
-            format!("{dh:+.1} points"),
-        ]);
-        if dh.abs() > 2.0 {
-            unconverged.push(format!("axisymmetric a = {a}: H∞/H0 {dh:+.1} points"));
-        }
+        halving.extend(collapse_halving(
+            &format!("axisymmetric a = {a}"),
+            a,
+            &cells,
+            &runs,
+            false,
+            &mut unconverged,
+        ));
     }
     let _ = writeln!(
         md,
-        "## Axisymmetric column collapses at 10 and 20 cells per R0 (3D, φ = 32°, floor μ = 0.625; Lube et al. 2004, Lajeunesse et al. 2004)\n\nR0 = 0.1 m. (R∞ − R0)/R0 = 1.24 a for a ≲ 1.7, 1.6 a^(1/2) above (Lube et al. 2004); H∞/H0: Lube et al. (2004) 0.88 a^(1/6)/a above a ≈ 0.74, Lajeunesse et al. (2004) 0.74/a. Run-out at one grain's thickness on the radial profile (rings one cell wide); farthest: the mean over 16 azimuthal sectors of each sector's farthest particle. Flank: the radial profile's 20–80 % slope (no band: φ_ps is a plane-strain angle). *Top*: H∞ within one cell of H0 (a < 1). Spread: the largest minus the smallest sector front, over R0.\n\n{}\n### Change per halving of h\n\n{}",
+        "## Axisymmetric column collapses at {} cells per R0 (3D, φ = 32°, floor μ = 0.625; Lube et al. 2004, Lajeunesse et al. 2004)\n\nR0 = 0.1 m. (R∞ − R0)/R0 = 1.24 a for a ≲ 1.7, 1.6 a^(1/2) above (Lube et al. 2004); H∞/H0: Lube et al. (2004) 0.88 a^(1/6)/a above a ≈ 0.74, Lajeunesse et al. (2004) 0.74/a. Run-out at one grain's thickness on the radial profile (rings one cell wide); farthest: the mean over 16 azimuthal sectors of each sector's farthest particle. Flank: the radial profile's 20–80 % slope (no band: φ_ps is a plane-strain angle). *Top*: H∞ within one cell of H0 (a < 1). Spread: the largest minus the smallest sector front, over R0.\n\n{}\n### Change per halving of h\n\n{}",
+        grids.named(20.0),
         table(
             &[
                 "a",
@@ -366,4 +403,39 @@ pub fn grids_study(md: &mut String, path: &std::path::Path) -> Vec<String> {
     );
     std::fs::write(path, &*md).unwrap();
     unconverged
+}
+
+/// The change of a collapse's measures per halving of h (`cells`: the grids of `runs`), as
+/// rows (a, grids, run-out one grain / farthest, the flank where `flank`, H∞/H0); `name` goes
+/// to `unconverged` when H∞/H0 moves more than 2 points between the two finest grids.
+fn collapse_halving(
+    name: &str,
+    a: f64,
+    cells: &[f64],
+    runs: &[Collapse],
+    flank: bool,
+    unconverged: &mut Vec<String>,
+) -> Vec<Vec<String>> {
+    let mut rows = Vec::new();
+    for (i, w) in runs.windows(2).enumerate() {
+        let dh = 100.0 * (w[1].height - w[0].height);
+        let mut row = vec![
+            format!("{a}"),
+            format!("{:.0} → {:.0}", cells[i], cells[i + 1]),
+            format!(
+                "{:+.3} / {:+.3}",
+                w[1].runout_thin - w[0].runout_thin,
+                w[1].runout - w[0].runout
+            ),
+        ];
+        if flank {
+            row.push(format!("{:+.1}°", w[1].flank - w[0].flank));
+        }
+        row.push(format!("{dh:+.1} points"));
+        rows.push(row);
+        if i + 2 == runs.len() && dh.abs() > 2.0 {
+            unconverged.push(format!("{name}: H∞/H0 {dh:+.1} points"));
+        }
+    }
+    rows
 }

@@ -2,7 +2,7 @@
 //! (2008)'s aluminium-rod collapse against the experiment's digitised surface and failure line.
 
 use crate::report::*;
-use crate::tables::holds;
+use crate::tables::{at_rest, holds};
 use crate::validation::*;
 use mpm::KernelKind;
 use std::fmt::Write;
@@ -13,15 +13,16 @@ const CELL_SIZES: [f64; 3] = [0.01, 0.005, 0.0025];
 /// The low plane column (a = 0.5, H0 = 0.1 m, floor μ = 0.6) at φ = 20°, 30°, 40°, at 10, 20
 /// and 40 cells per column height: the deposit's measures against the bands at each grid,
 /// then their change per halving of h.
-pub fn lowcolumn_study(md: &mut String, path: &std::path::Path) {
+pub fn lowcolumn_study(md: &mut String, path: &std::path::Path, grids: &crate::grids::Grids) {
     let a = 0.5;
+    let sizes: Vec<f64> = grids.cells.iter().map(|k| 0.1 / k).collect();
     let law = lube_runout(a);
     let mut rows = Vec::new();
     let mut halving = Vec::new();
     for phi in [20.0, 30.0, 40.0] {
         let mut runs: Vec<LowColumn> = Vec::new();
-        for h in CELL_SIZES {
-            let n = Numerics::new(h, KernelKind::Gimp);
+        for &h in &sizes {
+            let n = grids.numerics(h);
             let r = low_column(phi, &n, 4.0);
             println!("lowcolumn φ = {phi} {}: {r:?}", n.label());
             let d = &r.deposit;
@@ -43,11 +44,7 @@ pub fn lowcolumn_study(md: &mut String, path: &std::path::Path) {
                 format!("{:.2}", d.plateau),
                 format!("{:.3}", d.height),
                 holds(d.height >= 1.0 - h / 0.1),
-                match &r.failure {
-                    Some(f) => f.clone(),
-                    None if r.settled_at >= 4.0 - 1e-6 => "moving at 4 s".to_string(),
-                    None => format!("{:.2}", r.settled_at),
-                },
+                at_rest(&r.failure, r.settled_at, Some(4.0)),
                 format!("{:.0}", r.cost.wall_seconds),
             ]);
             std::fs::write(path, &*md).unwrap();
@@ -57,11 +54,7 @@ pub fn lowcolumn_study(md: &mut String, path: &std::path::Path) {
             let (p, q) = (&w[0].deposit, &w[1].deposit);
             halving.push(vec![
                 format!("{phi}"),
-                format!(
-                    "{:.0} → {:.0}",
-                    0.1 / CELL_SIZES[i],
-                    0.1 / CELL_SIZES[i + 1]
-                ),
+                format!("{:.0} → {:.0}", 0.1 / sizes[i], 0.1 / sizes[i + 1]),
                 format!(
                     "{:+.3} / {:+.3}",
                     q.runout_thin - p.runout_thin,
@@ -75,7 +68,9 @@ pub fn lowcolumn_study(md: &mut String, path: &std::path::Path) {
     }
     let _ = writeln!(
         md,
-        "## Low columns on a rough floor at 10, 20 and 40 cells per H0 (a = 0.5, floor μ = {ROUGH_FLOOR})\n\nThe plane column a = 0.5 (L0 = 0.2 m, H0 = 0.1 m, collapsing both ways; E = 350 kPa, ν = 0.3, 2200 kg/m³), default numerics. Run-out (L − L0)/L0 where the deposit is one grain ({} mm) thick / at the farthest particle, against Lube et al. (2005)'s 1.2 a = {law:.2}: within −20 % / +25 %, the farthest at most 2a. Flank: least-squares slope of the surface between 20 % and 80 % of the deposit's height (mean of the two sides), in [φ_ps − 6°, φ_ps + 1°]. Toe: how far the farthest particle lies beyond the flank line's foot, over L0 (in brackets the thickest the deposit is there, in particle rows). Plateau: the top's half-width within one cell of H0, over L0. Top: H∞ within one cell of H0.\n\n{}\n### Change per halving of h\n\n{}",
+        "## Low columns on a rough floor at {} cells per H0, {} (a = 0.5, floor μ = {ROUGH_FLOOR})\n\nThe plane column a = 0.5 (L0 = 0.2 m, H0 = 0.1 m, collapsing both ways; E = 350 kPa, ν = 0.3, 2200 kg/m³), default numerics. Run-out (L − L0)/L0 where the deposit is one grain ({} mm) thick / at the farthest particle, against Lube et al. (2005)'s 1.2 a = {law:.2}: within −20 % / +25 %, the farthest at most 2a. Flank: least-squares slope of the surface between 20 % and 80 % of the deposit's height (mean of the two sides), in [φ_ps − 6°, φ_ps + 1°]. Toe: how far the farthest particle lies beyond the flank line's foot, over L0 (in brackets the thickest the deposit is there, in particle rows). Plateau: the top's half-width within one cell of H0, over L0. Top: H∞ within one cell of H0.\n\n{}\n### Change per halving of h\n\n{}",
+        grids.named(40.0),
+        grids.order(),
         1e3 * GRAIN,
         table(
             &[
@@ -142,11 +137,7 @@ pub fn bui_study(md: &mut String, path: &std::path::Path) {
                 b.failure_angle - b.experiment_failure_angle
             ),
             format!("{:.3}", r.deposit.height),
-            match &r.failure {
-                Some(f) => f.clone(),
-                None if r.settled_at >= 4.0 - 1e-6 => "moving at 4 s".to_string(),
-                None => format!("{:.2}", r.settled_at),
-            },
+            at_rest(&r.failure, r.settled_at, Some(4.0)),
             format!("{:.0}", r.cost.wall_seconds),
         ]);
         std::fs::write(path, &*md).unwrap();

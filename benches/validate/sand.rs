@@ -68,11 +68,7 @@ pub fn collapse(md: &mut String) {
 pub fn axi(md: &mut String) {
     let gimp = |h: f64| Numerics::new(h, KernelKind::Gimp);
     let mut rows = Vec::new();
-    let files = [
-        ("column_collapse_axi_a0.5_3d.json", 0.5),
-        ("column_collapse_axi_a1_3d.json", 1.0),
-        ("column_collapse_axi_a2_3d.json", 2.0),
-    ];
+    let files = AXI_COLLAPSES;
     let mut runs: Vec<(&str, f64, Numerics)> = Vec::new();
     for h in [0.02, 0.01] {
         runs.extend(files.iter().map(|&(f, a)| (f, a, gimp(h))));

@@ -225,17 +225,8 @@ pub fn flowmatch_study(md: &mut String, path: &std::path::Path) {
         heaps_table("flowmatch", &heaps(0.01))
     );
     std::fs::write(path, &*md).unwrap();
-    let mut runs: Vec<(&str, f64, Numerics)> = Vec::new();
-    for h in [0.01, 0.005] {
-        for (file, a) in PLANE_COLLAPSES {
-            runs.extend(variants(h).map(|n| (file, a, n)));
-        }
-    }
-    let _ = writeln!(
-        md,
-        "## Friction match: plane column collapses (φ = 32°, floor μ = 0.625; Lube et al. 2005)\n\nRun-out as the farthest particle and as the edge of the continuous deposit. Issue 16: run-out within 20 %, H∞ within 10 %.\n\n{}",
-        collapses_table("flowmatch", runs)
-    );
+    let runs = plane_runs(&[variants(0.01).to_vec(), variants(0.005).to_vec()]);
+    plane_section(md, "Friction match", "flowmatch", runs);
     std::fs::write(path, &*md).unwrap();
     // per friction angle a slope 5° gentler than φ_ps (stands) and one about 10° steeper
     // (fails), as in the validation's slopes; and φ = 32° at 35°, between φ_ps and the
@@ -252,21 +243,10 @@ pub fn flowmatch_study(md: &mut String, path: &std::path::Path) {
     for (phi, steep) in [(20.0, 30.0), (32.0, 40.0), (45.0, 50.0)] {
         cases.extend(variants(0.005).map(|n| (phi, steep, n)));
     }
-    let _ = writeln!(
-        md,
-        "## Friction match: slopes (2 s, E = 350 kPa)\n\nA trapezoidal heap 0.1 m high released on a floor with μ = tan φ. *Failed at*: when the flanks had come halfway down from their initial angle to φ_ps. Issue 16: a slope gentler than φ_ps stands (no creep over 2 s), a steeper one fails within a fraction of a second and stops near φ_ps.\n\n{}",
-        slopes_table("flowmatch", cases)
-    );
+    slopes_section(md, "Friction match", "flowmatch", cases);
     std::fs::write(path, &*md).unwrap();
-    let runs = AXI_COLLAPSES
-        .iter()
-        .flat_map(|&(file, a)| variants(0.01).map(|n| (file, a, n)))
-        .collect();
-    let _ = writeln!(
-        md,
-        "## Friction match: axisymmetric collapses (3D, φ = 32°, floor μ = 0.625; Lube et al. 2004, Lajeunesse et al. 2004)\n\nRun-out as the mean over 16 azimuthal sectors of the farthest particle, and as the edge of the continuous deposit. Issue 16: run-out within 25 %, H∞ within 15 %.\n\n{}",
-        axi_table("flowmatch", runs)
-    );
+    let runs = axi_runs(variants(0.01).to_vec());
+    axi_section(md, "Friction match", "", "flowmatch", runs);
     std::fs::write(path, &*md).unwrap();
     let _ = writeln!(
         md,
@@ -305,33 +285,13 @@ pub fn startstop_study(md: &mut String, path: &std::path::Path) {
             }
         }
     }
-    let _ = writeln!(
-        md,
-        "## Start–stop: slopes (2 s, E = 350 kPa)\n\nA trapezoidal heap 0.1 m high released on a floor with μ = tan φ. *Failed at*: when the flanks had come halfway down from their initial angle to φ_ps. Issue 16: a slope gentler than φ_ps stands (no creep over 2 s), a steeper one fails within a fraction of a second and stops near φ_ps.\n\n{}",
-        slopes_table("startstop", cases)
-    );
+    slopes_section(md, "Start–stop", "startstop", cases);
     std::fs::write(path, &*md).unwrap();
-    let mut runs: Vec<(&str, f64, Numerics)> = Vec::new();
-    for h in [0.01, 0.005] {
-        for (file, a) in PLANE_COLLAPSES {
-            runs.extend(variants(h).map(|n| (file, a, n)));
-        }
-    }
-    let _ = writeln!(
-        md,
-        "## Start–stop: plane column collapses (φ = 32°, floor μ = 0.625; Lube et al. 2005)\n\nRun-out as the farthest particle and as the edge of the continuous deposit. Issue 16: run-out within 20 %, H∞ within 10 %.\n\n{}",
-        collapses_table("startstop", runs)
-    );
+    let runs = plane_runs(&[variants(0.01).to_vec(), variants(0.005).to_vec()]);
+    plane_section(md, "Start–stop", "startstop", runs);
     std::fs::write(path, &*md).unwrap();
-    let runs = AXI_COLLAPSES
-        .iter()
-        .flat_map(|&(file, a)| variants(0.01).map(|n| (file, a, n)))
-        .collect();
-    let _ = writeln!(
-        md,
-        "## Start–stop: axisymmetric collapses (3D, φ = 32°, floor μ = 0.625, h = 0.01 m; Lube et al. 2004, Lajeunesse et al. 2004)\n\nRun-out as the mean over 16 azimuthal sectors of the farthest particle, and as the edge of the continuous deposit. Issue 16: run-out within 25 %, H∞ within 15 %.\n\n{}",
-        axi_table("startstop", runs)
-    );
+    let runs = axi_runs(variants(0.01).to_vec());
+    axi_section(md, "Start–stop", ", h = 0.01 m", "startstop", runs);
 }
 
 /// The default (start–stop) sand at h = 0.0025 m: the plane collapses, the over-steep slopes,
@@ -394,5 +354,59 @@ pub fn startstop_axi_study(md: &mut String) {
                 ("column_collapse_axi_a2_3d.json", 2.0, n),
             ]
         )
+    );
+}
+
+/// The study's slopes (`title`: its name in the heading, `study`: its key in the table) under
+/// their heading and bound.
+fn slopes_section(md: &mut String, title: &str, study: &str, cases: Vec<(f64, f64, Numerics)>) {
+    let _ = writeln!(
+        md,
+        "## {title}: slopes (2 s, E = 350 kPa)\n\nA trapezoidal heap 0.1 m high released on a floor with μ = tan φ. *Failed at*: when the flanks had come halfway down from their initial angle to φ_ps. Issue 16: a slope gentler than φ_ps stands (no creep over 2 s), a steeper one fails within a fraction of a second and stops near φ_ps.\n\n{}",
+        slopes_table(study, cases)
+    );
+}
+
+/// Every axisymmetric collapse under each of the numerics `variants`.
+fn axi_runs(variants: Vec<Numerics>) -> Vec<(&'static str, f64, Numerics)> {
+    AXI_COLLAPSES
+        .iter()
+        .flat_map(|&(file, a)| variants.iter().map(move |&n| (file, a, n)))
+        .collect()
+}
+
+/// The study's axisymmetric collapses under their heading (`grid`: what the heading adds
+/// after the floor, e.g. `, h = 0.01 m`) and bound.
+fn axi_section(
+    md: &mut String,
+    title: &str,
+    grid: &str,
+    study: &str,
+    runs: Vec<(&str, f64, Numerics)>,
+) {
+    let _ = writeln!(
+        md,
+        "## {title}: axisymmetric collapses (3D, φ = 32°, floor μ = 0.625{grid}; Lube et al. 2004, Lajeunesse et al. 2004)\n\nRun-out as the mean over 16 azimuthal sectors of the farthest particle, and as the edge of the continuous deposit. Issue 16: run-out within 25 %, H∞ within 15 %.\n\n{}",
+        axi_table(study, runs)
+    );
+}
+
+/// Every plane collapse under each numerics of each grid's `variants`, grid by grid.
+fn plane_runs(variants: &[Vec<Numerics>]) -> Vec<(&'static str, f64, Numerics)> {
+    let mut runs = Vec::new();
+    for grid in variants {
+        for (file, a) in PLANE_COLLAPSES {
+            runs.extend(grid.iter().map(|&n| (file, a, n)));
+        }
+    }
+    runs
+}
+
+/// The study's plane collapses under their heading and bound.
+fn plane_section(md: &mut String, title: &str, study: &str, runs: Vec<(&str, f64, Numerics)>) {
+    let _ = writeln!(
+        md,
+        "## {title}: plane column collapses (φ = 32°, floor μ = 0.625; Lube et al. 2005)\n\nRun-out as the farthest particle and as the edge of the continuous deposit. Issue 16: run-out within 20 %, H∞ within 10 %.\n\n{}",
+        collapses_table(study, runs)
     );
 }

@@ -226,3 +226,13 @@ pub fn axi_table(study: &str, runs: Vec<(&str, f64, Numerics)>) -> String {
 pub fn holds(ok: bool) -> String {
     if ok { "holds" } else { "**does not hold**" }.to_string()
 }
+
+/// When a run came to rest (s), its failure, or, with `moving_at` set, "moving at T s" for a
+/// run still moving at its end T.
+pub fn at_rest(failure: &Option<String>, settled_at: f64, moving_at: Option<f64>) -> String {
+    match (failure, moving_at) {
+        (Some(f), _) => f.clone(),
+        (None, Some(t)) if settled_at >= t - 1e-6 => format!("moving at {t} s"),
+        (None, _) => format!("{settled_at:.2}"),
+    }
+}

@@ -43,6 +43,9 @@ pub struct Numerics {
     /// Sand under test takes this friction match (`"friction_match"`, e.g. the steady-flow
     /// match 3 α_φ = tan φ) instead of the scene's.
     pub friction_match: Option<FrictionMatch>,
+    /// The body under test updates its stress last (`Some(true)`) or first (`Some(false)`);
+    /// `None` keeps the material's default (first for sand).
+    pub stress_last: Option<bool>,
 }
 
 impl Numerics {
@@ -57,7 +60,13 @@ impl Numerics {
             mu_i: None,
             cell_average: false,
             friction_match: None,
+            stress_last: None,
         }
+    }
+    /// The body under test with its stress updated last (`true`) or first (`false`).
+    pub fn stress_last(mut self, last: bool) -> Self {
+        self.stress_last = Some(last);
+        self
     }
     /// Sand with the volumetric strain rate averaged over each grid cell.
     pub fn cell_average(mut self) -> Self {
@@ -122,6 +131,9 @@ impl Numerics {
         if self.apic.is_some() {
             scene.bodies[0].apic = self.apic;
         }
+        if self.stress_last.is_some() {
+            scene.bodies[0].stress_last = self.stress_last;
+        }
         if let (Some(d), Material::DruckerPrager(m)) = (self.mu_i, &mut scene.bodies[0].material) {
             m.mu_i = Some(mpm::material::mu_i::MuIParams { grain_diameter: d });
         }
@@ -137,11 +149,11 @@ impl Numerics {
         }
     }
     /// A short label, e.g. `gimp h=0.0125 ppc=2 α=1 cfl=0.4` (and ` apic`, ` μ(I) d=0.5mm`,
-    /// ` cell-avg`, ` steady-flow`).
+    /// ` cell-avg`, ` steady-flow`, ` stress-last`).
     pub fn label(&self) -> String {
         let alpha = self.flip.map_or("scene".to_string(), |a| format!("{a}"));
         format!(
-            "{} h={} ppc={} α={alpha} cfl={}{}{}{}{}",
+            "{} h={} ppc={} α={alpha} cfl={}{}{}{}{}{}",
             kernel_name(self.kernel),
             self.cell_size,
             self.ppc,
@@ -158,6 +170,11 @@ impl Numerics {
                 Some(FrictionMatch::SteadyFlow) => " steady-flow",
                 Some(FrictionMatch::StartStop) => " start-stop",
                 Some(FrictionMatch::PlaneStrain) => " plane-strain",
+                None => "",
+            },
+            match self.stress_last {
+                Some(true) => " stress-last",
+                Some(false) => " stress-first",
                 None => "",
             }
         )
