@@ -1,7 +1,8 @@
 //! The ringing of a sand layer released stress-free between walls (docs/method.md, "The
 //! stress shown for sand"): the shipped column's sand as a layer 0.12 m deep, its load ratio
 //! Σ V σ_yy / (−g Σ m y) (1 at rest: the floor's reaction acts at y = 0) sampled every
-//! millisecond, and its least and greatest value in each window of `window` seconds.
+//! millisecond, and its least and greatest value in each window of `window` seconds, with the
+//! energy the plastic returns, the walls and the transfers removed in that window.
 //!
 //! `nice cargo run --release --example resting_ring -- [2|3] [cell size] [seconds] [window] [width] [pic]`
 //!
@@ -48,6 +49,16 @@ fn ring<D: Dim>(scene: SceneConfig, seconds: f64, window: f64) -> Result<(), Str
     let (mut lo, mut hi) = (f64::MAX, f64::MIN);
     let mut last = (0.0, 0.0);
     let mut crossings = Vec::new();
+    // the dissipated energies at the window's start: plastic, walls, transfers
+    let booked = |sim: &Simulation<D>| {
+        let d = sim.diagnostics();
+        [
+            d.dissipated_plastic,
+            d.dissipated_boundary,
+            d.dissipated_numerical,
+        ]
+    };
+    let mut at_start = booked(&sim);
     while sim.time() < seconds {
         sim.advance(0.001).map_err(|e| e.to_string())?;
         let p = sim.particles();
@@ -74,13 +85,19 @@ fn ring<D: Dim>(scene: SceneConfig, seconds: f64, window: f64) -> Result<(), Str
             } else {
                 f64::NAN
             };
+            let now = booked(&sim);
             println!(
-                "  {:.2}-{:.2} s: load ratio {lo:.3} … {hi:.3} (half-swing {:.3}), period {:.1} ms",
+                "  {:.2}-{:.2} s: load ratio {lo:.3} … {hi:.3} (half-swing {:.3}), period {:.1} ms; dissipated: plastic {:.2e}, walls {:.2e}, transfers {:.2e} J{}",
                 t0,
                 sim.time(),
                 0.5 * (hi - lo),
-                1e3 * period
+                1e3 * period,
+                now[0] - at_start[0],
+                now[1] - at_start[1],
+                now[2] - at_start[2],
+                if D::DIM == 2 { "/m" } else { "" }
             );
+            at_start = now;
             t0 = sim.time();
             lo = f64::MAX;
             hi = f64::MIN;
