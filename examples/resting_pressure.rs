@@ -2,9 +2,10 @@
 //! shipped 2D column collapse after 1.5 s (particles within 3 cm of its axis) and a layer
 //! 0.12 m deep across the same box, band by band of depth against ρ g z (1 + 2K0)/3.
 //!
-//! `nice cargo run --release --example resting_pressure -- [seconds] [cell_average] [pic] [heap|layer]`
+//! `nice cargo run --release --example resting_pressure -- [seconds] [cell_average] [pic] [heap|layer] [geostatic]`
 //! (`heap` or `layer` runs that case alone; `pic` transfers with the paper's PIC/FLIP blend
-//! instead of APIC)
+//! instead of APIC; `geostatic` releases the layer with the stress of an elastic layer at
+//! rest, σ_yy = −ρ g z and σ_xx = σ_zz = ν/(1 − ν) σ_yy, instead of stress-free)
 
 #[path = "../tests/support/resting.rs"]
 mod resting;
@@ -55,7 +56,15 @@ fn main() -> Result<(), String> {
         };
         let spacing = h / scene.bodies[0].particles_per_cell as f64;
         let g = 9.81;
+        let nu = match &scene.bodies[0].material {
+            Material::DruckerPrager(m) => m.poisson_ratio,
+            _ => unreachable!(),
+        };
         let mut sim = Simulation::<D2>::new(scene).map_err(|e| e.to_string())?;
+        if layer && args.iter().any(|a| a == "geostatic") {
+            // released at rest: the elastic layer's own K = ν/(1 − ν)
+            geostatic(&mut sim, 0.12, rho, 9.81, nu / (1.0 - nu));
+        }
         sim.advance(seconds).map_err(|e| e.to_string())?;
         let p = sim.particles().clone();
         let xy: Vec<(f64, f64)> = p.x.iter().map(|x| (x[0] as f64, x[1] as f64)).collect();

@@ -146,3 +146,19 @@ impl std::fmt::Display for Bands {
         Ok(())
     }
 }
+
+/// Gives a 2D sand layer whose top is at `top` (m) the stress of a layer at rest under
+/// gravity between walls: σ_yy = −ρ g (top − y), σ_xx = σ_zz = K σ_yy, no shear.
+#[allow(dead_code)]
+pub fn geostatic(sim: &mut mpm::Simulation<mpm::D2>, top: f64, rho: f64, g: f64, k: f64) {
+    let p = sim.particles_mut();
+    for i in 0..p.len() {
+        let vertical = -rho * g * (top - p.x[i][1] as f64);
+        p.stress[i] = mpm::math::Sym2 {
+            xx: (k * vertical) as mpm::Real,
+            yy: vertical as mpm::Real,
+            zz: (k * vertical) as mpm::Real,
+            xy: 0.0,
+        };
+    }
+}
