@@ -1,6 +1,7 @@
 //! Published laws the page and the validation draw beside the model: the run-out and final
 //! height of granular column collapses (Lube et al.), and the plane-strain friction angle of
-//! the paper's Drucker–Prager cone. One place for each formula; the validation cases
+//! the paper's Drucker–Prager cone (stated with the cone in `material`, named here too). One
+//! place for each formula; the validation cases
 //! (`tests/support/validation.rs`), the benches and the page's floor markers call these.
 //!
 //! Aspect ratio a = H0/L0 (plane: L0 the half-width of the column) or H0/R0 (axisymmetric: R0
@@ -60,14 +61,9 @@ pub fn lajeunesse_axisymmetric_height(a: f64) -> f64 {
     a.min(0.74) / a
 }
 
-/// The plane-strain Mohr–Coulomb angle (degrees) of the paper's Drucker–Prager cone with
-/// ψ = 0 for a friction angle φ (degrees): sin φ_ps = 3 α_φ, with Eq. 13's
-/// α_φ = tan φ / √(9 + 12 tan² φ).
-pub fn plane_strain_angle(phi_deg: f64) -> f64 {
-    let t = phi_deg.to_radians().tan();
-    let alpha = crate::material::FrictionMatch::PlaneStrain.alpha(t);
-    (3.0 * alpha).asin().to_degrees()
-}
+/// The plane-strain angle of the paper's Drucker–Prager cone, stated with the cone
+/// ([`crate::material::plane_strain_angle`]).
+pub use crate::material::plane_strain_angle;
 
 /// What a column of aspect ratio `a` would do by the experiments, for the floor markers of a
 /// collapse: the run-out (normalised, `[low, high]`, equal outside a transition) and the
@@ -145,16 +141,5 @@ mod tests {
         assert_eq!(lube_axisymmetric_height(0.5), 1.0);
         assert!(lube_axisymmetric_height(3.0) < lube_axisymmetric_height(1.0));
         assert!((lajeunesse_axisymmetric_height(2.0) - 0.37).abs() < 1e-12);
-    }
-
-    #[test]
-    fn the_plane_strain_angle_is_below_phi_and_zero_at_zero() {
-        assert_eq!(plane_strain_angle(0.0), 0.0);
-        // tan 30° = 1/√3: α = (1/√3)/√13, 3α = √3/√13
-        let expect = (3f64.sqrt() / 13f64.sqrt()).asin().to_degrees();
-        assert!((plane_strain_angle(30.0) - expect).abs() < 1e-12);
-        for phi in [10.0, 20.0, 30.0, 40.0] {
-            assert!(plane_strain_angle(phi) < phi);
-        }
     }
 }

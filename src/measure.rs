@@ -497,7 +497,7 @@ pub struct Deposit {
     pub friction_angle: f64,
     /// In 2D only, the angle of the line its yield surface traces in plane strain
     /// ([`crate::material::Friction::plane_strain_angle`]): φ_ps of a Drucker–Prager cone
-    /// ([`crate::laws::plane_strain_angle`]), φ of Mohr–Coulomb.
+    /// ([`crate::material::plane_strain_angle`]), φ of Mohr–Coulomb.
     pub plane_strain_angle: Option<f64>,
     /// When the body started as a column standing on the floor ([`column()`]): the column and
     /// where the experiments put its run-out and final height.

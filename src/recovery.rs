@@ -30,13 +30,13 @@ pub fn shown_stress<D: Dim>(sim: &Simulation<D>) -> Vec<D::Sym> {
     for (b, body) in sim.bodies().iter().enumerate() {
         if recovered(sim, b) {
             let r = body.range();
-            let lp = body.radius * sim.world.inv_h;
+            let lp = body.radius * sim.world().inv_h;
             let (x, v, s) = (&p.x[r.clone()], &p.volume[r.clone()], &p.stress[r.clone()]);
-            with_kernel!(sim.world.kernel, K, S => {
-                let mut nodes = Nodes::<D, S>::around::<K>(x, sim.world.inv_h, lp);
-                nodes.project::<K>(x, v, s, sim.world.inv_h, lp);
+            with_kernel!(sim.world().kernel, K, S => {
+                let mut nodes = Nodes::<D, S>::around::<K>(x, sim.world().inv_h, lp);
+                nodes.project::<K>(x, v, s, sim.world().inv_h, lp);
                 for (o, x) in out[r].iter_mut().zip(x) {
-                    *o = nodes.interpolate::<K>(x, sim.world.inv_h, lp);
+                    *o = nodes.interpolate::<K>(x, sim.world().inv_h, lp);
                 }
             });
         }
@@ -56,13 +56,13 @@ pub fn shown_stress_of<D: Dim>(sim: &Simulation<D>, index: usize) -> D::Sym {
     }
     let body = &sim.bodies()[b];
     let r = body.range();
-    let lp = body.radius * sim.world.inv_h;
+    let lp = body.radius * sim.world().inv_h;
     let (x, v, s) = (&p.x[r.clone()], &p.volume[r.clone()], &p.stress[r]);
-    with_kernel!(sim.world.kernel, K, S => {
+    with_kernel!(sim.world().kernel, K, S => {
         let at = std::slice::from_ref(&p.x[index]);
-        let mut nodes = Nodes::<D, S>::around::<K>(at, sim.world.inv_h, lp);
-        nodes.project::<K>(x, v, s, sim.world.inv_h, lp);
-        nodes.interpolate::<K>(&p.x[index], sim.world.inv_h, lp)
+        let mut nodes = Nodes::<D, S>::around::<K>(at, sim.world().inv_h, lp);
+        nodes.project::<K>(x, v, s, sim.world().inv_h, lp);
+        nodes.interpolate::<K>(&p.x[index], sim.world().inv_h, lp)
     })
 }
 

@@ -181,6 +181,15 @@ impl FrictionMatch {
     }
 }
 
+/// The plane-strain Mohr–Coulomb angle (degrees) of the paper's Drucker–Prager cone with
+/// ψ = 0 for a friction angle φ (degrees): sin φ_ps = 3 α_φ, with Eq. 13's
+/// α_φ = tan φ / √(9 + 12 tan² φ).
+pub fn plane_strain_angle(phi_deg: f64) -> f64 {
+    let t = phi_deg.to_radians().tan();
+    let alpha = FrictionMatch::PlaneStrain.alpha(t);
+    (3.0 * alpha).asin().to_degrees()
+}
+
 /// Read by hand so that any wrong value names the allowed ones.
 impl<'de> Deserialize<'de> for FrictionMatch {
     fn deserialize<De: serde::Deserializer<'de>>(d: De) -> std::result::Result<Self, De::Error> {
@@ -568,7 +577,7 @@ impl super::Kind for DruckerPragerParams {
         super::Behaviour::Granular(super::Friction {
             friction_angle: self.friction_angle,
             cohesion: self.cohesion,
-            cone: Some(crate::laws::plane_strain_angle(self.friction_angle)),
+            cone: Some(plane_strain_angle(self.friction_angle)),
         })
     }
     fn field_mut(&mut self, name: &str) -> Option<&mut f64> {
@@ -596,6 +605,17 @@ mod tests {
     use super::*;
     use crate::material::test_util::drive;
     use crate::math::Sym3;
+
+    #[test]
+    fn the_plane_strain_angle_is_below_phi_and_zero_at_zero() {
+        assert_eq!(plane_strain_angle(0.0), 0.0);
+        // tan 30° = 1/√3: α = (1/√3)/√13, 3α = √3/√13
+        let expect = (3f64.sqrt() / 13f64.sqrt()).asin().to_degrees();
+        assert!((plane_strain_angle(30.0) - expect).abs() < 1e-12);
+        for phi in [10.0, 20.0, 30.0, 40.0] {
+            assert!(plane_strain_angle(phi) < phi);
+        }
+    }
 
     fn sand(phi: f64, psi: f64, c: f64) -> DruckerPrager {
         matched(phi, psi, c, FrictionMatch::PlaneStrain)

@@ -14,7 +14,9 @@ pub mod mohr_coulomb;
 pub mod mu_i;
 pub mod von_mises;
 
-pub use drucker_prager::{DruckerPrager, DruckerPragerParams, FrictionMatch, VolumetricRate};
+pub use drucker_prager::{
+    DruckerPrager, DruckerPragerParams, FrictionMatch, VolumetricRate, plane_strain_angle,
+};
 pub use elastic::{Elastic, ElasticParams};
 pub use mohr_coulomb::{MohrCoulomb, MohrCoulombParams};
 pub use von_mises::{VonMises, VonMisesParams};
@@ -113,7 +115,7 @@ pub struct Friction {
     /// c (Pa).
     pub cohesion: f64,
     /// For a Drucker–Prager cone, the angle φ_ps (degrees) of its trace in a plane-strain
-    /// Mohr plane ([`crate::laws::plane_strain_angle`]); `None` when the yield surface is the
+    /// Mohr plane ([`plane_strain_angle`]); `None` when the yield surface is the
     /// Mohr–Coulomb envelope itself.
     #[serde(rename = "plane_strain_angle", skip_serializing_if = "Option::is_none")]
     pub cone: Option<f64>,

@@ -442,6 +442,10 @@ impl<D: Dim> Simulation<D> {
     pub fn bodies(&self) -> &[Body<D>] {
         &self.bodies
     }
+    /// The world settings every body sees (cell size, kernel, walls), as the step uses them.
+    pub(crate) fn world(&self) -> &World<D> {
+        &self.world
+    }
     /// Diagnostics after the latest step.
     pub fn diagnostics(&self) -> &Diagnostics {
         &self.diagnostics
