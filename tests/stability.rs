@@ -1081,7 +1081,13 @@ fn a_stiff_block_at_cfl_one_is_stable_or_stops_with_the_setting() {
                                 d.total_energy() <= d.energy_in * (1.0 + mpm::sim::ENERGY_GUARD),
                                 "{what}: {d:?}"
                             );
-                            eprintln!("{what}: stable, account {:+.1} %", 100.0 * d.energy_error());
+                            eprintln!(
+                                "{what}: stable, live energy {:+.1} % of the energy in, account {:+.1} % (integration {:+.1} %, numerical {:+.1} %)",
+                                100.0 * (d.total_energy() / d.energy_in - 1.0),
+                                100.0 * d.energy_error(),
+                                100.0 * d.dissipated_integration / d.energy_in,
+                                100.0 * d.dissipated_numerical / d.energy_in
+                            );
                         }
                         Err(e) => {
                             assert!(names_the_setting(&e), "{what}: {e}");
