@@ -31,20 +31,6 @@ use validation::*;
 /// a = 2 (normalised run-out and final height), what a user watching the page compares with.
 const ASPECT: f64 = 2.0;
 
-/// A copy of validation scene `file` with `max_dt` scaled by `factor`, as a path the
-/// validation helpers take (relative to `scenes/validation/`).
-fn scaled(file: &str, factor: f64) -> String {
-    let text = std::fs::read_to_string(scene_path(file)).unwrap();
-    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
-    let dt = v["max_dt"].as_f64().unwrap_or(0.001);
-    v["max_dt"] = serde_json::json!(dt * factor);
-    let dir = report::root().join("target/quality-scenes");
-    std::fs::create_dir_all(&dir).unwrap();
-    let name = format!("{}-{factor}.json", file.trim_end_matches(".json"));
-    std::fs::write(dir.join(&name), v.to_string()).unwrap();
-    format!("../../target/quality-scenes/{name}")
-}
-
 /// The shipped collapses at each level, as the page samples them (see the module's
 /// documentation).
 fn sand() {
@@ -110,11 +96,15 @@ fn main() {
         let start = std::time::Instant::now();
         let n = |h: f64| Numerics::new(h * f, KernelKind::Gimp).ppc(ppc);
         let bar = vibrating_bar::<D2>(
-            &scaled("vibrating_bar_2d.json", f),
+            &report::scaled("vibrating_bar_2d.json", f, "quality-scenes"),
             &n(0.025).flip(1.0),
             3.0,
         );
-        let column = column_collapse(&scaled("column_collapse_a2_2d.json", f), &n(0.01), 4.0);
+        let column = column_collapse(
+            &report::scaled("column_collapse_a2_2d.json", f, "quality-scenes"),
+            &n(0.01),
+            4.0,
+        );
         assert!(column.failure.is_none(), "{column:?}");
         let resting = resting_column(&n(0.02).flip(0.0), 10.0);
         assert!(resting.failure.is_none(), "{resting:?}");

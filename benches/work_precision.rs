@@ -555,20 +555,6 @@ fn shipped_resolutions(q: &'static Quality) -> Vec<(String, f64, u32, usize)> {
     out
 }
 
-/// A copy of validation scene `file` with `max_dt` scaled by `factor` (as the page scales it
-/// with the cells), as a path the validation helpers take.
-fn scaled(file: &str, factor: f64) -> String {
-    let text = std::fs::read_to_string(scene_path(file)).unwrap();
-    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
-    let dt = v["max_dt"].as_f64().unwrap_or(0.001);
-    v["max_dt"] = serde_json::json!(dt * factor);
-    let dir = root().join("target/work-precision-scenes");
-    std::fs::create_dir_all(&dir).unwrap();
-    let name = format!("{}-{factor}.json", file.trim_end_matches(".json"));
-    std::fs::write(dir.join(&name), v.to_string()).unwrap();
-    format!("../../target/work-precision-scenes/{name}")
-}
-
 fn quality_study(md: &mut String) {
     let _ = writeln!(
         md,
@@ -620,7 +606,7 @@ fn quality_study(md: &mut String) {
             let mut errors = Vec::new();
             for alpha in [1.0, 0.0] {
                 let r = bar_run_file(
-                    &scaled("vibrating_bar_2d.json", f),
+                    &report::scaled("vibrating_bar_2d.json", f, "work-precision-scenes"),
                     Numerics::new(0.025 * f, k).flip(alpha).ppc(ppc),
                 );
                 errors.push(format!("{:.2} %", 100.0 * r.error));
@@ -628,7 +614,7 @@ fn quality_study(md: &mut String) {
             }
             let (mut c, secs) = on_core(|| {
                 column_collapse(
-                    &scaled("column_collapse_a2_2d.json", f),
+                    &report::scaled("column_collapse_a2_2d.json", f, "work-precision-scenes"),
                     &Numerics::new(0.01 * f, k).ppc(ppc),
                     4.0,
                 )

@@ -417,6 +417,21 @@ fn num(v: f64) -> String {
     }
 }
 
+/// A copy of validation scene `file` (in `scenes/validation/`) with `max_dt` scaled by
+/// `factor` (as the page scales it with the cells), written to `target/<dir>/`, as a path the
+/// validation helpers take (relative to `scenes/validation/`).
+pub fn scaled(file: &str, factor: f64, dir: &str) -> String {
+    let text = std::fs::read_to_string(root().join("scenes/validation").join(file)).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let dt = v["max_dt"].as_f64().unwrap_or(0.001);
+    v["max_dt"] = serde_json::json!(dt * factor);
+    let out = root().join("target").join(dir);
+    std::fs::create_dir_all(&out).unwrap();
+    let name = format!("{}-{factor}.json", file.trim_end_matches(".json"));
+    std::fs::write(out.join(&name), v.to_string()).unwrap();
+    format!("../../target/{dir}/{name}")
+}
+
 /// The repository root.
 pub fn root() -> std::path::PathBuf {
     std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))

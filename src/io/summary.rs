@@ -53,6 +53,10 @@ pub struct Energy {
     /// ([`crate::Diagnostics::dissipated_numerical`]).
     #[serde(default)]
     pub dissipated_numerical: f64,
+    /// The stress update's integration error, signed
+    /// ([`crate::Diagnostics::dissipated_integration`]).
+    #[serde(default)]
+    pub dissipated_integration: f64,
     /// The energy the bodies brought as they entered ([`crate::Diagnostics::energy_in`]).
     #[serde(default)]
     pub energy_in: f64,
@@ -112,6 +116,7 @@ impl Summary {
                 dissipated_contact: d.dissipated_contact,
                 dissipated_sleep: d.dissipated_sleep,
                 dissipated_numerical: d.dissipated_numerical,
+                dissipated_integration: d.dissipated_integration,
                 energy_in: d.energy_in,
                 account_error: d.energy_error(),
                 account_closes: d.energy_error().abs() <= crate::sim::ACCOUNT_TOLERANCE,

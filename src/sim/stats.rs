@@ -40,6 +40,11 @@ pub struct Diagnostics {
     /// after the walls minus the particles' after the gather (less what the particle-side
     /// walls booked as boundary dissipation).
     pub dissipated_numerical: f64,
+    /// Cumulative integration error of the stress update (signed; negative where the update
+    /// created energy): in each step the kinetic energy the internal forces took from the
+    /// grid, Σ −Δt f_i·(v_i^n + v*_i)/2, less the elastic energy the update stored and the
+    /// plastic and viscous work it removed.
+    pub dissipated_integration: f64,
     /// The energy the bodies brought as they entered (kinetic, gravitational and elastic at
     /// their entry), less what removed bodies took with them: what the account must close on.
     pub energy_in: f64,
@@ -64,6 +69,7 @@ impl Diagnostics {
             + self.dissipated_contact
             + self.dissipated_sleep
             + self.dissipated_numerical
+            + self.dissipated_integration
     }
     /// How far the account is from closing: (total + dissipated − energy in) as a share of
     /// the largest of the energy in, the total and the dissipated (zero when none is in

@@ -33,9 +33,12 @@ impl<D: Dim> Step<'_, D> {
                 (a.kinematic, b.kinematic),
             );
             self.diagnostics.dissipated_contact += r.dissipated;
+            // booked with a body that deforms (not both kinematic: no contact then)
+            let booked = if a.kinematic { pair.b } else { pair.a };
             // (a kinematic body's grid is never changed: both changed means both deform)
             let last = |b: &Body<D>| b.recipe.stress_order == StressOrder::Last;
             *self.solids_stuck |= sticks && r.changed_a && r.changed_b && last(a) && last(b);
+            steps[booked].constraints += r.dissipated;
             steps[pair.a].constrained |= r.changed_a;
             steps[pair.b].constrained |= r.changed_b;
             for k in 0..3 {

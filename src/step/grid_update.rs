@@ -66,19 +66,64 @@ pub fn hold_velocities<D: Dim>(grid: &mut Grid<D>) {
     }
 }
 
-/// The grid's kinetic energies Σ ½ m_i |v_i|² over the nodes it owns: at v_i^n (as the
-/// particles brought it) and at the velocities the particles will gather (after forces,
-/// contacts and walls). With the particles' kinetic energies before the scatter and after the
-/// gather they measure what the transfers remove ([`crate::Diagnostics::dissipated_numerical`]).
-pub fn kinetic_energies<D: Dim>(grid: &Grid<D>) -> [f64; 2] {
-    let mut k = [0.0f64; 2];
+/// The grid's kinetic energies Σ ½ m_i |v_i|² over the nodes it owns, at v_i^n (as the
+/// particles brought it) and at v_i^{n+1}, the velocities the particles will gather (after
+/// forces, contacts and walls), and the work gravity did on them, Σ Δt m_i g·(v_i^n +
+/// v_i^{n+1})/2. With the particles' kinetic energies before the scatter and after the gather
+/// they measure what the transfers remove ([`crate::Diagnostics::dissipated_numerical`]);
+/// with gravity's work and the constraints' the work the internal forces did
+/// ([`crate::Diagnostics::dissipated_integration`]). Only the awake particles' share of a
+/// node's mass counts: `frozen` gives the sleeping particles' mass on each owned node of a
+/// block ([`super::sleep::Sleeping::frozen_mass`]), which no step moves.
+pub fn kinetic_energies<'a, D: Dim>(
+    grid: &Grid<D>,
+    frozen: impl Fn(&[i32; 3]) -> Option<&'a [Real]>,
+    gravity: D::Vector,
+    dt: f64,
+) -> GridEnergies {
+    let mut k = [0.0f64; 3];
+    for_each_awake(grid, frozen, |node, awake| {
+        let (v0, v1) = (node.vel(), node.new_vel);
+        k[0] += (awake * v0.length_squared()) as f64;
+        k[1] += (awake * v1.length_squared()) as f64;
+        k[2] += (awake * gravity.dot(v0 + v1)) as f64;
+    });
+    GridEnergies {
+        kinetic: [0.5 * k[0], 0.5 * k[1]],
+        gravity_work: 0.5 * dt * k[2],
+    }
+}
+
+/// What [`kinetic_energies`] measures.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct GridEnergies {
+    /// Σ ½ m_i |v_i|² at v_i^n and at v_i^{n+1}.
+    pub kinetic: [f64; 2],
+    /// Σ Δt m_i g·(v_i^n + v_i^{n+1})/2.
+    pub gravity_work: f64,
+}
+
+/// Calls `f` with each owned node that has mass and the awake particles' share of its mass
+/// (all of it, but for the sleeping particles' mass `frozen` gives).
+fn for_each_awake<'a, D: Dim>(
+    grid: &Grid<D>,
+    frozen: impl Fn(&[i32; 3]) -> Option<&'a [Real]>,
+    mut f: impl FnMut(&crate::grid::Node<D::Vector>, Real),
+) {
     for slot in 0..grid.index.block_count() {
+        let asleep = frozen(&grid.index.blocks()[slot]);
+        let mut k = 0;
         grid.layout.for_each_owned(&grid.index, slot, |_, n| {
             let node = &grid.nodes[n];
-            let m = node.mass() as f64;
-            k[0] += m * node.vel().length_squared() as f64;
-            k[1] += m * node.new_vel.length_squared() as f64;
+            let m = node.mass();
+            let awake = match asleep {
+                Some(mass) => (m - mass[k]).max(0.0),
+                None => m,
+            };
+            k += 1;
+            if m > 0.0 {
+                f(node, awake);
+            }
         });
     }
-    k.map(|x| 0.5 * x)
 }

@@ -94,7 +94,7 @@ impl<D: Dim> Step<'_, D> {
         t.time(Phase::Contact, || {
             self.resolve_contacts(&contacts, &mut steps)
         }); // 5, bodies
-        t.time(Phase::Walls, || self.apply_walls(&mut steps)); // 5, walls
+        t.time(Phase::Walls, || self.apply_walls(&mut steps, sleeping, dt)); // 5, walls
         let gathered = t.time(Phase::Gather, || self.gather_and_update(h, &mut steps)); // 6–8
         t.add_to(self.timings);
         self.finish_step(dt, &steps, &gathered, sleeping)

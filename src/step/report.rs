@@ -22,9 +22,12 @@ pub struct BodyStep {
     pub contact_impulse: [f64; 3],
     /// What the stress update measured.
     pub stress: StressReport,
-    /// The grid's kinetic energy at v_i^n and after the walls
+    /// The grid's kinetic energies at v_i^n and after the walls, and gravity's work
     /// ([`super::grid_update::kinetic_energies`]; zero for a kinematic body).
-    pub grid_kinetic: [f64; 2],
+    pub grid: super::grid_update::GridEnergies,
+    /// The energy the walls and contacts booked as removed from this body's grid in the step
+    /// (a contact's from both bodies, on one that is not kinematic).
+    pub constraints: f64,
 }
 
 impl<D: Dim> Step<'_, D> {
@@ -51,6 +54,7 @@ impl<D: Dim> Step<'_, D> {
             }
             d.dissipated_plastic += s.dissipated;
             d.dissipated_viscous += s.viscous;
+
             d.dissipated_boundary += g.dissipated_walls;
             body.stats.dissipated_plastic += s.dissipated;
             body.stats.contact_force = step
@@ -75,10 +79,19 @@ impl<D: Dim> Step<'_, D> {
         // outside: booked as energy brought in.
         for (i, body) in self.bodies.iter().enumerate() {
             if !body.kinematic {
-                let [before, after] = steps[i].grid_kinetic;
+                let step = &steps[i];
+                let [before, after] = step.grid.kinetic;
                 self.diagnostics.dissipated_numerical += body.stats.kinetic - before + after
                     - measures[i].kinetic
                     - gathered[i].dissipated_walls;
+                // the stress update's integration error: the work the internal forces did on
+                // the grid (its kinetic energy gained, less gravity's work, plus what the
+                // constraints removed) against the energy the update stored and removed
+                let force_work = after - before - step.grid.gravity_work + step.constraints;
+                let s = &step.stress;
+                let stored = elastic[i] - body.stats.elastic;
+                self.diagnostics.dissipated_integration -=
+                    force_work + stored + s.dissipated + s.viscous;
             } else {
                 let s = &body.stats;
                 let m = &measures[i];

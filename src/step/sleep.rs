@@ -127,6 +127,13 @@ impl<D: Dim> Sleeping<D> {
         &self.bodies[i]
     }
 
+    /// Body `i`'s sleeping particles' mass on each owned node of the grid block at `block`
+    /// (in [`crate::grid::BlockLayout::for_each_owned`]'s order), if any sleep there.
+    pub(super) fn frozen_mass(&self, i: usize, block: &[i32; 3]) -> Option<&[Real]> {
+        let f = self.bodies.get(i)?.frozen.get(block)?;
+        Some(&f.mass)
+    }
+
     /// Adds each body's sleeping particles' share to its grid's owned nodes (after the awake
     /// particles' scatter and its halo reduction).
     pub(super) fn add_to(&self, bodies: &mut [Body<D>]) {

@@ -4,21 +4,26 @@
 //! pressure). Then the halo nodes take their owners' values, for the gather.
 
 use super::Step;
+use super::sleep::Sleeping;
 use super::{BodyStep, constraint_dissipation};
 use crate::boundary::Walls;
 use crate::grid::Grid;
 use crate::math::Dim;
 
 impl<D: Dim> Step<'_, D> {
-    /// Step 5 at the walls for every body (noting in `steps` which ones they changed); then
+    /// Step 5 at the walls for every body (noting in `steps` which ones they changed, and the
+    /// grid's kinetic energies, on the awake particles' share of the nodes: `sleeping`); then
     /// the halos take their owners' values.
-    pub(super) fn apply_walls(&mut self, steps: &mut [BodyStep]) {
-        for (body, step) in self.bodies.iter_mut().zip(steps) {
+    pub(super) fn apply_walls(&mut self, steps: &mut [BodyStep], sleeping: &Sleeping<D>, dt: f64) {
+        for (i, (body, step)) in self.bodies.iter_mut().zip(steps).enumerate() {
             if !body.kinematic {
                 let w = grid_walls(&mut body.grid, &self.world.walls);
                 self.diagnostics.dissipated_boundary += w.dissipated;
                 step.constrained |= w.changed;
-                step.grid_kinetic = super::grid_update::kinetic_energies(&body.grid);
+                step.constraints += w.dissipated;
+                let frozen = |b: &[i32; 3]| sleeping.frozen_mass(i, b);
+                let gravity = self.world.gravity;
+                step.grid = super::grid_update::kinetic_energies(&body.grid, frozen, gravity, dt);
             }
             body.grid.fill_nodes(|h, o| *h = *o);
         }

@@ -44,18 +44,16 @@ fn runs() -> Vec<(&'static str, &'static str, usize, String)> {
             bodies.join(", ")
         )
     };
+    // the 2D runs' domain: 1 m × 0.5 m, h = 0.02 m, walls with friction only
+    let plane = |kernel: &str, bodies: &[String]| scene(2, "[1.0, 0.5]", 0.02, kernel, "", bodies);
     let column_2d = r#"{"box": {"min": [0.4, 0.0], "max": [0.6, 0.3]}}"#;
     vec![
         (
             "solid",
             "elastic_2d_gimp_flip",
             300,
-            scene(
-                2,
-                "[1.0, 0.5]",
-                0.02,
+            plane(
                 "gimp",
-                "",
                 &[body(
                     "block",
                     r#"{"box": {"min": [0.3, 0.1], "max": [0.6, 0.3]}}"#,
@@ -68,12 +66,8 @@ fn runs() -> Vec<(&'static str, &'static str, usize, String)> {
             "solid",
             "von_mises_2d_bspline",
             300,
-            scene(
-                2,
-                "[1.0, 0.5]",
-                0.02,
+            plane(
                 "quadratic_bspline",
-                "",
                 &[body(
                     "ball",
                     r#"{"ball": {"center": [0.5, 0.2], "radius": 0.12}}"#,
@@ -86,12 +80,8 @@ fn runs() -> Vec<(&'static str, &'static str, usize, String)> {
             "solid",
             "elastic_2d_linear_sticking_contact",
             300,
-            scene(
-                2,
-                "[1.0, 0.5]",
-                0.02,
+            plane(
                 "linear",
-                "",
                 &[
                     body(
                         "base",
@@ -138,40 +128,19 @@ fn runs() -> Vec<(&'static str, &'static str, usize, String)> {
             "sand",
             "drucker_prager_2d_gimp_apic",
             400,
-            scene(
-                2,
-                "[1.0, 0.5]",
-                0.02,
-                "gimp",
-                "",
-                &[body("column", column_2d, dp, "")],
-            ),
+            plane("gimp", &[body("column", column_2d, dp, "")]),
         ),
         (
             "sand",
             "drucker_prager_2d_linear_pic_flip",
             400,
-            scene(
-                2,
-                "[1.0, 0.5]",
-                0.02,
-                "linear",
-                "",
-                &[body("column", column_2d, dp, "")],
-            ),
+            plane("linear", &[body("column", column_2d, dp, "")]),
         ),
         (
             "mohr_coulomb",
             "mohr_coulomb_2d_bspline",
             400,
-            scene(
-                2,
-                "[1.0, 0.5]",
-                0.02,
-                "quadratic_bspline",
-                "",
-                &[body("column", column_2d, mc, "")],
-            ),
+            plane("quadratic_bspline", &[body("column", column_2d, mc, "")]),
         ),
         (
             "sand",

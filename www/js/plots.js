@@ -60,8 +60,9 @@ export const ENERGY_SERIES = [
 /// Energies over time, relative to the state when the plot was (re)started: gravitational
 /// energy is measured from its value then, dissipation counts from then, and the sum
 /// (kinetic + gravitational + elastic + dissipated) shows how well energy is accounted for:
-/// dissipated holds plasticity, viscosity, walls, contact, sleeping and the transfers'
-/// numerical damping, so the sum stays flat while the account closes.
+/// dissipated holds plasticity, viscosity, walls, contact, sleeping, the transfers'
+/// numerical damping and the stress update's integration error, so the sum stays flat while
+/// the account closes.
 export class EnergyPlot {
   constructor(canvas, capacity = 900) {
     this.canvas = canvas;
@@ -81,7 +82,8 @@ export class EnergyPlot {
       d.dissipated_boundary +
       d.dissipated_contact +
       (d.dissipated_sleep || 0) +
-      (d.dissipated_numerical || 0);
+      (d.dissipated_numerical || 0) +
+      (d.dissipated_integration || 0);
     if (!this.ref) this.ref = { gravitational: d.gravitational, dissipated, time: d.time };
     const s = {
       time: d.time - this.ref.time,
