@@ -10,24 +10,16 @@
 //! Only pairs of bodies whose block sets overlap are visited, and only their shared blocks:
 //! one body, or bodies apart, cost nothing.
 
-use super::sleep::{Held, Sleeping};
 use super::{BodyStep, Step, StressOrder, constraint_dissipation};
 pub use crate::boundary::{ContactRule, STICKING_CFL};
 use crate::grid::{Grid, GridIndex};
-use crate::math::{Dim, Real, VectorOps, min};
+use crate::math::{Dim, VectorOps, min};
 use crate::sim::body::Body;
 
 impl<D: Dim> Step<'_, D> {
     /// Step 5 between every pair of bodies whose grids share blocks (`contacts`), recording
     /// in `steps` which bodies it changed and the momentum each received.
-    /// Nodes held still under sleeping material ([`Sleeping::hold`]) take part as a
-    /// kinematic body's do, and record the velocity change they would have taken.
-    pub(super) fn resolve_contacts(
-        &mut self,
-        contacts: &[ContactPair],
-        steps: &mut [BodyStep],
-        sleeping: &mut Sleeping<D>,
-    ) {
+    pub(super) fn resolve_contacts(&mut self, contacts: &[ContactPair], steps: &mut [BodyStep]) {
         let sticks = self.world.contact.sticks();
         *self.solids_stuck = false;
         for pair in contacts {
@@ -39,7 +31,6 @@ impl<D: Dim> Step<'_, D> {
                 &pair.blocks,
                 self.world.contact,
                 (a.kinematic, b.kinematic),
-                sleeping.held_pair(pair.a, pair.b),
             );
             self.diagnostics.dissipated_contact += r.dissipated;
             // (a kinematic body's grid is never changed: both changed means both deform)
@@ -104,16 +95,13 @@ pub struct Resolved {
 
 /// Applies the contact rule at the shared nodes of one pair. A kinematic body (`kinematic_a`,
 /// `kinematic_b`) counts as infinitely heavy: its velocity is not changed, the other body's is
-/// changed as if by a wall moving with it. So does a node held still under sleeping material
-/// (`held_a`, `held_b`), which records as its reaction the velocity change a free node would
-/// have taken.
+/// changed as if by a wall moving with it.
 pub fn resolve<D: Dim>(
     ga: &mut Grid<D>,
     gb: &mut Grid<D>,
     blocks: &[(u32, u32)],
     rule: ContactRule,
     (kinematic_a, kinematic_b): (bool, bool),
-    (mut held_a, mut held_b): (Option<&mut Held>, Option<&mut Held>),
 ) -> Resolved {
     let mut out = Resolved::default();
     if kinematic_a && kinematic_b {
@@ -142,14 +130,15 @@ pub fn resolve<D: Dim>(
             if approach <= 0.0 {
                 continue; // separating: Eq. 20 not met
             }
-            let is_held = |h: &Option<&mut Held>, i: usize| h.as_ref().is_some_and(|h| h.node[i]);
-            let (ha, hb) = (is_held(&held_a, ia), is_held(&held_b, ib));
-            let (kinematic_a, kinematic_b) = (kinematic_a || ha, kinematic_b || hb);
-            if kinematic_a && kinematic_b {
-                continue;
-            }
-            // Momentum change of A (B gets the opposite) for a reduced mass.
-            let impulse_of = |reduced: Real| match rule {
+            let reduced = if kinematic_a {
+                mb
+            } else if kinematic_b {
+                ma
+            } else {
+                ma * mb / (ma + mb)
+            };
+            // Momentum change of A (B gets the opposite).
+            let dp = match rule {
                 ContactRule::Stick => (vb - va) * reduced, // Eq. 21
                 ContactRule::Friction(mu) => {
                     let slip = (va - vb) - n * approach;
@@ -162,22 +151,6 @@ pub fn resolve<D: Dim>(
                     dp
                 }
             };
-            if ha || hb {
-                let free = impulse_of(ma * mb / (ma + mb));
-                if let (true, Some(h)) = (ha, held_a.as_deref_mut()) {
-                    h.reaction[ia] = h.reaction[ia].max((free / ma).length_squared());
-                }
-                if let (true, Some(h)) = (hb, held_b.as_deref_mut()) {
-                    h.reaction[ib] = h.reaction[ib].max((free / mb).length_squared());
-                }
-            }
-            let dp = impulse_of(if kinematic_a {
-                mb
-            } else if kinematic_b {
-                ma
-            } else {
-                ma * mb / (ma + mb)
-            });
             impulse += dp;
             if !kinematic_a {
                 let na = va + dp / ma;

@@ -78,7 +78,7 @@ pub(crate) use state::Step;
 impl<D: Dim> Step<'_, D> {
     /// One time step of `dt` seconds: the eight steps of Sec. 4.2, with the sleeping
     /// material's share of the grid ([`sleep`]) added after the awake particles' scatter.
-    pub(crate) fn run(&mut self, dt: f64, sleeping: &mut Sleeping<D>) -> Finished<D> {
+    pub(crate) fn run(&mut self, dt: f64, sleeping: &Sleeping<D>) -> Finished<D> {
         let h = dt as Real;
         let mut t = Clock::start(self.timings.is_some());
         let mut steps = vec![BodyStep::default(); self.bodies.len()];
@@ -90,17 +90,11 @@ impl<D: Dim> Step<'_, D> {
         });
         t.time(Phase::Grid, || self.grid_velocities()); // 1: v_i^n
         t.time(Phase::Stress, || self.update_stress_first(h, &mut steps)); // 2, 3, 4 (first)
-        t.time(Phase::Grid, || {
-            self.grid_forces(h); // 4
-            sleeping.hold(self.bodies);
-        });
+        t.time(Phase::Grid, || self.grid_forces(h)); // 4
         t.time(Phase::Contact, || {
-            self.resolve_contacts(&contacts, &mut steps, sleeping)
+            self.resolve_contacts(&contacts, &mut steps)
         }); // 5, bodies
-        t.time(Phase::Walls, || {
-            self.apply_walls(&mut steps); // 5, walls
-            sleeping.press(self.bodies);
-        });
+        t.time(Phase::Walls, || self.apply_walls(&mut steps)); // 5, walls
         let gathered = t.time(Phase::Gather, || self.gather_and_update(h, &mut steps)); // 6–8
         t.add_to(self.timings);
         self.finish_step(dt, &steps, &gathered, sleeping)

@@ -49,11 +49,8 @@ pub struct SleepRule {
     pub speed: Real,
     /// ... for this long (s).
     pub after: f64,
-    /// A sleeping block wakes when the velocity change per step that holds one of its nodes
-    /// still (m/s) ...
+    /// A sleeping particle wakes when a node of its blocks moves faster than this (m/s).
     pub wake_speed: Real,
-    /// ... has passed this for this many substeps in a row.
-    pub pushes: u32,
 }
 
 impl SleepRule {
@@ -66,7 +63,6 @@ impl SleepRule {
             speed,
             after: 0.25,
             wake_speed: 2.0 * speed,
-            pushes: PUSHES,
         }
     }
 }
@@ -140,51 +136,6 @@ impl<D: Dim> Sleeping<D> {
         &self.bodies[i]
     }
 
-    /// After the grid forces (step 4): holds still every node that only sleeping material
-    /// reaches, and records the velocity change per step that holding a node with a sleeping
-    /// share undoes (contacts add theirs: [`Sleeping::held_pair`]).
-    pub(super) fn hold(&mut self, bodies: &mut [Body<D>]) {
-        if self.rule.is_none() {
-            return;
-        }
-        for (sleep, body) in self.bodies.iter_mut().zip(bodies) {
-            if body.asleep == 0 {
-                sleep.held = Held::default();
-                continue;
-            }
-            sleep.hold(&mut body.grid);
-        }
-    }
-
-    /// The held nodes of bodies `a < b`, for the contact between them.
-    pub(super) fn held_pair(&mut self, a: usize, b: usize) -> (Option<&mut Held>, Option<&mut Held>) {
-        fn held<D: Dim>(s: &mut Sleep<D>) -> Option<&mut Held> {
-            (!s.held.node.is_empty()).then_some(&mut s.held)
-        }
-        if b < self.bodies.len() {
-            let (left, right) = self.bodies.split_at_mut(b);
-            (held(&mut left[a]), held(&mut right[0]))
-        } else {
-            (self.bodies.get_mut(a).and_then(held), None)
-        }
-    }
-
-    /// After the walls: flags the blocks whose held nodes' reaction has passed the wake speed
-    /// for [`SleepRule::pushes`] substeps in a row (read by the waking after the step).
-    pub(super) fn press(&mut self, bodies: &[Body<D>]) {
-        let Some(rule) = self.rule else {
-            return;
-        };
-        for (sleep, body) in self.bodies.iter_mut().zip(bodies) {
-            if body.asleep == 0 {
-                sleep.pushed.clear();
-                sleep.pressed.clear();
-                continue;
-            }
-            sleep.press(&body.grid, &rule);
-        }
-    }
-
     /// Adds each body's sleeping particles' share to its grid's owned nodes (after the awake
     /// particles' scatter and its halo reduction).
     pub(super) fn add_to(&self, bodies: &mut [Body<D>]) {
@@ -194,14 +145,6 @@ impl<D: Dim> Sleeping<D> {
     }
 }
 
-/// A body's grid nodes held still this step: per node, whether it is held, and the squared
-/// velocity change per step that holding it undoes (the forces', then a contact's).
-#[derive(Clone, Debug, Default)]
-pub struct Held {
-    pub node: Vec<bool>,
-    pub reaction: Vec<Real>,
-}
-
 /// One body's sleeping particles: what they give the grid, and their figures.
 #[derive(Clone, Debug)]
 pub struct Sleep<D: Dim> {
@@ -209,12 +152,6 @@ pub struct Sleep<D: Dim> {
     calm: HashMap<[i32; 3], f64>,
     /// The sleeping particles' share of the grid, per block coordinate.
     frozen: HashMap<[i32; 3], Frozen<D>>,
-    /// Substeps in a row each block's held nodes have pushed back harder than the wake speed.
-    pressed: HashMap<[i32; 3], u32>,
-    /// Per slot of this step's grid: whether the block has pushed back long enough to wake.
-    pushed: Vec<bool>,
-    /// This step's held nodes and their reactions.
-    held: Held,
     /// The sleeping particles' figures: their measure (finished), elastic energy and largest
     /// volume.
     pub(crate) measure: Measure<D>,
@@ -227,9 +164,6 @@ impl<D: Dim> Default for Sleep<D> {
         Sleep {
             calm: HashMap::new(),
             frozen: HashMap::new(),
-            pressed: HashMap::new(),
-            pushed: Vec::new(),
-            held: Held::default(),
             measure: Measure::empty(),
             elastic: 0.0,
             max_volume: 0.0,
@@ -238,72 +172,6 @@ impl<D: Dim> Default for Sleep<D> {
 }
 
 impl<D: Dim> Sleep<D> {
-    /// Holds `grid`'s nodes reached only by sleeping material at zero velocity, recording the
-    /// reaction at every node with a sleeping share.
-    fn hold(&mut self, grid: &mut Grid<D>) {
-        let Grid {
-            index,
-            layout,
-            nodes,
-            ..
-        } = grid;
-        let held = &mut self.held;
-        held.node.clear();
-        held.node.resize(nodes.len(), false);
-        held.reaction.clear();
-        held.reaction.resize(nodes.len(), 0.0);
-        for slot in 0..index.block_count() {
-            let Some(f) = self.frozen.get(&index.blocks()[slot]) else {
-                continue;
-            };
-            let mut k = 0;
-            layout.for_each_owned(index, slot, |_, i| {
-                let sleeping = f.mass[k];
-                k += 1;
-                if sleeping <= 0.0 {
-                    return;
-                }
-                let n = &mut nodes[i];
-                let m = n.mass();
-                // v*_i − v_i^n: on a node only sleeping material reaches (v_i^n = 0 there), the
-                // change that holding it undoes
-                held.reaction[i] = (n.new_vel - n.vel()).length_squared();
-                if m - sleeping <= 1e-6 * m {
-                    held.node[i] = true;
-                    n.new_vel = D::Vector::ZERO;
-                }
-            });
-        }
-    }
-
-    /// Flags the blocks of `grid` whose full nodes' reaction has passed the wake speed long
-    /// enough.
-    fn press(&mut self, grid: &Grid<D>, rule: &SleepRule) {
-        let limit = rule.wake_speed * rule.wake_speed;
-        let heaviest = grid.nodes.iter().map(|n| n.mass()).fold(0.0, Real::max);
-        let light = FULL_NODE_SHARE * heaviest;
-        let slots = grid.index.block_count();
-        let mut pressed = HashMap::with_capacity(self.pressed.len());
-        self.pushed.clear();
-        self.pushed.resize(slots, false);
-        if self.held.reaction.len() != grid.nodes.len() {
-            return;
-        }
-        for slot in 0..slots {
-            let block = grid.index.blocks()[slot];
-            let mut push = false;
-            grid.layout.for_each_owned(&grid.index, slot, |_, i| {
-                push |= self.held.reaction[i] > limit && grid.nodes[i].mass() >= light;
-            });
-            if push {
-                let c = self.pressed.get(&block).copied().unwrap_or(0) + 1;
-                self.pushed[slot] = c >= rule.pushes;
-                pressed.insert(block, c);
-            }
-        }
-        self.pressed = pressed;
-    }
-
     /// Adds the sleeping particles' share to `grid`'s owned nodes.
     fn add_to(&self, grid: &mut Grid<D>) {
         if self.frozen.is_empty() {
@@ -360,8 +228,7 @@ impl<D: Dim> Step<'_, D> {
             let mut woken = Vec::new();
             let mut spilled = vec![false; slots];
             if body.asleep > 0 {
-                let mut fast = sleep.pushed.clone();
-                fast.resize(slots, false);
+                let fast = moving_blocks(grid, rule.wake_speed);
                 if fast.iter().any(|&f| f) {
                     spilled = spill_down(&grid.index, &fast);
                     woken = (awake..r.len())
@@ -474,8 +341,24 @@ pub fn may_move(old: &Material, new: &Material) -> bool {
     }
 }
 
-/// Substeps in a row a block must push back before it wakes ([`SleepRule::pushes`]).
-pub const PUSHES: u32 = 3;
+/// Per slot: whether a node the block owns, carrying at least [`FULL_NODE_SHARE`] of the
+/// heaviest node's mass, moves faster than `speed`. The lighter nodes at the material's edge
+/// (the kernel's tail) carry large accelerations f_i/m_i at rest and move no particle by much.
+fn moving_blocks<D: Dim>(grid: &Grid<D>, speed: Real) -> Vec<bool> {
+    let limit = speed * speed;
+    let heaviest = grid.nodes.iter().map(|n| n.mass()).fold(0.0, Real::max);
+    let light = FULL_NODE_SHARE * heaviest;
+    (0..grid.index.block_count())
+        .map(|slot| {
+            let mut fast = false;
+            grid.layout.for_each_owned(&grid.index, slot, |_, i| {
+                let n = &grid.nodes[i];
+                fast |= n.mass() >= light && n.new_vel.length_squared() > limit
+            });
+            fast
+        })
+        .collect()
+}
 
 /// The least share of the heaviest node's mass a node must carry for its motion to wake
 /// sleeping material.
