@@ -317,7 +317,7 @@ fn a_weaker_sand_wakes_only_its_own_body() {
             .fold(0.0, f64::max)
     };
     let t0 = top(&sim, 1);
-    m.friction_angle = 10.0;
+    (m.friction_angle, m.cohesion) = (10.0, 0.0);
     sim.set_materials(vec![(1, Material::DruckerPrager(m), flip)])
         .unwrap();
     let after = asleep(&sim);
