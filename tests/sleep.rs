@@ -6,6 +6,7 @@
 // Real is f32 by default, f64 with the `f64` feature: the casts to f64 are no-ops there.
 #![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
 
+use mpm::material::DruckerPragerParams;
 use mpm::step::sleep::SleepRule;
 use mpm::{BodyConfig, D2, Material, SceneConfig, Simulation};
 use std::path::Path;
@@ -251,4 +252,78 @@ fn the_shipped_2d_scenes_end_as_awake_with_sleeping_on() {
             }
         }
     }
+}
+
+/// Two sand balls settled and asleep: a slider that makes one stronger or stiffer leaves both
+/// asleep; one that lowers its friction angle wakes that ball only, and it slumps.
+#[test]
+fn a_weaker_sand_wakes_only_its_own_body() {
+    let mut s = scene("bunny_on_sand_ball_2d.json");
+    let sand = s.bodies.swap_remove(0);
+    s.bodies.clear();
+    for (i, x) in [0.25, 0.75].into_iter().enumerate() {
+        let mut b = sand.clone();
+        b.name = format!("ball {i}");
+        b.shape = mpm::Shape::Ball {
+            center: vec![x, 0.1],
+            radius: 0.1,
+        };
+        s.bodies.push(b);
+    }
+    let Material::DruckerPrager(dp) = &sand.material else {
+        panic!("the ball is Drucker-Prager sand")
+    };
+    let mut sim = Simulation::<D2>::new(s).expect("scene");
+    sim.sleep_when_at_rest();
+    sim.advance(2.5).unwrap();
+    let asleep = |s: &Simulation<D2>| {
+        s.bodies()
+            .iter()
+            .map(|b| b.range().len() - b.active().len())
+            .collect::<Vec<_>>()
+    };
+    let before = asleep(&sim);
+    assert!(
+        before
+            .iter()
+            .zip(sim.bodies())
+            .all(|(&a, b)| a > b.range().len() / 4),
+        "the balls did not fall asleep: {before:?}"
+    );
+    let flip = sim.scene().bodies[1].flip;
+    let mut m = *dp;
+    for (what, change) in [
+        (
+            "a higher friction angle",
+            &(|m: &mut DruckerPragerParams| m.friction_angle = 40.0)
+                as &dyn Fn(&mut DruckerPragerParams),
+        ),
+        ("cohesion", &|m| m.cohesion = 100.0),
+        ("a stiffer sand", &|m| m.youngs_modulus *= 2.0),
+    ] {
+        change(&mut m);
+        sim.set_materials(vec![(1, Material::DruckerPrager(m), flip)])
+            .unwrap();
+        assert_eq!(asleep(&sim), before, "{what} woke sand");
+    }
+    let top = |s: &Simulation<D2>, i: usize| {
+        let p = s.particles();
+        s.bodies()[i]
+            .range()
+            .map(|q| p.x[q][1] as f64)
+            .fold(0.0, f64::max)
+    };
+    let t0 = top(&sim, 1);
+    (m.friction_angle, m.cohesion) = (10.0, 0.0);
+    sim.set_materials(vec![(1, Material::DruckerPrager(m), flip)])
+        .unwrap();
+    let after = asleep(&sim);
+    assert_eq!(after[0], before[0], "the other ball woke");
+    assert_eq!(after[1], 0, "the weakened ball stayed asleep");
+    sim.advance(1.0).unwrap();
+    assert!(
+        top(&sim, 1) < t0 - 0.01,
+        "the 10° ball did not slump: top {t0:.3} → {:.3}",
+        top(&sim, 1)
+    );
 }

@@ -436,7 +436,8 @@ impl Playground {
             }
         }
         if self.sleeping() {
-            // The rule follows the grid and gravity (the change woke everything).
+            // The rule follows the grid and gravity (a world change woke everything; a material
+            // change, the bodies it can move: `Simulation::set_materials`).
             self.set_sleeping(true);
         }
         self.overrides.retain(|(n, _)| n != name);

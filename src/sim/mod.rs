@@ -372,7 +372,8 @@ impl<D: Dim> Simulation<D> {
     /// Gives bodies (present or to come) new materials and PIC/FLIP ratios, each
     /// `(index, material, flip)` checked as a scene file's body is
     /// ([`BodyConfig::check_material`]); on error nothing changes. Only those bodies' models and
-    /// recipes are built again; what sleeps wakes, as with [`Simulation::configure`].
+    /// recipes are built again, and only those whose change can move material at rest wake
+    /// ([`crate::step::sleep::may_move`]).
     pub fn set_materials(&mut self, changes: Vec<(usize, Material, Option<f64>)>) -> Result<()> {
         let n = self.scene.bodies.len();
         for (i, material, flip) in &changes {
@@ -387,13 +388,16 @@ impl<D: Dim> Simulation<D> {
         }
         for (i, material, flip) in changes {
             let config = &mut self.scene.bodies[i];
+            let moves = crate::step::sleep::may_move(&config.material, &material);
             config.material = material;
             config.flip = flip;
             if i < self.bodies.len() {
                 self.rebuild_body(i);
+                if moves {
+                    self.sleeping.wake_body(i, &mut self.bodies[i]);
+                }
             }
         }
-        self.wake_all();
         Ok(())
     }
 

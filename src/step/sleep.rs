@@ -35,6 +35,7 @@ use super::scatter::{ScatterState, scatter};
 use super::state::Step;
 use crate::grid::{Grid, GridIndex};
 use crate::kernel::{Kernel, with_kernel};
+use crate::material::Material;
 use crate::math::{Dim, Real, VectorOps};
 use crate::sim::body::Body;
 use crate::sim::particles::Particles;
@@ -113,6 +114,14 @@ impl<D: Dim> Sleeping<D> {
             body.asleep = 0;
         }
         self.bodies.clear();
+    }
+
+    /// Wakes every sleeping particle of `body`, body `i`.
+    pub fn wake_body(&mut self, i: usize, body: &mut Body<D>) {
+        body.asleep = 0;
+        if let Some(sleep) = self.bodies.get_mut(i) {
+            *sleep = Sleep::default();
+        }
     }
 
     /// Forgets body `i`, which is removed.
@@ -306,6 +315,36 @@ impl<D: Dim> Step<'_, D> {
             // The grid's particle_node no longer matches the order: the next step's
             // allocation rebuilds it before any pass reads it.
         }
+    }
+}
+
+/// Whether a body at rest whose material changes from `old` to `new` can move, and so must
+/// wake: a new model, density, dilatancy or any other setting than these, or a lower friction
+/// angle, cohesion or yield stress. A stiffer or softer elastic response (Young's modulus,
+/// Poisson's ratio) moves nothing at rest, since the stress is the particles' state and stays
+/// in equilibrium; a higher friction angle, cohesion or yield stress widens the yield surface
+/// the resting stress lies within.
+pub fn may_move(old: &Material, new: &Material) -> bool {
+    // `new` with `old`'s elastic moduli and strengths: any other difference wakes
+    macro_rules! weaker {
+        ($a:expr, $b:expr, $($strength:ident),*) => {{
+            let mut same = $b.clone();
+            same.youngs_modulus = $a.youngs_modulus;
+            same.poisson_ratio = $a.poisson_ratio;
+            $(same.$strength = $a.$strength;)*
+            same != *$a $(|| $b.$strength < $a.$strength)*
+        }};
+    }
+    match (old, new) {
+        (Material::Elastic(a), Material::Elastic(b)) => weaker!(a, b,),
+        (Material::VonMises(a), Material::VonMises(b)) => weaker!(a, b, yield_stress),
+        (Material::DruckerPrager(a), Material::DruckerPrager(b)) => {
+            weaker!(a, b, friction_angle, cohesion)
+        }
+        (Material::MohrCoulomb(a), Material::MohrCoulomb(b)) => {
+            weaker!(a, b, friction_angle, cohesion)
+        }
+        _ => true,
     }
 }
 
