@@ -248,7 +248,8 @@ impl Biaxial {
 
     /// The readings as CSV: a header, then one row per reading.
     pub fn csv(&self) -> String {
-        let mut out = String::from("time_s,axial_strain,volumetric_strain,sigma3_pa,sigma1_pa,deviator_pa\n");
+        let mut out =
+            String::from("time_s,axial_strain,volumetric_strain,sigma3_pa,sigma1_pa,deviator_pa\n");
         for r in &self.readings {
             out += &format!(
                 "{},{},{},{},{},{}\n",
@@ -305,9 +306,13 @@ impl ShearBox {
     pub fn new(sim: &Simulation<D2>) -> Result<Self> {
         let scene = sim.scene();
         let present = sim.bodies().len();
-        let missing = |what: &str, need: &str| Error::invalid("bodies", what.to_string(), need.to_string());
+        let missing =
+            |what: &str, need: &str| Error::invalid("bodies", what.to_string(), need.to_string());
         let sample = (0..present)
-            .find(|&i| scene.bodies[i].material.behaviour().friction().is_some() && !scene.bodies[i].kinematic)
+            .find(|&i| {
+                scene.bodies[i].material.behaviour().friction().is_some()
+                    && !scene.bodies[i].kinematic
+            })
             .ok_or_else(|| missing("no sand", "a shear box needs a sample of sand"))?;
         let upper = (0..present)
             .find(|&i| {
@@ -315,14 +320,22 @@ impl ShearBox {
                 b.kinematic && b.velocity.as_ref().is_some_and(|v| v[0] != 0.0)
             })
             .ok_or_else(|| {
-                missing("no kinematic body moving along x", "a shear box needs an upper half driven sideways")
+                missing(
+                    "no kinematic body moving along x",
+                    "a shear box needs an upper half driven sideways",
+                )
             })?;
         let lid = (0..present)
             .find(|&i| {
                 let b = &scene.bodies[i];
                 !b.kinematic && b.material.behaviour().friction().is_none()
             })
-            .ok_or_else(|| missing("no solid body", "a shear box needs a lid: a solid body on the sample"))?;
+            .ok_or_else(|| {
+                missing(
+                    "no solid body",
+                    "a shear box needs a lid: a solid body on the sample",
+                )
+            })?;
         let s = sim.bodies()[sample].stats();
         let spacing = scene.cell_size / scene.bodies[sample].particles_per_cell as f64;
         let g = scene.gravity_vector()[1].abs();
@@ -332,7 +345,10 @@ impl ShearBox {
             upper,
             lid,
             length: s.bbox_max[0] - s.bbox_min[0] + spacing,
-            speed: scene.bodies[upper].velocity.as_ref().expect("found by its velocity")[0],
+            speed: scene.bodies[upper]
+                .velocity
+                .as_ref()
+                .expect("found by its velocity")[0],
             start: sim.time(),
             lid0: sim.bodies()[lid].stats().center_of_mass[1],
             weight: above * g,
@@ -354,7 +370,13 @@ impl ShearBox {
 
     /// A reading now, with the forces averaged since the last one; recorded and returned.
     pub fn read(&mut self, sim: &Simulation<D2>) -> ShearReading {
-        let mean = |j: f64| if self.elapsed > 0.0 { j / self.elapsed } else { 0.0 };
+        let mean = |j: f64| {
+            if self.elapsed > 0.0 {
+                j / self.elapsed
+            } else {
+                0.0
+            }
+        };
         let (fx, fy) = (mean(self.impulse[0]), mean(self.impulse[1]));
         self.impulse = [0.0; 2];
         self.elapsed = 0.0;
@@ -428,7 +450,10 @@ mod tests {
     fn davis_reads_26_6_degrees_for_30_and_no_dilatancy_and_phi_when_psi_is_phi() {
         let e = davis(30.0, 0.0, 1000.0);
         assert!(close(e.friction_angle, 26.565, 0.01), "{e:?}");
-        assert!(close(e.cohesion, 1000.0 * 30f64.to_radians().cos(), 1e-9), "{e:?}");
+        assert!(
+            close(e.cohesion, 1000.0 * 30f64.to_radians().cos(), 1e-9),
+            "{e:?}"
+        );
         let same = davis(30.0, 30.0, 1000.0);
         assert!(close(same.friction_angle, 30.0, 1e-9), "{same:?}");
         assert!(close(same.cohesion, 1000.0, 1e-9), "{same:?}");

@@ -91,7 +91,10 @@ fn sand_under_a_confining_pressure_holds_it_at_rest() {
     sim.advance(0.3).unwrap();
     let s = mean_stress(&sim, 0);
     for a in 0..2 {
-        assert!((s[a] / -sigma3 - 1.0).abs() < 0.02, "{s:?} against {sigma3}");
+        assert!(
+            (s[a] / -sigma3 - 1.0).abs() < 0.02,
+            "{s:?} against {sigma3}"
+        );
     }
 }
 
@@ -124,7 +127,10 @@ fn three_biaxial_runs_read_the_mohr_coulomb_angle() {
         .collect();
     let circles: Vec<(f64, f64)> = runs.iter().map(|r| r.failure().unwrap()).collect();
     let e = fit_circles(&circles).unwrap();
-    assert!((e.friction_angle - 30.0).abs() < 2.0, "{e:?} from {circles:?}");
+    assert!(
+        (e.friction_angle - 30.0).abs() < 2.0,
+        "{e:?} from {circles:?}"
+    );
     assert!(e.cohesion.abs() < 500.0, "{e:?} from {circles:?}");
     for r in &runs {
         let last = r.readings.last().unwrap();
@@ -152,7 +158,10 @@ fn three_biaxial_runs_read_the_cone_s_plane_strain_angle() {
         .map(|&s3| biaxial("biaxial_dp_2d.json", s3, 0.0).failure().unwrap())
         .collect();
     let e = fit_circles(&circles).unwrap();
-    assert!((e.friction_angle - phi_ps).abs() < 2.0, "{e:?} against φ_ps = {phi_ps}, {circles:?}");
+    assert!(
+        (e.friction_angle - phi_ps).abs() < 2.0,
+        "{e:?} against φ_ps = {phi_ps}, {circles:?}"
+    );
 }
 
 /// One shear-box run of `scenes/lab/shear_box_mc_2d.json` with the lid's weight set for a
@@ -189,7 +198,11 @@ fn three_shear_box_runs_read_davis_angle() {
             .collect();
         for r in &runs {
             // the lid at rest on the sample, averaged over 20–60 ms
-            let early: Vec<_> = r.readings.iter().filter(|x| x.time > 0.02 && x.time < 0.06).collect();
+            let early: Vec<_> = r
+                .readings
+                .iter()
+                .filter(|x| x.time > 0.02 && x.time < 0.06)
+                .collect();
             let support = early.iter().map(|x| x.lid_support).sum::<f64>() / early.len() as f64;
             assert!(
                 (support / r.lid_pressure() - 1.0).abs() < 0.02,
@@ -215,7 +228,10 @@ fn three_shear_box_runs_read_davis_angle() {
 /// A bad traction gets an error naming the field and the allowed range.
 #[test]
 fn bad_tractions_are_refused_naming_the_field() {
-    let path = format!("{}/scenes/lab/biaxial_mc_2d.json", env!("CARGO_MANIFEST_DIR"));
+    let path = format!(
+        "{}/scenes/lab/biaxial_mc_2d.json",
+        env!("CARGO_MANIFEST_DIR")
+    );
     let text = std::fs::read_to_string(path).unwrap();
     let good = r#""traction": { "pressure": 20000, "faces": ["left", "right", "top"] }"#;
     assert!(text.contains(good));

@@ -13,8 +13,9 @@
 //!
 //! f_i += w_ip (−p n da)_p,
 //!
-//! added to the nodes' forces of step 4 before the grid velocities are updated. Its work,
-//! Σ_p (−p n da)_p · v_p Δt with v_p = Σ_i w_ip v_i^n, is energy brought in
+//! added to the nodes' forces of step 4 before the grid velocities are updated. Its work over
+//! the step, Σ_i f_i · ½(v_i^n + v*_i) Δt with the velocity v*_i = v_i^n + Δt (F_i/m_i + g)
+//! that all the node's forces F_i give it, is energy brought in
 //! ([`crate::Diagnostics::energy_in`]). The surface particles are few, so this pass walks
 //! their stencils one by one on the nodes that own them.
 
@@ -32,6 +33,7 @@ impl<D: Dim> Step<'_, D> {
         }
         let inv_h = self.world.inv_h;
         let kernel = self.world.kernel;
+        let gravity = self.world.gravity;
         let p = &mut *self.particles;
         let mut work = 0.0;
         for body in self.bodies.iter_mut() {
@@ -43,24 +45,28 @@ impl<D: Dim> Step<'_, D> {
             let x = &p.x[r.clone()];
             let area = &mut p.area[r];
             let pressure = body.traction;
-            work += with_kernel!(kernel, K, S => traction::<D, K, S>(&mut body.grid, x, area, pressure, dt, inv_h, lp));
+            work += with_kernel!(kernel, K, S => traction::<D, K, S>(&mut body.grid, x, area, pressure, gravity, dt, inv_h, lp));
         }
         self.diagnostics.energy_in += work;
     }
 }
 
 /// For one body: each surface particle's area vector carried over the step, and its force
-/// −p n da spread to the nodes; returns the force's work over the step (J; J/m in 2D).
+/// −p n da spread to the nodes (whose `new_vel` holds the other forces); returns the force's
+/// work over the step (J; J/m in 2D).
+#[allow(clippy::too_many_arguments)]
 pub fn traction<D: Dim, K: Kernel<S>, const S: usize>(
     grid: &mut Grid<D>,
     x: &[D::Vector],
     area: &mut [D::Vector],
     pressure: Real,
+    gravity: D::Vector,
     dt: Real,
     inv_h: Real,
     lp: Real,
 ) -> f64 {
-    let mut work = 0.0f64;
+    // the traction force on each node, in node order
+    let mut forces = std::collections::BTreeMap::<usize, D::Vector>::new();
     let mut nodes = Vec::with_capacity(S * S * S);
     for (q, a) in area.iter_mut().enumerate() {
         if *a == D::Vector::ZERO {
@@ -101,19 +107,26 @@ pub fn traction<D: Dim, K: Kernel<S>, const S: usize>(
         }
         // d(n da)/dt = (tr L) n da − Lᵀ n da = Σ_i [(v_i · ∇w_ip) n da − (v_i · n da) ∇w_ip].
         let mut rate = D::Vector::ZERO;
-        let mut v = D::Vector::ZERO;
-        for &(n, w, g) in &nodes {
+        for &(n, _, g) in &nodes {
             let vi = grid.nodes[n].vel();
             rate += *a * vi.dot(g) - g * vi.dot(*a);
-            v += vi * w;
         }
         *a += rate * dt;
         // f_i += w_ip (−p n da).
         let f = *a * -pressure;
         for &(n, w, _) in &nodes {
-            grid.nodes[n].new_vel += f * w;
+            *forces.entry(n).or_insert(D::Vector::ZERO) += f * w;
         }
-        work += (f.dot(v) * dt) as f64;
+    }
+    let mut work = 0.0f64;
+    for (&n, &f) in &forces {
+        let node = &mut grid.nodes[n];
+        node.new_vel += f;
+        let m = node.mass();
+        if m > 0.0 {
+            let mean = node.vel() + (node.new_vel / m + gravity) * (0.5 * dt);
+            work += (f.dot(mean) * dt) as f64;
+        }
     }
     work
 }

@@ -558,7 +558,9 @@ fn run_lab(sim: AnySimulation, a: &RunArgs, csv: &Path) -> Result<(), Failure> {
     };
     let lab = |e: mpm::Error| Failure(format!("--lab-csv: {scene}: {e}"));
     let stopped = |e: mpm::Error, t: f64| {
-        Failure(format!("{scene}: the simulation stopped at t = {t:.6} s: {e}"))
+        Failure(format!(
+            "{scene}: the simulation stopped at t = {t:.6} s: {e}"
+        ))
     };
     let started = Instant::now();
     let every = a.time / 200.0;
@@ -590,7 +592,9 @@ fn run_lab(sim: AnySimulation, a: &RunArgs, csv: &Path) -> Result<(), Failure> {
         (test.csv(), peak)
     };
     fs::write(csv, text).map_err(|e| Failure(format!("cannot write {}: {e}", csv.display())))?;
-    if !a.quiet && let Some(peak) = peak {
+    if !a.quiet
+        && let Some(peak) = peak
+    {
         note!(
             "{peak}; {} steps in {:.2} s",
             sim.diagnostics().step,
