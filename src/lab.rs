@@ -50,7 +50,7 @@ fn line(points: &[(f64, f64)]) -> Option<(f64, f64)> {
     let (sxx, sxy) = points.iter().fold((0.0, 0.0), |(a, b), &(x, y)| {
         (a + (x - mx) * (x - mx), b + (x - mx) * (y - my))
     });
-    if !(sxx > 1e-12 * (mx * mx).max(1e-300)) {
+    if sxx.is_nan() || sxx <= 1e-12 * (mx * mx).max(1e-300) {
         return None;
     }
     let b = sxy / sxx;
