@@ -118,6 +118,128 @@ pub struct BodyConfig {
     /// 0: from the start. A playground's saved scene gives each dropped body its drop time.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub appear_at: Option<f64>,
+    /// A pressure on faces of the body's free surface (a confining pressure σ3): see
+    /// [`TractionConfig`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub traction: Option<TractionConfig>,
+}
+
+/// A traction boundary: a pressure (Pa, compression positive) on faces of the body's
+/// bounding box. The particles in the outermost lattice layer of each face are its surface
+/// particles, each carrying its share of the face's area and the face's normal, N dA; the
+/// area is carried with the deformation (Nanson: n da = J F⁻ᵀ N dA) and the force −p n da is
+/// applied to the grid as an external force ([`crate::step::traction`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TractionConfig {
+    /// The pressure p ≥ 0 (Pa; compression positive).
+    pub pressure: f64,
+    /// The loaded faces: `left`, `right` (x), `bottom`, `top` (y), `back`, `front` (z, 3D).
+    pub faces: Vec<Face>,
+}
+
+/// A face of a body's bounding box.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Face {
+    Left,
+    Right,
+    Bottom,
+    Top,
+    Back,
+    Front,
+}
+
+impl Face {
+    /// The axis the face is normal to and the sign of its outward normal.
+    pub fn axis_and_sign(self) -> (usize, f64) {
+        match self {
+            Face::Left => (0, -1.0),
+            Face::Right => (0, 1.0),
+            Face::Bottom => (1, -1.0),
+            Face::Top => (1, 1.0),
+            Face::Back => (2, -1.0),
+            Face::Front => (2, 1.0),
+        }
+    }
+}
+
+/// The largest traction pressure accepted (Pa): far beyond any soil test, small enough that
+/// the step stays finite.
+pub const MAX_TRACTION: f64 = 1e9;
+
+impl TractionConfig {
+    /// Checks the traction of a body of dimension `dim`; `path` names it
+    /// (`bodies[0].traction`). A pull (negative pressure) is refused: the surface particles
+    /// of sand would be torn off, and no test here needs one.
+    pub fn validate(&self, path: &str, dim: usize) -> Result<()> {
+        check_range(
+            format!("{path}.pressure"),
+            self.pressure,
+            0.0,
+            MAX_TRACTION,
+            false,
+            "Pa, compression positive; a pull is not supported",
+        )?;
+        if self.faces.is_empty() {
+            return Err(Error::invalid(
+                format!("{path}.faces"),
+                "[]",
+                "must name at least one face: left, right, bottom, top (and back, front in 3D)",
+            ));
+        }
+        for (i, f) in self.faces.iter().enumerate() {
+            let (axis, _) = f.axis_and_sign();
+            if axis >= dim {
+                return Err(Error::invalid(
+                    format!("{path}.faces[{i}]"),
+                    format!("{f:?}").to_lowercase(),
+                    "is a face of 3D bodies only: in 2D use left, right, bottom, top",
+                ));
+            }
+            if self.faces[..i].contains(f) {
+                return Err(Error::invalid(
+                    format!("{path}.faces[{i}]"),
+                    format!("{f:?}").to_lowercase(),
+                    "names a face twice",
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Each sampled point's area vector N dA (3 components): the sum over the loaded faces it
+    /// lies on of the face's outward normal times `spacing`^(dim−1), a point lying on a face
+    /// when it is within one lattice `spacing` of it (the outermost layer). `min`, `max`: the
+    /// body's bounding box.
+    pub fn area_vectors(
+        &self,
+        points: &[[f64; 3]],
+        dim: usize,
+        spacing: f64,
+        min: [f64; 3],
+        max: [f64; 3],
+    ) -> Vec<[f64; 3]> {
+        let da = spacing.powi(dim as i32 - 1);
+        points
+            .iter()
+            .map(|x| {
+                let mut a = [0.0; 3];
+                for f in &self.faces {
+                    let (axis, sign) = f.axis_and_sign();
+                    let depth = if sign > 0.0 {
+                        max[axis] - x[axis]
+                    } else {
+                        x[axis] - min[axis]
+                    };
+                    if depth < spacing {
+                        a[axis] += sign * da;
+                    }
+                }
+                a
+            })
+            .collect()
+    }
 }
 
 fn is_false(x: &bool) -> bool {
@@ -166,7 +288,16 @@ impl BodyConfig {
             apic: None,
             stress_last: None,
             appear_at: None,
+            traction: None,
         }
+    }
+    /// Puts a pressure `pressure` (Pa) on the body's `faces`.
+    pub fn with_traction(mut self, pressure: f64, faces: &[Face]) -> Self {
+        self.traction = Some(TractionConfig {
+            pressure,
+            faces: faces.to_vec(),
+        });
+        self
     }
     /// Makes the body enter when the simulation reaches time `t` (s).
     pub fn appearing_at(mut self, t: f64) -> Self {
@@ -233,6 +364,16 @@ impl BodyConfig {
         }
         if let Some(t) = self.appear_at {
             check_non_negative(format!("{path}.appear_at"), t, "s")?;
+        }
+        if let Some(t) = &self.traction {
+            t.validate(&format!("{path}.traction"), dim)?;
+            if self.kinematic {
+                return Err(Error::invalid(
+                    format!("{path}.traction"),
+                    "a traction on a kinematic body",
+                    "must be on a body that moves under forces (not kinematic)",
+                ));
+            }
         }
         check_range(
             format!("{path}.jitter"),

@@ -32,6 +32,7 @@ pub mod grid;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod io;
 pub mod kernel;
+pub mod lab;
 pub mod laws;
 pub mod lesson;
 pub mod material;

@@ -443,3 +443,34 @@ pub fn heap_measure(xy: &[f64], spacing: f64, bin: f64, width: f64) -> Result<St
         &points, spacing, bin, 0.0, width,
     )))
 }
+
+/// The soil lab's Mohr–Coulomb envelope ([`crate::lab`]) fitted to the failures of several
+/// runs: with `kind` `"points"`, `values` holds shear-box failure points [σ_n, τ, σ_n, τ, …];
+/// with `"circles"`, biaxial failure circles [σ1, σ3, σ1, σ3, …] (Pa, compression positive).
+/// Returns the JSON `{"friction_angle", "cohesion"}` (degrees, Pa), or `null` when the
+/// failures fix no envelope (fewer than two distinct normal stresses).
+#[wasm_bindgen(js_name = fitEnvelope)]
+pub fn fit_envelope(kind: &str, values: &[f64]) -> Result<String, JsError> {
+    let pairs: Vec<(f64, f64)> = values.chunks_exact(2).map(|p| (p[0], p[1])).collect();
+    let fit = match kind {
+        "points" => crate::lab::fit_points(&pairs),
+        "circles" => crate::lab::fit_circles(&pairs),
+        _ => {
+            return Err(js_err(format!(
+                "fitEnvelope: kind = {kind:?}: must be \"points\" or \"circles\""
+            )));
+        }
+    };
+    Ok(json(&fit))
+}
+
+/// What a plane-strain shear box reads on a material of friction angle φ, dilatancy ψ
+/// (degrees) and cohesion c (Pa), by Davis (1968): the JSON `{"friction_angle", "cohesion"}`.
+#[wasm_bindgen(js_name = davisEnvelope)]
+pub fn davis_envelope(friction_angle: f64, dilatancy_angle: f64, cohesion: f64) -> String {
+    json(&crate::lab::davis(
+        friction_angle,
+        dilatancy_angle,
+        cohesion,
+    ))
+}

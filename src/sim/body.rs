@@ -68,6 +68,9 @@ pub struct Body<D: Dim> {
     /// How many of its particles, the last of its range, sleep: the step leaves them out
     /// (its sleeping state, [`crate::step::sleep`], keeps what they give the grid).
     pub(crate) asleep: usize,
+    /// The pressure on its traction faces (Pa; zero without a traction): the force on a
+    /// surface particle is −p n da ([`crate::step::traction`]).
+    pub(crate) traction: Real,
 }
 
 impl<D: Dim> Body<D> {

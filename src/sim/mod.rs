@@ -192,6 +192,15 @@ impl<D: Dim> Simulation<D> {
         let start = self.particles.len();
         let mass = (volume * density) as Real;
         let radius = (0.5 * volume.powf(1.0 / D::DIM as f64)) as Real;
+        let areas = config.traction.as_ref().map(|t| {
+            let b = config.shape.bounds(D::DIM);
+            let spacing = volume.powf(1.0 / D::DIM as f64);
+            t.area_vectors(&points, D::DIM, spacing, b.min, b.max)
+        });
+        let traction = config.traction.as_ref().map_or(0.0, |t| t.pressure as Real);
+        if areas.is_some() {
+            self.particles.enable_area();
+        }
         for p in points {
             let x = self
                 .world
@@ -213,7 +222,13 @@ impl<D: Dim> Simulation<D> {
             kinematic: config.kinematic,
             max_compression: 0.0,
             asleep: 0,
+            traction,
         });
+        if let Some(areas) = areas {
+            for (a, n) in self.particles.area[start..].iter_mut().zip(areas) {
+                *a = D::Vector::from_fn(|k| n[k] as Real);
+            }
+        }
         self.refresh_diagnostics();
     }
 
@@ -411,6 +426,7 @@ impl<D: Dim> Simulation<D> {
         }
         let body = &mut self.bodies[i];
         body.model = config.material.model();
+        body.traction = config.traction.as_ref().map_or(0.0, |t| t.pressure as Real);
         if recipe.bulk_length == 0.0 {
             // no viscous pressure left for a body that turned to sand to meet again
             self.particles.viscous_pressure[body.range.clone()].fill(0.0);

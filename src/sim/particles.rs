@@ -28,6 +28,11 @@ pub struct Particles<D: Dim> {
     pub affine: Vec<D::Grad>,
     /// Whether `affine` is kept (one entry per particle).
     with_affine: bool,
+    /// The area vector n da of a surface particle under a traction (m², m per unit depth in
+    /// 2D; zero inside the body; [`crate::step::traction`]); empty unless a body has a
+    /// traction.
+    pub area: Vec<D::Vector>,
+    with_area: bool,
 }
 
 impl<D: Dim> Particles<D> {
@@ -51,6 +56,18 @@ impl<D: Dim> Particles<D> {
         if self.with_affine {
             self.affine.push(D::GRAD_ZERO);
         }
+        if self.with_area {
+            self.area.push(D::Vector::ZERO);
+        }
+    }
+
+    /// Keeps area vectors (zero to begin with) for every particle, for bodies under a
+    /// traction.
+    pub fn enable_area(&mut self) {
+        if !self.with_area {
+            self.with_area = true;
+            self.area.resize(self.len(), D::Vector::ZERO);
+        }
     }
 
     /// Keeps affine velocities (zero to begin with) for every particle, for APIC bodies.
@@ -72,7 +89,10 @@ impl<D: Dim> Particles<D> {
         self.viscous_pressure.drain(range.clone());
         self.id.drain(range.clone());
         if self.with_affine {
-            self.affine.drain(range);
+            self.affine.drain(range.clone());
+        }
+        if self.with_area {
+            self.area.drain(range);
         }
     }
 
@@ -87,6 +107,7 @@ impl<D: Dim> Particles<D> {
         self.viscous_pressure.clear();
         self.id.clear();
         self.affine.clear();
+        self.area.clear();
     }
 
     /// Reorders the particles of `range` so that the particle now at `range.start + i` is the
@@ -108,7 +129,10 @@ impl<D: Dim> Particles<D> {
         apply(&mut self.viscous_pressure[r.clone()], order);
         apply(&mut self.id[r.clone()], order);
         if self.with_affine {
-            apply(&mut self.affine[r], order);
+            apply(&mut self.affine[r.clone()], order);
+        }
+        if self.with_area {
+            apply(&mut self.area[r], order);
         }
     }
 

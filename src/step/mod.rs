@@ -6,6 +6,7 @@
 //! | [`scatter`] | mass and momentum (and, stress updated last, forces) to the grid | 1 (4) |
 //! | [`grid_update`] | grid velocities v_i^n, then with forces and gravity v*_i | 1, 4 |
 //! | [`stress`] | velocity gradient, stress and volume, internal forces (bodies whose stress is updated first) | 2, 3, 4 |
+//! | [`traction`] | a pressure on a body's surface particles, as external forces | (4) |
 //! | [`volumetric`] | sand's optional cell-averaged volumetric rate, summed before the stress pass | (Coombs et al. 2018) |
 //! | [`contact`] | between bodies (Eq. 20–21) | 5 |
 //! | [`walls`] | at the domain's walls, on the grid | 5 |
@@ -63,6 +64,7 @@ pub mod scatter;
 pub mod sleep;
 pub mod state;
 pub mod stress;
+pub mod traction;
 pub mod transfer;
 pub mod volumetric;
 pub mod walk;
@@ -90,7 +92,10 @@ impl<D: Dim> Step<'_, D> {
         });
         t.time(Phase::Grid, || self.grid_velocities()); // 1: v_i^n
         t.time(Phase::Stress, || self.update_stress_first(h, &mut steps)); // 2, 3, 4 (first)
-        t.time(Phase::Grid, || self.grid_forces(h)); // 4
+        t.time(Phase::Grid, || {
+            self.apply_tractions(h); // 4, the traction's external forces
+            self.grid_forces(h) // 4
+        });
         t.time(Phase::Contact, || {
             self.resolve_contacts(&contacts, &mut steps)
         }); // 5, bodies

@@ -91,6 +91,13 @@ struct RunArgs {
     /// particle is stepped; docs/method.md, "Sleeping: material at rest").
     #[arg(long)]
     sleep: bool,
+    /// Run the scene as a soil test (2D) and write its readings, 200 over the run, to this CSV
+    /// file; no frames. A scene with a body under a traction is a biaxial test (a moving
+    /// kinematic platen): time, axial and volumetric strain, σ3, σ1, the deviator q (Pa) from
+    /// the platen's force. Otherwise a direct shear box (sand, an upper half moving along x,
+    /// a solid lid): time, displacement δ, τ, σ_n, the lid's support, the lid's rise.
+    #[arg(long, value_name = "FILE")]
+    lab_csv: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]
@@ -272,6 +279,9 @@ fn run(a: RunArgs) -> Result<(), Failure> {
             a.time,
             mpm::sim::MAX_STEPS
         )));
+    }
+    if let Some(csv) = &a.lab_csv {
+        return run_lab(sim, &a, csv);
     }
     let render_options = RenderOptions {
         width: a.size.0,
@@ -536,4 +546,60 @@ fn bytes(n: usize) -> String {
     } else {
         format!("{:.2} GB", n / 1e9)
     }
+}
+
+/// `mpm run --lab-csv`: the scene as a biaxial test or a shear box, its readings as CSV.
+fn run_lab(sim: AnySimulation, a: &RunArgs, csv: &Path) -> Result<(), Failure> {
+    let scene = a.scene.scene.display();
+    let AnySimulation::D2(mut sim) = sim else {
+        return Err(Failure(format!(
+            "--lab-csv: {scene}: the soil tests are plane strain: the scene must have dim 2"
+        )));
+    };
+    let lab = |e: mpm::Error| Failure(format!("--lab-csv: {scene}: {e}"));
+    let stopped = |e: mpm::Error, t: f64| {
+        Failure(format!(
+            "{scene}: the simulation stopped at t = {t:.6} s: {e}"
+        ))
+    };
+    let started = Instant::now();
+    let every = a.time / 200.0;
+    let biaxial = sim.scene().bodies.iter().any(|b| b.traction.is_some());
+    let (text, peak) = if biaxial {
+        let mut test = mpm::lab::Biaxial::new(&sim).map_err(lab)?;
+        test.read(&sim);
+        let run = test.run(&mut sim, a.time, every);
+        run.map_err(|e| stopped(e, sim.time()))?;
+        let peak = test.failure().map(|(s1, s3)| {
+            format!(
+                "peak deviator {:.1} Pa at σ3 = {s3:.1} Pa: a circle of angle {:.2}° through the origin",
+                s1 - s3,
+                ((s1 - s3) / (s1 + s3)).asin().to_degrees()
+            )
+        });
+        (test.csv(), peak)
+    } else {
+        let mut test = mpm::lab::ShearBox::new(&sim).map_err(lab)?;
+        test.read(&sim);
+        let run = test.run(&mut sim, a.time, every);
+        run.map_err(|e| stopped(e, sim.time()))?;
+        let peak = test.failure().map(|(sn, tau)| {
+            format!(
+                "peak shear stress {tau:.1} Pa at σ_n = {sn:.1} Pa: τ/σ_n = tan {:.2}°",
+                (tau / sn).atan().to_degrees()
+            )
+        });
+        (test.csv(), peak)
+    };
+    fs::write(csv, text).map_err(|e| Failure(format!("cannot write {}: {e}", csv.display())))?;
+    if !a.quiet
+        && let Some(peak) = peak
+    {
+        note!(
+            "{peak}; {} steps in {:.2} s",
+            sim.diagnostics().step,
+            started.elapsed().as_secs_f64()
+        );
+    }
+    Ok(())
 }

@@ -1,0 +1,273 @@
+//! The soil-mechanics lab (issue 46): the traction boundary against closed forms and statics,
+//! and the biaxial test reading the material's envelope from the platen's force
+//! (`mpm::lab`). Coarse grids: h = 1 cm, 2 particles per cell and axis (800 sample particles).
+
+use mpm::config::Face;
+use mpm::lab::{Biaxial, ShearBox, fit_circles};
+use mpm::math::SymTensor;
+use mpm::{BodyConfig, D2, Material, SceneConfig, Shape, Simulation};
+
+fn scene(file: &str) -> SceneConfig {
+    let path = format!("{}/scenes/lab/{file}", env!("CARGO_MANIFEST_DIR"));
+    SceneConfig::load(std::path::Path::new(&path)).unwrap()
+}
+
+/// The volume-weighted mean stress (σ_xx, σ_yy) of body `b`'s particles inside its surface
+/// (those that carry no traction area: the loaded layer carries the traction at its particles'
+/// centres, half a spacing inside the face, and is stressed by half of it on average).
+fn mean_stress(sim: &Simulation<D2>, b: usize) -> [f64; 2] {
+    let p = sim.particles();
+    let r = sim.bodies()[b].range();
+    let mut sum = [0.0; 2];
+    let mut volume = 0.0;
+    for i in r {
+        if p.area[i] != mpm::math::VectorOps::ZERO {
+            continue;
+        }
+        let s = p.stress[i].components();
+        let v = p.volume[i] as f64;
+        sum[0] += v * s[0] as f64;
+        sum[1] += v * s[1] as f64;
+        volume += v;
+    }
+    sum.map(|s| s / volume)
+}
+
+/// An elastic block (E = 1 MPa, ν = 0.25) on a slip floor, without gravity, squeezed by
+/// p = 10 kPa on its left and right faces: in plane strain its mean stress is σ_xx = −p,
+/// σ_yy = 0, and it takes ε_xx = −p (1 − ν²)/E = −0.94 % and ε_yy = p ν (1 + ν)/E = 0.31 %
+/// within 5 % (measured: −0.899 % and 0.314 %; the width is read between the loaded layers'
+/// particle centres, and the loaded layers, pressed at their centres, strain by about half)
+/// (averaged over the last 0.2 s of 0.6 s, once the PIC transfer has damped the step load's
+/// ringing). The traction's work is booked as energy brought in: the account closes.
+#[test]
+fn a_block_squeezed_by_a_traction_takes_the_closed_form_strain() {
+    let (e, nu, p) = (1.0e6, 0.25, 1.0e4);
+    let mut scene = SceneConfig::new(2, &[0.4, 0.3], 0.01);
+    scene.gravity = Some(vec![0.0, 0.0]);
+    scene.bodies.push(
+        BodyConfig::new(
+            "block",
+            Shape::cuboid(&[0.1, 0.0], &[0.3, 0.2]),
+            Material::elastic(e, nu, 1000.0),
+        )
+        .with_traction(p, &[Face::Left, Face::Right]),
+    );
+    let mut sim = Simulation::<D2>::new(scene).unwrap();
+    let extent = |sim: &Simulation<D2>| {
+        let s = sim.bodies()[0].stats();
+        [0, 1].map(|a| s.bbox_max[a] - s.bbox_min[a])
+    };
+    let start = extent(&sim);
+    sim.advance(0.4).unwrap();
+    let (mut strain, mut stress, mut n) = ([0.0; 2], [0.0; 2], 0.0);
+    while sim.time() < 0.6 {
+        sim.advance(sim.time() + 0.005).unwrap();
+        let now = extent(&sim);
+        let s = mean_stress(&sim, 0);
+        for a in 0..2 {
+            strain[a] += now[a] / start[a] - 1.0;
+            stress[a] += s[a];
+        }
+        n += 1.0;
+    }
+    let (strain, stress) = (strain.map(|x| x / n), stress.map(|x| x / n));
+    let expected = [-p * (1.0 - nu * nu) / e, p * nu * (1.0 + nu) / e];
+    assert!((stress[0] / -p - 1.0).abs() < 0.02, "σ_xx {stress:?}");
+    assert!(stress[1].abs() < 0.02 * p, "σ_yy {stress:?}");
+    for a in 0..2 {
+        assert!(
+            (strain[a] / expected[a] - 1.0).abs() < 0.05,
+            "axis {a}: strain {strain:?}, closed form {expected:?}"
+        );
+    }
+    let d = sim.diagnostics();
+    assert!(d.energy_in > 0.0, "{d:?}");
+    assert!(d.energy_error().abs() < 0.02, "{d:?}");
+}
+
+/// Mohr–Coulomb sand (φ = 30°) under σ3 = 20 kPa on its sides and top, standing on the floor
+/// without gravity or platen: averaged over 0.2–0.3 s, the mean stress inside its surface
+/// layer holds σ3 within 2 % in both directions. Open: measured σ_xx = −19.3 kPa and
+/// σ_yy = −14.4 kPa; without gravity and with no damping of sand's elastic ringing the
+/// sample is not at rest by then.
+#[test]
+#[ignore = "open: the sample rings (sigma_yy -14.4 kPa against -20 kPa); docs/validation.md"]
+fn sand_under_a_confining_pressure_holds_it_at_rest() {
+    let mut scene = scene("biaxial_mc_2d.json");
+    scene.bodies.truncate(1);
+    scene.bodies[0]
+        .traction
+        .as_mut()
+        .unwrap()
+        .faces
+        .push(Face::Top);
+    let sigma3 = scene.bodies[0].traction.as_ref().unwrap().pressure;
+    let mut sim = Simulation::<D2>::new(scene).unwrap();
+    sim.advance(0.2).unwrap();
+    // the step load's ringing, averaged out over 0.1 s (about ten periods)
+    let (mut s, mut n) = ([0.0; 2], 0.0);
+    while sim.time() < 0.3 {
+        sim.advance(sim.time() + 0.002).unwrap();
+        let now = mean_stress(&sim, 0);
+        s = [s[0] + now[0], s[1] + now[1]];
+        n += 1.0;
+    }
+    let s = s.map(|x| x / n);
+    for a in 0..2 {
+        assert!(
+            (s[a] / -sigma3 - 1.0).abs() < 0.02,
+            "{s:?} against {sigma3}"
+        );
+    }
+}
+
+/// One biaxial run of the scene `file` at confining pressure `sigma3` with dilatancy `psi`:
+/// the test's readings over 6 % of axial strain.
+fn biaxial(file: &str, sigma3: f64, psi: f64) -> Biaxial {
+    let mut scene = scene(file);
+    scene.bodies[0].traction.as_mut().unwrap().pressure = sigma3;
+    match &mut scene.bodies[0].material {
+        Material::MohrCoulomb(m) => m.dilatancy_angle = psi,
+        Material::DruckerPrager(m) => m.dilatancy_angle = psi,
+        _ => unreachable!(),
+    }
+    let mut sim = Simulation::<D2>::new(scene).unwrap();
+    let mut test = Biaxial::new(&sim).unwrap();
+    test.read(&sim);
+    test.run(&mut sim, 0.3, 0.005).unwrap();
+    test
+}
+
+/// Three biaxial runs (σ3 = 10, 20, 40 kPa) of Mohr–Coulomb sand (φ = 30°, ψ = 0, c = 0):
+/// the circles at the peak deviator are tangent to an envelope of φ within 2° and c within
+/// 0.5 kPa; at the residual state (the last 1 % of axial strain) the volume stays within 1 %;
+/// with ψ = 15° the sample dilates.
+#[test]
+fn three_biaxial_runs_read_the_mohr_coulomb_angle() {
+    let runs: Vec<Biaxial> = [10e3, 20e3, 40e3]
+        .iter()
+        .map(|&s3| biaxial("biaxial_mc_2d.json", s3, 0.0))
+        .collect();
+    let circles: Vec<(f64, f64)> = runs.iter().map(|r| r.failure().unwrap()).collect();
+    let e = fit_circles(&circles).unwrap();
+    assert!(
+        (e.friction_angle - 30.0).abs() < 2.0,
+        "{e:?} from {circles:?}"
+    );
+    assert!(e.cohesion.abs() < 500.0, "{e:?} from {circles:?}");
+    for r in &runs {
+        let last = r.readings.last().unwrap();
+        assert!(last.axial_strain > 0.05, "{last:?}");
+        assert!(last.volumetric_strain.abs() < 0.01, "{last:?}");
+    }
+    let dilating = biaxial("biaxial_mc_2d.json", 20e3, 15.0);
+    let last = dilating.readings.last().unwrap();
+    assert!(last.volumetric_strain > 0.01, "{last:?}");
+}
+
+/// The same with the plane-strain-matched Drucker–Prager cone (φ = 30°, Eq. 13 alone:
+/// `"friction_match": "plane_strain"`): the circles touch its plane-strain angle φ_ps within 2°.
+#[test]
+fn three_biaxial_runs_read_the_cone_s_plane_strain_angle() {
+    let scene = scene("biaxial_dp_2d.json");
+    let phi_ps = scene.bodies[0]
+        .material
+        .behaviour()
+        .friction()
+        .unwrap()
+        .plane_strain_angle();
+    let circles: Vec<(f64, f64)> = [10e3, 20e3, 40e3]
+        .iter()
+        .map(|&s3| biaxial("biaxial_dp_2d.json", s3, 0.0).failure().unwrap())
+        .collect();
+    let e = fit_circles(&circles).unwrap();
+    assert!(
+        (e.friction_angle - phi_ps).abs() < 2.0,
+        "{e:?} against φ_ps = {phi_ps}, {circles:?}"
+    );
+}
+
+/// One shear-box run of `scenes/lab/shear_box_mc_2d.json` with the lid's weight set for a
+/// normal stress `sigma_n` (Pa) and dilatancy `psi`, over `span` seconds (0.01 m/s).
+fn shear_box(sigma_n: f64, psi: f64, span: f64) -> ShearBox {
+    let mut scene = scene("shear_box_mc_2d.json");
+    let Material::MohrCoulomb(m) = &mut scene.bodies[0].material else {
+        unreachable!()
+    };
+    m.dilatancy_angle = psi;
+    // the lid 0.1 m long and 0.01 m thick: σ_n = ρ g 0.01 m
+    let Material::Elastic(lid) = &mut scene.bodies[3].material else {
+        unreachable!()
+    };
+    lid.density = sigma_n / (9.81 * 0.01);
+    let mut sim = Simulation::<D2>::new(scene).unwrap();
+    let mut test = ShearBox::new(&sim).unwrap();
+    test.read(&sim);
+    test.run(&mut sim, span, 0.005).unwrap();
+    test
+}
+
+/// The shear box's lid rests on the sample: the force the sample exerts on it over the
+/// box's length, averaged over 20–60 ms, is its weight over the length within 2 % (σ_n by
+/// statics), at 10, 20 and 40 kPa. (The peaks do not yet read Davis's angle: 38.5° and
+/// c = 6.3 kPa against 26.6° and 0 for ψ = 0 at h = 5 mm; docs/validation.md.)
+#[test]
+fn the_shear_box_lid_sets_the_normal_stress_by_statics() {
+    for sigma_n in [10e3, 20e3, 40e3] {
+        let r = shear_box(sigma_n, 0.0, 0.06);
+        let early: Vec<_> = r.readings.iter().filter(|x| x.time > 0.02).collect();
+        let support = early.iter().map(|x| x.lid_support).sum::<f64>() / early.len() as f64;
+        assert!(
+            (support / r.lid_pressure() - 1.0).abs() < 0.02,
+            "support {support} against {}",
+            r.lid_pressure()
+        );
+        assert!(
+            (r.lid_pressure() / sigma_n - 1.0).abs() < 0.02,
+            "{}",
+            r.lid_pressure()
+        );
+    }
+}
+
+/// A bad traction gets an error naming the field and the allowed range.
+#[test]
+fn bad_tractions_are_refused_naming_the_field() {
+    let path = format!(
+        "{}/scenes/lab/biaxial_mc_2d.json",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let text = std::fs::read_to_string(path).unwrap();
+    let good = r#""traction": { "pressure": 20000, "faces": ["left", "right"] }"#;
+    assert!(text.contains(good));
+    for (bad, expected) in [
+        (
+            r#""traction": { "pressure": -5, "faces": ["left"] }"#,
+            "bodies[0].traction.pressure = -5: must be in [0, 1000000000]",
+        ),
+        (
+            r#""traction": { "pressure": 1e4, "faces": ["up"] }"#,
+            "bodies[0].traction.faces[0]: unknown variant `up`",
+        ),
+        (
+            r#""traction": { "pressure": 1e4, "faces": ["front"] }"#,
+            "bodies[0].traction.faces[0] = front: is a face of 3D bodies only",
+        ),
+        (
+            r#""traction": { "pressure": 1e4, "faces": ["left", "left"] }"#,
+            "bodies[0].traction.faces[1] = left: names a face twice",
+        ),
+        (
+            r#""traction": { "pressure": 1e4, "faces": [] }"#,
+            "bodies[0].traction.faces = []: must name at least one face",
+        ),
+    ] {
+        let scene = text.replace(good, bad);
+        let err = SceneConfig::from_json(&scene)
+            .and_then(|s| s.validate())
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains(expected), "{err}\n  expected: {expected}");
+    }
+}
