@@ -93,7 +93,7 @@ impl<D: Dim> Step<'_, D> {
         t.time(Phase::Grid, || self.grid_velocities()); // 1: v_i^n
         t.time(Phase::Stress, || self.update_stress_first(h, &mut steps)); // 2, 3, 4 (first)
         t.time(Phase::Grid, || {
-            self.apply_tractions(h); // 4, the traction's external forces
+            self.apply_tractions(h, &mut steps); // 4, the traction's external forces
             self.grid_forces(h) // 4
         });
         t.time(Phase::Contact, || {

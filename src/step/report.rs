@@ -28,6 +28,9 @@ pub struct BodyStep {
     /// The energy the walls and contacts booked as removed from this body's grid in the step
     /// (a contact's from both bodies, on one that is not kinematic).
     pub constraints: f64,
+    /// The work of the external forces other than gravity on this body's grid in the step
+    /// (a traction's, [`super::traction`]), booked as energy brought in.
+    pub external: f64,
 }
 
 impl<D: Dim> Step<'_, D> {
@@ -85,9 +88,10 @@ impl<D: Dim> Step<'_, D> {
                     - measures[i].kinetic
                     - gathered[i].dissipated_walls;
                 // the stress update's integration error: the work the internal forces did on
-                // the grid (its kinetic energy gained, less gravity's work, plus what the
-                // constraints removed) against the energy the update stored and removed
-                let force_work = after - before - step.grid.gravity_work + step.constraints;
+                // the grid (its kinetic energy gained, less gravity's and a traction's work,
+                // plus what the constraints removed) against the energy the update stored and removed
+                let force_work =
+                    after - before - step.grid.gravity_work - step.external + step.constraints;
                 let s = &step.stress;
                 let stored = elastic[i] - body.stats.elastic;
                 self.diagnostics.dissipated_integration -=

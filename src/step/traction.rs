@@ -19,15 +19,15 @@
 //! ([`crate::Diagnostics::energy_in`]). The surface particles are few, so this pass walks
 //! their stencils one by one on the nodes that own them.
 
-use super::Step;
 use super::walk::grid_coords;
+use super::{BodyStep, Step};
 use crate::grid::Grid;
 use crate::kernel::{Kernel, with_kernel};
 use crate::math::{Dim, Real, VectorOps};
 
 impl<D: Dim> Step<'_, D> {
     /// The traction forces of every body under a traction, into its grid's forces.
-    pub(super) fn apply_tractions(&mut self, dt: Real) {
+    pub(super) fn apply_tractions(&mut self, dt: Real, steps: &mut [BodyStep]) {
         if self.particles.area.is_empty() {
             return;
         }
@@ -35,8 +35,7 @@ impl<D: Dim> Step<'_, D> {
         let kernel = self.world.kernel;
         let gravity = self.world.gravity;
         let p = &mut *self.particles;
-        let mut work = 0.0;
-        for body in self.bodies.iter_mut() {
+        for (body, step) in self.bodies.iter_mut().zip(steps.iter_mut()) {
             if body.kinematic || body.traction == 0.0 {
                 continue;
             }
@@ -45,9 +44,10 @@ impl<D: Dim> Step<'_, D> {
             let x = &p.x[r.clone()];
             let area = &mut p.area[r];
             let pressure = body.traction;
-            work += with_kernel!(kernel, K, S => traction::<D, K, S>(&mut body.grid, x, area, pressure, gravity, dt, inv_h, lp));
+            let work = with_kernel!(kernel, K, S => traction::<D, K, S>(&mut body.grid, x, area, pressure, gravity, dt, inv_h, lp));
+            step.external += work;
+            self.diagnostics.energy_in += work;
         }
-        self.diagnostics.energy_in += work;
     }
 }
 
