@@ -225,17 +225,12 @@ impl Biaxial {
 
     /// Runs `sim` for `span` seconds, reading every `every` seconds.
     pub fn run(&mut self, sim: &mut Simulation<D2>, span: f64, every: f64) -> Result<()> {
-        let end = sim.time() + span;
-        let mut next = sim.time() + every;
-        while sim.time() < end - 1e-12 {
-            sim.step()?;
+        run_test(sim, span, every, |sim, read| {
             self.after_step(sim);
-            if sim.time() >= next - 1e-12 {
+            if read {
                 self.read(sim);
-                next += every;
             }
-        }
-        Ok(())
+        })
     }
 
     /// The failure circle (σ1, σ3) at the peak deviator of the readings.
@@ -396,17 +391,12 @@ impl ShearBox {
 
     /// Runs `sim` for `span` seconds, reading every `every` seconds.
     pub fn run(&mut self, sim: &mut Simulation<D2>, span: f64, every: f64) -> Result<()> {
-        let end = sim.time() + span;
-        let mut next = sim.time() + every;
-        while sim.time() < end - 1e-12 {
-            sim.step()?;
+        run_test(sim, span, every, |sim, read| {
             self.after_step(sim);
-            if sim.time() >= next - 1e-12 {
+            if read {
                 self.read(sim);
-                next += every;
             }
-        }
-        Ok(())
+        })
     }
 
     /// The lid's weight over the box's length (Pa), for the statics check of
@@ -436,6 +426,27 @@ impl ShearBox {
         }
         out
     }
+}
+
+/// A lab test's driver loop: steps `sim` for `span` seconds and calls `each` after every step,
+/// with `true` every `every` seconds (when the test takes a reading).
+fn run_test(
+    sim: &mut Simulation<D2>,
+    span: f64,
+    every: f64,
+    mut each: impl FnMut(&Simulation<D2>, bool),
+) -> Result<()> {
+    let end = sim.time() + span;
+    let mut next = sim.time() + every;
+    while sim.time() < end - 1e-12 {
+        sim.step()?;
+        let read = sim.time() >= next - 1e-12;
+        each(sim, read);
+        if read {
+            next += every;
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]
