@@ -120,12 +120,7 @@ fn the_shown_pressure_of_a_resting_layer_is_lithostatic() {
     let Material::DruckerPrager(m) = &scene.bodies[0].material else {
         unreachable!()
     };
-    let p = sim.particles();
-    let xy: Vec<(f64, f64)> = p.x.iter().map(|x| (x[0] as f64, x[1] as f64)).collect();
-    let shown: Vec<f64> = mpm::recovery::shown_stress(&sim)
-        .iter()
-        .map(|s| -s.trace() as f64 / 3.0)
-        .collect();
+    let (xy, shown) = shown_pressures(&sim);
     let b = pressure_bands(
         &xy,
         &shown,
@@ -155,6 +150,18 @@ fn layer(h: f64) -> SceneConfig {
 
 /// Σ V σ_yy / (−g Σ m y): 1 when the layer carries its weight at rest (the floor's reaction
 /// acts at y = 0).
+/// Each particle's position and the pressure the page shows for it (recovered on the grid).
+#[allow(clippy::type_complexity)]
+fn shown_pressures(sim: &Simulation<D2>) -> (Vec<(f64, f64)>, Vec<f64>) {
+    let p = sim.particles();
+    let xy = p.x.iter().map(|x| (x[0] as f64, x[1] as f64)).collect();
+    let shown = mpm::recovery::shown_stress(sim)
+        .iter()
+        .map(|s| -s.trace() as f64 / 3.0)
+        .collect();
+    (xy, shown)
+}
+
 fn load_ratio(sim: &Simulation<D2>) -> f64 {
     let p = sim.particles();
     let carried: f64 = (0..p.len())
@@ -190,12 +197,7 @@ fn a_layer_deposited_at_rest_stays_lithostatic_on_the_default_transfer() {
         (lo, hi) = (lo.min(r), hi.max(r));
     }
     assert!(lo > 0.97 && hi < 1.03, "{lo} … {hi}");
-    let p = sim.particles();
-    let xy: Vec<(f64, f64)> = p.x.iter().map(|x| (x[0] as f64, x[1] as f64)).collect();
-    let shown: Vec<f64> = mpm::recovery::shown_stress(&sim)
-        .iter()
-        .map(|s| -s.trace() as f64 / 3.0)
-        .collect();
+    let (xy, shown) = shown_pressures(&sim);
     let b = pressure_bands(
         &xy,
         &shown,
