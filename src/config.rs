@@ -184,9 +184,7 @@ impl TractionConfig {
             1.0
         }
     }
-}
 
-impl TractionConfig {
     /// Checks the traction of a body of dimension `dim`; `path` names it
     /// (`bodies[0].traction`). A pull (negative pressure) is refused: the surface particles
     /// of sand would be torn off, and no test here needs one.

@@ -282,6 +282,10 @@ fn bad_tractions_are_refused_naming_the_field() {
             "bodies[0].traction.pressure = -5: must be in [0, 1000000000]",
         ),
         (
+            r#""traction": { "pressure": 1e4, "faces": ["left"], "rise_time": -1 }"#,
+            "bodies[0].traction.rise_time = -1: must be in [0, 1000]",
+        ),
+        (
             r#""traction": { "pressure": 1e4, "faces": ["up"] }"#,
             "bodies[0].traction.faces[0]: unknown variant `up`",
         ),
