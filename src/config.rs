@@ -136,6 +136,10 @@ pub struct TractionConfig {
     pub pressure: f64,
     /// The loaded faces: `left`, `right` (x), `bottom`, `top` (y), `back`, `front` (z, 3D).
     pub faces: Vec<Face>,
+    /// The rise time (s): the pressure grows linearly from zero at t = 0 to `pressure` at
+    /// t = `rise_time`, as a triaxial cell is pressurised; 0 (the default) loads it at once.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub rise_time: f64,
 }
 
 /// A face of a body's bounding box.
@@ -168,7 +172,19 @@ impl Face {
 /// the step stays finite.
 pub const MAX_TRACTION: f64 = 1e9;
 
+/// The longest traction rise time accepted (s).
+pub const MAX_RISE_TIME: f64 = 1e3;
+
 impl TractionConfig {
+    /// The fraction of the pressure applied at time `t` (s): t / rise time, at most 1.
+    pub fn ramp(&self, t: f64) -> f64 {
+        if self.rise_time > 0.0 {
+            (t / self.rise_time).clamp(0.0, 1.0)
+        } else {
+            1.0
+        }
+    }
+
     /// Checks the traction of a body of dimension `dim`; `path` names it
     /// (`bodies[0].traction`). A pull (negative pressure) is refused: the surface particles
     /// of sand would be torn off, and no test here needs one.
@@ -180,6 +196,14 @@ impl TractionConfig {
             MAX_TRACTION,
             false,
             "Pa, compression positive; a pull is not supported",
+        )?;
+        check_range(
+            format!("{path}.rise_time"),
+            self.rise_time,
+            0.0,
+            MAX_RISE_TIME,
+            false,
+            "s; 0 loads at once",
         )?;
         if self.faces.is_empty() {
             return Err(Error::invalid(
@@ -296,6 +320,7 @@ impl BodyConfig {
         self.traction = Some(TractionConfig {
             pressure,
             faces: faces.to_vec(),
+            rise_time: 0.0,
         });
         self
     }

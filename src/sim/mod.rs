@@ -500,6 +500,7 @@ impl<D: Dim> Simulation<D> {
             return Err(e);
         }
         let dt = stable.min(limit);
+        self.ramp_tractions(dt);
         let (mut step, sleeping) = self.lend();
         let done = step.run(dt, sleeping);
         self.time += dt;
@@ -531,6 +532,17 @@ impl<D: Dim> Simulation<D> {
         let (mut step, sleeping) = self.lend();
         step.sleep_and_wake(sleeping, dt);
         Ok(&self.diagnostics)
+    }
+
+    /// The pressure of each traction with a rise time, at the middle of the step of `dt` to
+    /// come ([`crate::config::TractionConfig::ramp`]).
+    fn ramp_tractions(&mut self, dt: f64) {
+        let t = self.time + 0.5 * dt;
+        for (body, config) in self.bodies.iter_mut().zip(&self.scene.bodies) {
+            if let Some(tr) = config.traction.as_ref().filter(|tr| tr.rise_time > 0.0) {
+                body.traction = (tr.pressure * tr.ramp(t)) as Real;
+            }
+        }
     }
 
     /// The state the step works on, lent to it, and sleeping's state, the step's own.

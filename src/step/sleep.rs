@@ -222,7 +222,9 @@ impl<D: Dim> Step<'_, D> {
             .resize_with(self.bodies.len(), Default::default);
         let (kernel, inv_h) = (self.world.kernel, self.world.inv_h);
         for (body, sleep) in self.bodies.iter_mut().zip(&mut sleeping.bodies) {
-            if body.kinematic {
+            // A body under a traction stays awake: the traction pushes on awake particles
+            // only, and a sleeping surface would drop its confinement.
+            if body.kinematic || body.traction != 0.0 {
                 continue;
             }
             let grid = &body.grid;
