@@ -156,13 +156,15 @@ pub enum ContactRule {
     Friction(Real),
 }
 
-/// The largest CFL number of a step in which two solids that update their stress last
+/// The largest CFL number, over the signal speeds of the bodies held together, of a step in
+/// which two solids that update their stress last
 /// (elastic and von Mises bodies with the C¹ kernels, [`crate::recipe::StressOrder`]) share grid
 /// nodes under a contact rule that sticks ([`ContactRule::sticks`]). Such a solid takes its
 /// strain from grid velocities the contact has just set to the pair's common velocity; at the
 /// paper's 0.4 that pumped energy into bodies held together in three of 40 long random
 /// sweeps (a replayed case gained 54 times its energy scale), at 0.3 into one of four
 /// replays, at 0.2 into none (docs/stability.md, "Energy rises between bodies in contact").
+/// Bodies not held keep the scene's CFL number ([`crate::Simulation::stable_dt`]).
 pub const STICKING_CFL: f64 = 0.2;
 
 impl ContactRule {

@@ -218,3 +218,59 @@ fn bodies_stuck_together_gain_no_energy() {
         );
     }
 }
+
+/// The sticking contact's step bound (`STICKING_CFL`) acts on the bodies it holds together,
+/// not on the scene: two soft elastic balls (c ≈ 12 m/s) collide under the paper's sticking
+/// rule beside a ball at rest that is 100 times stiffer (c ≈ 120 m/s). While the soft pair is
+/// stuck the step stays the stiff ball's, CFL 0.4 · h / (c + |v|): the pair's bound at 0.2 of
+/// its own signal speed is five times longer. With the third ball as soft as the pair, the
+/// step is the sticking bound's, half the scene's.
+#[test]
+fn the_sticking_bound_holds_only_the_bodies_in_contact() {
+    for stiff in [1e7, 1e5] {
+        let h = 0.01;
+        let mut sim = Simulation::<D2>::builder(&[1.0, 1.0], h)
+            .gravity(&[0.0, 0.0])
+            .body(ball::<D2>("left", [0.3, 0.3, 0.0], 0.08, 0.5))
+            .body(ball::<D2>("right", [0.5, 0.31, 0.0], 0.08, -0.5))
+            .body(BodyConfig::new(
+                "apart",
+                Shape::ball(&[0.5, 0.75], 0.1),
+                elastic(stiff, 0.3, 1000.0),
+            ))
+            .build()
+            .unwrap();
+        let cfl = sim.scene().cfl;
+        let e0 = sim.diagnostics().total_energy();
+        let (mut stuck_steps, mut worst) = (0, 0.0f64);
+        for _ in 0..3000 {
+            if sim.step_cfl() < cfl {
+                stuck_steps += 1;
+                let v = sim.diagnostics().max_speed;
+                let unbound = mpm::sim::cfl_time_step(cfl, h, sim.max_wave_speed() + v, 0.0, 1.0);
+                let ratio = sim.stable_dt() / unbound;
+                if stiff > 1e5 {
+                    assert!(
+                        (ratio - 1.0).abs() < 1e-6,
+                        "the stiff ball's step was cut to {ratio}"
+                    );
+                } else {
+                    assert!(
+                        (ratio - 0.5).abs() < 1e-6,
+                        "the stuck step is {ratio} of the scene's"
+                    );
+                }
+            }
+            sim.step().unwrap();
+            worst = worst.max(sim.diagnostics().total_energy() - e0);
+        }
+        assert!(
+            stuck_steps > 10,
+            "the balls never stuck ({stuck_steps} steps)"
+        );
+        assert!(
+            worst < 1e-3 * e0,
+            "energy rose by {worst:.3e} of {e0:.3e} J/m"
+        );
+    }
+}

@@ -65,6 +65,10 @@ pub struct Body<D: Dim> {
     /// The fastest compression |tr ε̇| of the latest stress update (for the bulk viscosity's
     /// share of the signal speed).
     pub(crate) max_compression: Real,
+    /// Whether the latest contact pass held it to another solid that updates its stress last
+    /// under a rule that sticks: its signal speed then bounds the next step at
+    /// [`crate::boundary::STICKING_CFL`] ([`crate::Simulation::stable_dt`]).
+    pub(crate) stuck: bool,
     /// How many of its particles, the last of its range, sleep: the step leaves them out
     /// (its sleeping state, [`crate::step::sleep`], keeps what they give the grid).
     pub(crate) asleep: usize,

@@ -221,6 +221,7 @@ impl<D: Dim> Simulation<D> {
             radius,
             kinematic: config.kinematic,
             max_compression: 0.0,
+            stuck: false,
             asleep: 0,
             traction,
         });
@@ -604,15 +605,23 @@ impl<D: Dim> Simulation<D> {
 
     /// The time step the next step will take: dt = CFL · h / max(c + |v|), capped by max_dt,
     /// with c = √((K + 4G/3)/ρ) at each body's lowest density (raised by the bulk viscosity
-    /// of a fast-compressing solid, [`Body::signal_speed`]).
+    /// of a fast-compressing solid, [`Body::signal_speed`]); after a step in which a contact
+    /// held solids together ([`Simulation::step_cfl`]), also at most
+    /// [`STICKING_CFL`] · h / (c + |v|) with c the largest signal speed of those bodies only.
     pub fn stable_dt(&self) -> f64 {
-        cfl_time_step(
-            self.step_cfl(),
-            self.world.h as f64,
-            self.max_wave_speed() + self.diagnostics.max_speed,
-            self.world.gravity.length() as f64,
-            self.world.max_dt,
-        )
+        let (h, v) = (self.world.h as f64, self.diagnostics.max_speed);
+        let (g, max_dt) = (self.world.gravity.length() as f64, self.world.max_dt);
+        let dt = cfl_time_step(self.world.cfl, h, self.max_wave_speed() + v, g, max_dt);
+        if !self.solids_stuck {
+            return dt;
+        }
+        let stuck = self
+            .bodies
+            .iter()
+            .filter(|b| b.stuck)
+            .map(|b| b.signal_speed())
+            .fold(0.0, f64::max);
+        dt.min(cfl_time_step(self.step_cfl(), h, stuck + v, g, max_dt))
     }
 
     /// The error for a stable step `dt` below [`MIN_DT`]: what sets it (the fastest body's
@@ -697,10 +706,10 @@ impl<D: Dim> Simulation<D> {
         })
     }
 
-    /// The CFL number of the next step: the scene's, or at most
-    /// [`STICKING_CFL`] after a step in which a contact rule that
+    /// The CFL number of the next step for the bodies a contact held together: the scene's,
+    /// or at most [`STICKING_CFL`] after a step in which a contact rule that
     /// sticks ([`ContactRule::sticks`]) changed the grid velocities of two solids that update
-    /// their stress last.
+    /// their stress last (only those bodies' signal speeds take it, [`Simulation::stable_dt`]).
     pub fn step_cfl(&self) -> f64 {
         if self.solids_stuck {
             self.world.cfl.min(STICKING_CFL)

@@ -22,6 +22,9 @@ impl<D: Dim> Step<'_, D> {
     pub(super) fn resolve_contacts(&mut self, contacts: &[ContactPair], steps: &mut [BodyStep]) {
         let sticks = self.world.contact.sticks();
         *self.solids_stuck = false;
+        for b in self.bodies.iter_mut() {
+            b.stuck = false;
+        }
         for pair in contacts {
             let (left, right) = self.bodies.split_at_mut(pair.b);
             let (a, b) = (&mut left[pair.a], &mut right[0]);
@@ -37,7 +40,10 @@ impl<D: Dim> Step<'_, D> {
             let booked = if a.kinematic { pair.b } else { pair.a };
             // (a kinematic body's grid is never changed: both changed means both deform)
             let last = |b: &Body<D>| b.recipe.stress_order == StressOrder::Last;
-            *self.solids_stuck |= sticks && r.changed_a && r.changed_b && last(a) && last(b);
+            let stuck = sticks && r.changed_a && r.changed_b && last(a) && last(b);
+            *self.solids_stuck |= stuck;
+            a.stuck |= stuck;
+            b.stuck |= stuck;
             steps[booked].constraints += r.dissipated;
             steps[pair.a].constrained |= r.changed_a;
             steps[pair.b].constrained |= r.changed_b;

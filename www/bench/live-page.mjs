@@ -16,6 +16,12 @@
 // `rtf_seen_drop` from dropping an elastic bunny of the default size on the middle of the floor
 // (the session's `dropAt`) until 2 s simulated or 15 wall-clock seconds have passed, printed on
 //   seen_settled scene=<path> rtf_seen_settled=<x> rtf_seen_drop=<y> asleep=<fraction at rest>
+//
+// `--drops` measures only the drop figures, once with sleeping on and once with it off (the
+// link's `sleep=0`, the page's sleeping toggle), each in a fresh page: once the scene has run
+// 3 s simulated, the same elastic bunny dropped on the middle of the floor, then the 4 s
+// simulated after it (or 60 wall-clock seconds, whichever comes first), printed on
+//   seen_drop scene=<path> quality=<q> sleeping=<on|off> rtf_drop=<x> sim=<s> wall=<s> asleep_before=<fraction>
 import { launch } from '../tests/browser.mjs';
 
 const url = process.env.MPM_URL || 'http://127.0.0.1:8080/';
@@ -26,10 +32,14 @@ if (i >= 0) seconds = Number(args.splice(i, 2)[1]);
 const noSettled = args.indexOf('--no-settled');
 const settled = noSettled < 0;
 if (!settled) args.splice(noSettled, 1);
+const dropsAt = args.indexOf('--drops');
+const drops = dropsAt >= 0;
+if (drops) args.splice(dropsAt, 1);
 const q = args.indexOf('--quality');
 // The level named in the link: without one the page would pick its own by its probe of this
 // machine, and the Node half (`live-node.mjs`) measures the solver's default, Live.
-const quality = `&quality=${q >= 0 ? args.splice(q, 2)[1] : 'live'}`;
+const level = q >= 0 ? args.splice(q, 2)[1] : 'live';
+const quality = `&quality=${level}`;
 const width = Number(process.env.MPM_WIDTH || 1280), height = Number(process.env.MPM_HEIGHT || 720);
 
 const browser = await launch({ width, height });
@@ -44,7 +54,38 @@ const sample = () => ({
   particles: window.mpm.particleCount ?? window.mpm.pg.particleCount(),
   dim: window.mpm.domain.length,
 });
-for (const scene of args) {
+// The drop figures: `scene` settled for 3 s simulated with sleeping `on` or off, an elastic
+// bunny of the default size dropped on the middle of the floor, the 4 s after it.
+async function dropFigure(scene, on) {
+  const page = await browser.context.newPage();
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(e.message));
+  await page.goto(`${url}#scene=${scene}${quality}${on ? '' : '&sleep=0'}`);
+  await page.waitForFunction(() => window.mpm?.session?.dropAt && window.mpm.simTime >= 3, null, { timeout: 900_000 });
+  const now = () => page.evaluate(() => ({
+    t: performance.now(), sim: window.mpm.simTime,
+    asleep: (window.mpm.session.frame?.asleep ?? 0) / Math.max(1, window.mpm.session.frame?.count ?? 1),
+  }));
+  const before = await now();
+  await page.evaluate(() => {
+    const m = window.mpm, [w, , d] = m.sim.scene.domain.size;
+    const point = m.domain.length === 3 ? [w / 2, 0, d / 2] : [w / 2, 0];
+    return m.session.dropAt('bunny', 'elastic', point, 0, m.session.sizeRange().default);
+  });
+  const d0 = await now();
+  await page.waitForFunction((t) => window.mpm.simTime >= t, d0.sim + 4, { timeout: 60_000, polling: 100 }).catch(() => {});
+  const d1 = await now();
+  const wall = (d1.t - d0.t) / 1000;
+  console.log(`seen_drop scene=${scene} quality=${level} sleeping=${on ? 'on' : 'off'} rtf_drop=${((d1.sim - d0.sim) / wall).toFixed(3)} ` +
+    `sim=${(d1.sim - d0.sim).toFixed(3)} wall=${wall.toFixed(2)} asleep_before=${before.asleep.toFixed(3)}`);
+  if (errors.length) console.log(`page errors (${scene}): ${errors.join('; ')}`);
+  await page.close();
+}
+for (const scene of drops ? args : []) {
+  await dropFigure(scene, true);
+  await dropFigure(scene, false);
+}
+for (const scene of drops ? [] : args) {
   const page = await browser.context.newPage();
   const errors = [];
   page.on('pageerror', (e) => errors.push(e.message));

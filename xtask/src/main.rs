@@ -18,7 +18,8 @@
 //!   scene, and the page's frame rate in headless Chromium.
 //! - `live`      — the real-time factor of every shipped scene at the page's default quality:
 //!   stepping alone (wasm in Node, one core) and as seen in headless Chromium (stepping and
-//!   rendering), one `live scene=… rtf_step=… rtf_seen=… fps=…` line per scene.
+//!   rendering), one `live scene=… rtf_step=… rtf_seen=… fps=…` line per scene; with
+//!   `--drops`, a body dropped into each settled scene at Balanced and Fine, sleeping on and off.
 //! - `quality`   — what the page's quality levels cost in accuracy: the validation cases at
 //!   each level's cell factor and particles per cell (the figures of
 //!   `src/playground/quality.rs`).
@@ -91,7 +92,7 @@ fn main() -> ExitCode {
             eprintln!("  bench-web [--steps N] [--seconds S]");
             eprintln!("                     wasm vs native time per step, and fps in Chromium");
             eprintln!(
-                "  live [--runs N] [--seconds S] [--quality Q] [--no-page] [--root DIR] [SCENE..]"
+                "  live [--runs N] [--seconds S] [--quality Q] [--no-page] [--drops] [--root DIR] [SCENE..]"
             );
             eprintln!(
                 "                     real-time factor per shipped scene: stepping (Node, one core), as seen (Chromium)"
@@ -848,6 +849,9 @@ fn fields(line: &str) -> std::collections::HashMap<&str, &str> {
 /// `www/pkg/` built, and this one's `www/bench/live-*.mjs` copied in): the figures before a
 /// change.
 fn live(args: &[String]) -> Result<(), String> {
+    if args.iter().any(|a| a == "--drops") {
+        return live_drops(args);
+    }
     let tree = flag(args, "--root").map_or_else(root, PathBuf::from);
     let runs: usize = flag(args, "--runs")
         .unwrap_or("3")
@@ -1005,6 +1009,118 @@ fn live(args: &[String]) -> Result<(), String> {
             show(&mut step, 3),
             show(&mut seen, 3),
             show(&mut fps, 1),
+        );
+    }
+    Ok(())
+}
+
+/// `cargo xtask live --drops [--runs N] [--quality Q] [--no-build] [--root DIR] [SCENE..]`:
+/// the drop figures as seen in headless Chromium on one core (`taskset -c 0` where it exists;
+/// `www/bench/live-page.mjs --drops`): each shipped scene (or those whose file name contains
+/// one of the given words) run 3 s simulated, an elastic bunny of the default size dropped on
+/// the middle of the floor, and the real-time factor of the 4 s after it, with sleeping on
+/// and off, at Balanced and Fine (or the level `--quality` names), each the median of `--runs`
+/// runs (default 1). Prints one line per scene and level:
+/// `drop scene=<name> quality=<q> rtf_drop=<sleeping on> rtf_drop_awake=<off> asleep_before=<fraction>`.
+fn live_drops(args: &[String]) -> Result<(), String> {
+    let tree = flag(args, "--root").map_or_else(root, PathBuf::from);
+    let runs: usize = flag(args, "--runs")
+        .unwrap_or("1")
+        .parse()
+        .map_err(|e| format!("--runs: {e}"))?;
+    let levels: Vec<&str> = flag(args, "--quality").map_or(vec!["balanced", "fine"], |q| vec![q]);
+    let mut skip = false;
+    let words: Vec<&String> = args
+        .iter()
+        .filter(|a| {
+            let keep = !skip && !a.starts_with("--");
+            skip = matches!(a.as_str(), "--runs" | "--root" | "--quality");
+            keep
+        })
+        .collect();
+    if !args.iter().any(|a| a == "--no-build") && flag(args, "--root").is_none() {
+        build()?;
+    }
+    let mut scenes: Vec<String> = std::fs::read_dir(tree.join("scenes"))
+        .map_err(|e| format!("scenes/: {e}"))?
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".json"))
+        .filter(|n| words.is_empty() || words.iter().any(|w| n.contains(w.as_str())))
+        .map(|n| format!("scenes/{n}"))
+        .collect();
+    scenes.sort();
+    if scenes.is_empty() {
+        return Err(format!("no scene file matches {words:?}"));
+    }
+    let chromium = ensure_browser_tools()?;
+    let url = background_server_of(tree.clone())?;
+    let pinned = output("taskset", &["--version"]).is_some();
+    // (scene, level) → (sleeping on runs, off runs, asleep before the drop runs)
+    type Runs = (Vec<f64>, Vec<f64>, Vec<f64>);
+    let mut table: std::collections::BTreeMap<(String, String), Runs> = Default::default();
+    for _ in 0..runs {
+        for level in &levels {
+            let mut page_args = vec![
+                "node",
+                "www/bench/live-page.mjs",
+                "--drops",
+                "--quality",
+                level,
+            ];
+            page_args.extend(scenes.iter().map(String::as_str));
+            let mut c = if pinned {
+                let mut all = vec!["-c", "0"];
+                all.extend(page_args);
+                command("taskset", &all)
+            } else {
+                command(page_args[0], &page_args[1..])
+            };
+            c.env("MPM_URL", &url)
+                .env("CHROMIUM", &chromium)
+                .current_dir(&tree);
+            let out = captured(c)?;
+            for line in out.lines() {
+                if line.starts_with("page errors") {
+                    eprintln!("{line}");
+                }
+                if !line.starts_with("seen_drop ") {
+                    continue;
+                }
+                let f = fields(line);
+                let e = table
+                    .entry((f["scene"].to_string(), f["quality"].to_string()))
+                    .or_default();
+                let rtf = f.get("rtf_drop").and_then(|v| v.parse::<f64>().ok());
+                if f.get("sleeping") == Some(&"on") {
+                    e.0.extend(rtf);
+                    e.2.extend(f.get("asleep_before").and_then(|v| v.parse::<f64>().ok()));
+                } else {
+                    e.1.extend(rtf);
+                }
+            }
+        }
+    }
+    let commit = output("git", &["rev-parse", "--short", "HEAD"]).unwrap_or_default();
+    println!(
+        "live --drops: medians of {runs} runs at commit {}; headless Chromium{}; 4 s simulated after the drop (60 wall-clock seconds at most)",
+        commit.trim(),
+        if pinned { " under taskset -c 0" } else { "" }
+    );
+    for ((path, level), (mut on, mut off, mut asleep)) in table {
+        let name = path.trim_start_matches("scenes/").trim_end_matches(".json");
+        let show = |v: &mut Vec<f64>| {
+            if v.is_empty() {
+                "-".to_string()
+            } else {
+                format!("{:.3}", median(v))
+            }
+        };
+        println!(
+            "drop scene={name} quality={level} rtf_drop={} rtf_drop_awake={} asleep_before={}",
+            show(&mut on),
+            show(&mut off),
+            show(&mut asleep)
         );
     }
     Ok(())
