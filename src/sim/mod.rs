@@ -44,9 +44,6 @@ pub struct Simulation<D: Dim> {
     pub(crate) world: World<D>,
     pub(crate) particles: Particles<D>,
     pub(crate) bodies: Vec<Body<D>>,
-    /// Whether the latest contact pass held two solids that update their stress last
-    /// together (see [`Simulation::step_cfl`]).
-    pub(crate) solids_stuck: bool,
     pub(crate) time: f64,
     pub(crate) steps: u64,
     pub(crate) diagnostics: Diagnostics,
@@ -85,7 +82,6 @@ impl<D: Dim> Simulation<D> {
             to_come: Vec::new(),
             particles: Particles::default(),
             bodies: Vec::new(),
-            solids_stuck: false,
             time: 0.0,
             steps: 0,
             diagnostics: Diagnostics::default(),
@@ -300,7 +296,6 @@ impl<D: Dim> Simulation<D> {
         self.bodies.clear();
         self.wake_all();
         self.scene.bodies.clear();
-        self.solids_stuck = false;
         self.failed = None;
         self.refresh_diagnostics();
     }
@@ -556,7 +551,6 @@ impl<D: Dim> Simulation<D> {
             timings: &mut self.timings,
             steps: self.steps,
             sort_interval: self.sort_interval,
-            solids_stuck: &mut self.solids_stuck,
         };
         (step, &mut self.sleeping)
     }
@@ -612,7 +606,7 @@ impl<D: Dim> Simulation<D> {
         let (h, v) = (self.world.h as f64, self.diagnostics.max_speed);
         let (g, max_dt) = (self.world.gravity.length() as f64, self.world.max_dt);
         let dt = cfl_time_step(self.world.cfl, h, self.max_wave_speed() + v, g, max_dt);
-        if !self.solids_stuck {
+        if !self.solids_stuck() {
             return dt;
         }
         let stuck = self
@@ -706,12 +700,18 @@ impl<D: Dim> Simulation<D> {
         })
     }
 
+    /// Whether the latest contact pass held two solids that update their stress last
+    /// together (each such body's `stuck`).
+    fn solids_stuck(&self) -> bool {
+        self.bodies.iter().any(|b| b.stuck)
+    }
+
     /// The CFL number of the next step for the bodies a contact held together: the scene's,
     /// or at most [`STICKING_CFL`] after a step in which a contact rule that
     /// sticks ([`ContactRule::sticks`]) changed the grid velocities of two solids that update
     /// their stress last (only those bodies' signal speeds take it, [`Simulation::stable_dt`]).
     pub fn step_cfl(&self) -> f64 {
-        if self.solids_stuck {
+        if self.solids_stuck() {
             self.world.cfl.min(STICKING_CFL)
         } else {
             self.world.cfl

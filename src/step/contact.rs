@@ -21,7 +21,6 @@ impl<D: Dim> Step<'_, D> {
     /// in `steps` which bodies it changed and the momentum each received.
     pub(super) fn resolve_contacts(&mut self, contacts: &[ContactPair], steps: &mut [BodyStep]) {
         let sticks = self.world.contact.sticks();
-        *self.solids_stuck = false;
         for b in self.bodies.iter_mut() {
             b.stuck = false;
         }
@@ -41,7 +40,6 @@ impl<D: Dim> Step<'_, D> {
             // (a kinematic body's grid is never changed: both changed means both deform)
             let last = |b: &Body<D>| b.recipe.stress_order == StressOrder::Last;
             let stuck = sticks && r.changed_a && r.changed_b && last(a) && last(b);
-            *self.solids_stuck |= stuck;
             a.stuck |= stuck;
             b.stuck |= stuck;
             steps[booked].constraints += r.dissipated;

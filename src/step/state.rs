@@ -23,7 +23,4 @@ pub(crate) struct Step<'a, D: Dim> {
     /// by grid block (0: never).
     pub steps: u64,
     pub sort_interval: u64,
-    /// Set by the contact pass: whether it held two solids that update their stress last
-    /// together (for the next step's CFL number).
-    pub solids_stuck: &'a mut bool,
 }

@@ -54,6 +54,17 @@ const sample = () => ({
   particles: window.mpm.particleCount ?? window.mpm.pg.particleCount(),
   dim: window.mpm.domain.length,
 });
+// The page's clocks: wall time, simulated time and the share of the particles asleep.
+const clock = (page) => page.evaluate(() => ({
+  t: performance.now(), sim: window.mpm.simTime,
+  asleep: (window.mpm.session.frame?.asleep ?? 0) / Math.max(1, window.mpm.session.frame?.count ?? 1),
+}));
+// An elastic bunny of the default size dropped on the middle of the floor, as a click does.
+const dropBunny = (page) => page.evaluate(() => {
+  const m = window.mpm, [w, , d] = m.sim.scene.domain.size;
+  const point = m.domain.length === 3 ? [w / 2, 0, d / 2] : [w / 2, 0];
+  return m.session.dropAt('bunny', 'elastic', point, 0, m.session.sizeRange().default);
+});
 // The drop figures: `scene` settled for 3 s simulated with sleeping `on` or off, an elastic
 // bunny of the default size dropped on the middle of the floor, the 4 s after it.
 async function dropFigure(scene, on) {
@@ -62,16 +73,9 @@ async function dropFigure(scene, on) {
   page.on('pageerror', (e) => errors.push(e.message));
   await page.goto(`${url}#scene=${scene}${quality}${on ? '' : '&sleep=0'}`);
   await page.waitForFunction(() => window.mpm?.session?.dropAt && window.mpm.simTime >= 3, null, { timeout: 900_000 });
-  const now = () => page.evaluate(() => ({
-    t: performance.now(), sim: window.mpm.simTime,
-    asleep: (window.mpm.session.frame?.asleep ?? 0) / Math.max(1, window.mpm.session.frame?.count ?? 1),
-  }));
+  const now = () => clock(page);
   const before = await now();
-  await page.evaluate(() => {
-    const m = window.mpm, [w, , d] = m.sim.scene.domain.size;
-    const point = m.domain.length === 3 ? [w / 2, 0, d / 2] : [w / 2, 0];
-    return m.session.dropAt('bunny', 'elastic', point, 0, m.session.sizeRange().default);
-  });
+  await dropBunny(page);
   const d0 = await now();
   await page.waitForFunction((t) => window.mpm.simTime >= t, d0.sim + 4, { timeout: 60_000, polling: 100 }).catch(() => {});
   const d1 = await now();
@@ -118,19 +122,12 @@ for (const scene of drops ? [] : args) {
       (waits ? ` command_wait_ms=${waits[10].toFixed(1)} command_wait_max_ms=${waits[19].toFixed(1)}` : ''),
   );
   if (settled && (await page.evaluate(() => !!window.mpm.session?.dropAt))) {
-    const now = () => page.evaluate(() => ({
-      t: performance.now(), sim: window.mpm.simTime,
-      asleep: (window.mpm.session.frame?.asleep ?? 0) / Math.max(1, window.mpm.session.frame?.count ?? 1),
-    }));
+    const now = () => clock(page);
     await page.waitForFunction(() => window.mpm.simTime >= 3, null, { timeout: 300_000 });
     const r0 = await now();
     await page.waitForTimeout(3000);
     const r1 = await now();
-    await page.evaluate(() => {
-      const m = window.mpm, [w, , d] = m.sim.scene.domain.size;
-      const point = m.domain.length === 3 ? [w / 2, 0, d / 2] : [w / 2, 0];
-      return m.session.dropAt('bunny', 'elastic', point, 0, m.session.sizeRange().default);
-    });
+    await dropBunny(page);
     const d0 = await now();
     await page.waitForFunction((t) => window.mpm.simTime >= t, d0.sim + 2, { timeout: 15_000 }).catch(() => {});
     const d1 = await now();

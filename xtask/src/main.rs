@@ -859,31 +859,10 @@ fn live(args: &[String]) -> Result<(), String> {
         .map_err(|e| format!("--runs: {e}"))?;
     let seconds = flag(args, "--seconds").unwrap_or("8");
     let with_page = !args.iter().any(|a| a == "--no-page");
-    let words: Vec<&String> = {
-        let mut skip = false;
-        args.iter()
-            .filter(|a| {
-                let keep = !skip && !a.starts_with("--");
-                skip = matches!(a.as_str(), "--runs" | "--seconds" | "--root" | "--quality");
-                keep
-            })
-            .collect()
-    };
     if !args.iter().any(|a| a == "--no-build") && flag(args, "--root").is_none() {
         build()?;
     }
-    let mut scenes: Vec<String> = std::fs::read_dir(tree.join("scenes"))
-        .map_err(|e| format!("scenes/: {e}"))?
-        .flatten()
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".json"))
-        .filter(|n| words.is_empty() || words.iter().any(|w| n.contains(w.as_str())))
-        .map(|n| format!("scenes/{n}"))
-        .collect();
-    scenes.sort();
-    if scenes.is_empty() {
-        return Err(format!("no scene file matches {words:?}"));
-    }
+    let scenes = live_scenes(&tree, args)?;
     // Per scene: (dim, particles and quality, rtf_step runs, rtf_seen runs, fps runs, settled
     // figures' runs by name).
     type Figures = (
@@ -1014,6 +993,34 @@ fn live(args: &[String]) -> Result<(), String> {
     Ok(())
 }
 
+/// The shipped scenes `live` measures: `scenes/*.json` of `tree`, sorted, or those whose file
+/// name contains one of the words among `args` (the words that are neither flags nor a
+/// flag's value).
+fn live_scenes(tree: &Path, args: &[String]) -> Result<Vec<String>, String> {
+    let mut skip = false;
+    let words: Vec<&String> = args
+        .iter()
+        .filter(|a| {
+            let keep = !skip && !a.starts_with("--");
+            skip = matches!(a.as_str(), "--runs" | "--seconds" | "--root" | "--quality");
+            keep
+        })
+        .collect();
+    let mut scenes: Vec<String> = std::fs::read_dir(tree.join("scenes"))
+        .map_err(|e| format!("scenes/: {e}"))?
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".json"))
+        .filter(|n| words.is_empty() || words.iter().any(|w| n.contains(w.as_str())))
+        .map(|n| format!("scenes/{n}"))
+        .collect();
+    scenes.sort();
+    if scenes.is_empty() {
+        return Err(format!("no scene file matches {words:?}"));
+    }
+    Ok(scenes)
+}
+
 /// `cargo xtask live --drops [--runs N] [--quality Q] [--no-build] [--root DIR] [SCENE..]`:
 /// the drop figures as seen in headless Chromium on one core (`taskset -c 0` where it exists;
 /// `www/bench/live-page.mjs --drops`): each shipped scene (or those whose file name contains
@@ -1029,30 +1036,10 @@ fn live_drops(args: &[String]) -> Result<(), String> {
         .parse()
         .map_err(|e| format!("--runs: {e}"))?;
     let levels: Vec<&str> = flag(args, "--quality").map_or(vec!["balanced", "fine"], |q| vec![q]);
-    let mut skip = false;
-    let words: Vec<&String> = args
-        .iter()
-        .filter(|a| {
-            let keep = !skip && !a.starts_with("--");
-            skip = matches!(a.as_str(), "--runs" | "--root" | "--quality");
-            keep
-        })
-        .collect();
     if !args.iter().any(|a| a == "--no-build") && flag(args, "--root").is_none() {
         build()?;
     }
-    let mut scenes: Vec<String> = std::fs::read_dir(tree.join("scenes"))
-        .map_err(|e| format!("scenes/: {e}"))?
-        .flatten()
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".json"))
-        .filter(|n| words.is_empty() || words.iter().any(|w| n.contains(w.as_str())))
-        .map(|n| format!("scenes/{n}"))
-        .collect();
-    scenes.sort();
-    if scenes.is_empty() {
-        return Err(format!("no scene file matches {words:?}"));
-    }
+    let scenes = live_scenes(&tree, args)?;
     let chromium = ensure_browser_tools()?;
     let url = background_server_of(tree.clone())?;
     let pinned = output("taskset", &["--version"]).is_some();
