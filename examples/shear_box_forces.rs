@@ -7,19 +7,22 @@
 //!
 //! `nice cargo run --release --example shear_box_forces -- [key=value ...]`
 //!
-//! keys (defaults in brackets): `sigma` the lid's load σ_n (Pa) [10000], `psi` ψ (°) [0],
-//! `phi` φ (°) [30], `c` cohesion (Pa) [0], `h` cell size (m) [from the scene], `ppc`
-//! particles per cell and axis [2], `gap` the opening between the halves (m; the upper half's
-//! walls raised by it) [0], `height` the sample's height (m) [0.04], `speed` the drive (m/s)
-//! [0.01], `span` (s) [0.4], `every` between readings (s) [0.01], `floor` the floor's μ
-//! [0.5], `e` the sand's Young's modulus (Pa) [1e7], `cfl` [the scene's].
+//! keys (defaults in brackets): `sigma` the lid's load (Pa) [10000], `psi` ψ (°) [0], `phi`
+//! φ (°) [30], `c` cohesion (Pa) [0], `h` cell size (m) [the scene's], `ppc` particles per
+//! cell and axis [2], `gap` the opening between the halves (m; the upper half's walls raised
+//! by it) [one cell, as in the scene], `height` the sample's height (m) [0.04], `speed` the
+//! drive (m/s) [0.02], `span` (s) [0.2], `every` between readings (s) [0.005], `floor` the
+//! floor's μ [0.5], `e` the sand's Young's modulus (Pa) [1e7], `cfl` [the scene's].
 //!
 //! Columns: δ (mm); τ = F/L from the upper half's force along the motion (kPa); that force
-//! on its trailing (left) and leading (right) wall and the lower half's two walls, over L
-//! (kPa, along +x); the vertical force the sand exerts on each wall of the upper half and on the lower half over L
-//! (kPa, up positive); the plane's shear and normal force from the sand's stresses, over L (kPa); the
-//! band's mean σ_xx, σ_yy, τ_xy in its middle half (kPa, compression positive); the lid's
-//! support over L (kPa), rise and tilt (mm, right end less left end).
+//! on its trailing (left) and leading (right) wall and on the lower half's two walls, over L
+//! (kPa, along +x); the vertical force the sand exerts on each wall of the upper half and on
+//! the lower half, over L (kPa, up positive); the plane's shear and normal force from the
+//! sand's stresses, over L (kPa); the band's mean σ_xx, σ_yy, τ_xy in its middle half (kPa,
+//! compression positive); the lid's support over L (kPa), rise and tilt (mm, right end less
+//! left end); σ_n on the plane by the statics of what lies above it (the lid's and the sand's
+//! weight plus the upper half's vertical force, over L: kPa), as `mpm::lab::ShearBox` reads
+//! it, and atan(τ/σ_n) (°).
 
 use mpm::math::SymTensor;
 use mpm::{BodyConfig, D2, Material, SceneConfig, Shape, Simulation};
@@ -42,18 +45,18 @@ fn main() {
     let sigma = get("sigma", 1e4);
     let h = get("h", file.cell_size);
     let ppc = get("ppc", 2.0) as u32;
-    let gap = get("gap", 0.0);
+    let gap = get("gap", h);
     let height = get("height", 0.04);
-    let speed = get("speed", 0.01);
-    let span = get("span", 0.4);
-    let every = get("every", 0.01);
+    let speed = get("speed", 0.02);
+    let span = get("span", 0.2);
+    let every = get("every", 0.005);
     let (x0, length, wall) = (0.1, 0.1, 0.02);
     let plane = 0.5 * height;
     let top = height + 0.03;
 
     let mut scene = SceneConfig::new(2, &file.domain.size, h);
     scene.boundary.friction = get("floor", 0.5);
-    scene.contact = file.contact.clone();
+    scene.contact = file.contact;
     scene.cfl = get("cfl", file.cfl);
     let mut sand = file.bodies[0].clone();
     sand.shape = Shape::cuboid(&[x0, 0.0], &[x0 + length, height]);
@@ -100,16 +103,25 @@ fn main() {
     let mut sim = Simulation::<D2>::new(scene).expect("a valid scene");
     let g = 9.81;
     let lid_weight = sim.bodies()[5].stats().mass * g;
-    let above = 0.5 * sim.bodies()[0].stats().mass * g + lid_weight;
+    let y_band = plane + 0.5 * gap;
+    let above_plane = {
+        let p = sim.particles();
+        let sand: f64 = sim.bodies()[0]
+            .range()
+            .filter(|&i| p.x[i][1] as f64 > y_band)
+            .map(|i| p.mass[i] as f64)
+            .sum();
+        sand * g + lid_weight
+    };
     println!(
-        "h {h} m, {} sand particles, σ_n on the plane {:.2} kPa (lid {:.2} kPa), gap {gap} m, plane at y = {:.4} m",
+        "h {h} m, {} sand particles, the weight above the plane {:.2} kPa (the lid {:.2} kPa), gap {gap} m, plane at y = {:.4} m",
         sim.bodies()[0].range().len(),
-        above / length / 1e3,
+        above_plane / length / 1e3,
         lid_weight / length / 1e3,
         plane + 0.5 * gap
     );
     println!(
-        "{:>6} {:>7} | {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} | {:>7} {:>7} | {:>7} {:>7} {:>7} | {:>7} {:>6} {:>6}",
+        "{:>6} {:>7} | {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} | {:>7} {:>7} | {:>7} {:>7} {:>7} | {:>7} {:>6} {:>6} | {:>7} {:>6}",
         "δ mm",
         "τ=F/L",
         "UL Fx",
@@ -126,13 +138,14 @@ fn main() {
         "τxy",
         "lid",
         "rise",
-        "tilt"
+        "tilt",
+        "σ_n",
+        "φ_ds"
     );
     let lid0 = lid_shape(&sim);
     let mut impulse = [[0.0f64; 2]; 6];
     let mut elapsed = 0.0;
     let mut next = every;
-    let y_band = plane + 0.5 * gap;
     while sim.time() < span - 1e-12 {
         sim.step().expect("the run");
         let dt = sim.diagnostics().dt;
@@ -148,14 +161,17 @@ fn main() {
         next += every;
         let f = |b: usize, a: usize| impulse[b][a] / elapsed / length / 1e3;
         let (plane_tau, plane_sigma, band) = plane_forces(&sim, y_band, h, x0, length);
+        // the reading: σ_n on the plane by the statics of what lies above it
+        let tau = -(f(1, 0) + f(2, 0));
+        let sigma_n = above_plane / length / 1e3 + f(1, 1) + f(2, 1);
         let (rise, tilt) = {
             let (y, t) = lid_shape(&sim);
             (y - lid0.0, t - lid0.1)
         };
         println!(
-            "{:6.2} {:7.2} | {:7.2} {:7.2} {:7.2} {:7.2} {:7.2} {:7.2} {:7.2} | {:7.2} {:7.2} | {:7.2} {:7.2} {:7.2} | {:7.2} {:6.3} {:6.3}",
+            "{:6.2} {:7.2} | {:7.2} {:7.2} {:7.2} {:7.2} {:7.2} {:7.2} {:7.2} | {:7.2} {:7.2} | {:7.2} {:7.2} {:7.2} | {:7.2} {:6.3} {:6.3} | {:7.2} {:6.2}",
             sim.time() * speed * 1e3,
-            -(f(1, 0) + f(2, 0)),
+            tau,
             f(1, 0),
             f(2, 0),
             f(3, 0),
@@ -170,7 +186,9 @@ fn main() {
             band[2] / 1e3,
             f(5, 1),
             rise * 1e3,
-            tilt * 1e3
+            tilt * 1e3,
+            sigma_n,
+            (tau / sigma_n).atan().to_degrees()
         );
         impulse = [[0.0; 2]; 6];
         elapsed = 0.0;
