@@ -14,6 +14,10 @@
 //! node's [`Weights`], which form w_ip, ∇w_ip, F ∇w_ip and A d_i with the row's factors
 //! first. A node then costs a few multiply-adds.
 //!
+//! **Owners.** A pass over a few particles (the traction, `traction.rs`) walks the same rows on
+//! the nodes' owners instead ([`on_owners`]), looking each node's block up, so that it reads
+//! and adds to the owners with no halo to fill or reduce.
+//!
 //! **Axis folding.** 2D runs the same loops with the third axis's weight 1 and derivative 0
 //! and one `k` (`third_axis`); LLVM folds them away.
 //!
@@ -231,6 +235,50 @@ struct Row {
     dk: Real,
 }
 
+impl Row {
+    /// The factors of row (j, k) of the stencil `st` (in 2D, w_k = 1 and w'_k = 0).
+    #[inline(always)]
+    fn at<D: Dim, const S: usize>(st: &Stencil<S>, j: usize, k: usize) -> Row {
+        let (wk, dwk) = third_axis::<D, S>(st, k);
+        Row {
+            wjk: st.w[j][1] * wk,
+            dwj_wk: st.dw[j][1] * wk,
+            wj_dwk: st.w[j][1] * dwk,
+            dj: st.d[j][1],
+            dk: if D::DIM == 3 { st.d[k][2] } else { 0.0 },
+        }
+    }
+}
+
+/// A stencil's first-axis weights w_i and w'_i as vectors, once per stencil.
+struct FirstAxis<D: Dim, const S: usize> {
+    wv: [D::Vector; S],
+    dwv: [D::Vector; S],
+}
+
+impl<D: Dim, const S: usize> FirstAxis<D, S> {
+    #[inline(always)]
+    fn of(st: &Stencil<S>) -> Self {
+        FirstAxis {
+            wv: std::array::from_fn(|i| D::Vector::splat(st.w[i][0])),
+            dwv: std::array::from_fn(|i| D::Vector::splat(st.dw[i][0])),
+        }
+    }
+
+    /// Node i's [`Weights`] on the row of factors `row`.
+    #[inline(always)]
+    fn weights(&self, st: &Stencil<S>, i: usize, row: Row) -> Weights<D> {
+        Weights {
+            wi: st.w[i][0],
+            dwi: st.dw[i][0],
+            di: st.d[i][0],
+            wiv: self.wv[i],
+            dwiv: self.dwv[i],
+            row,
+        }
+    }
+}
+
 impl<D: Dim> Weights<D> {
     /// w_ip.
     #[inline(always)]
@@ -296,32 +344,39 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize, N>(
     let p = row_length::<D, S>();
     let st = &at.st;
     let nodes = &mut nodes[at.origin..][..span::<D, S>()];
-    // The first axis's weights as vectors, once.
-    let wv: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.w[i][0]));
-    let dwv: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.dw[i][0]));
+    let first = FirstAxis::<D, S>::of(st);
     for k in 0..nodes_along::<D, K, S>(st, 2) {
-        let (wk, dwk) = third_axis::<D, S>(st, k);
-        let dk = if D::DIM == 3 { st.d[k][2] } else { 0.0 };
         for j in 0..nodes_along::<D, K, S>(st, 1) {
             let base = j * p + k * p * p;
-            let row = Row {
-                wjk: st.w[j][1] * wk,
-                dwj_wk: st.dw[j][1] * wk,
-                wj_dwk: st.w[j][1] * dwk,
-                dj: st.d[j][1],
-                dk,
-            };
+            let row = Row::at::<D, S>(st, j, k);
             let row_nodes = &mut nodes[base..base + S];
             for i in 0..nodes_along::<D, K, S>(st, 0) {
-                let w = Weights {
-                    wi: st.w[i][0],
-                    dwi: st.dw[i][0],
-                    di: st.d[i][0],
-                    wiv: wv[i],
-                    dwiv: dwv[i],
-                    row,
-                };
-                term(&mut row_nodes[i], w);
+                term(&mut row_nodes[i], first.weights(st, i, row));
+            }
+        }
+    }
+}
+
+/// [`scatter`]'s walk over the stencil `st` on the nodes' owners: calls `term(n, w)` for every
+/// node with weight that `grid` allocated, n its storage index in the block that owns it (not
+/// a padded block's halo copy). For a pass over a few particles that reads and adds to the
+/// owners directly, with no halo to fill or reduce; each node costs a look-up of its block.
+#[inline(always)]
+pub fn on_owners<D: Dim, K: Kernel<S>, const S: usize>(
+    grid: &Grid<D>,
+    st: &Stencil<S>,
+    mut term: impl FnMut(usize, Weights<D>),
+) {
+    let first = FirstAxis::<D, S>::of(st);
+    let b = st.base;
+    for k in 0..nodes_along::<D, K, S>(st, 2) {
+        let bk = if D::DIM == 3 { b[2] + k as i32 } else { 0 };
+        for j in 0..nodes_along::<D, K, S>(st, 1) {
+            let row = Row::at::<D, S>(st, j, k);
+            for i in 0..nodes_along::<D, K, S>(st, 0) {
+                if let Some(n) = grid.node_index([b[0] + i as i32, b[1] + j as i32, bk]) {
+                    term(n, first.weights(st, i, row));
+                }
             }
         }
     }
@@ -932,6 +987,54 @@ mod tests {
         scatter_matches_plain::<D2, Gimp, 3>();
         scatter_matches_plain::<D3, Linear, 2>();
         scatter_matches_plain::<D3, Gimp, 3>();
+    }
+
+    /// The walk on the owners hands each allocated node of a stencil the weight and gradient
+    /// the plain per-node products give it, at the node's owner: Σ w_ip and Σ ∇w_ip summed at
+    /// each owner agree up to rounding, and the walk reaches every node with weight.
+    fn owners_match_plain<D: Dim, K: Kernel<S>, const S: usize>() {
+        let (_, stencils) = random_stencils::<D, K, S>(30, row_length::<D, S>());
+        let mut grid = Grid::<D>::default();
+        grid.rebuild(stencils.len(), S, |q| stencils[q].base);
+        let p = row_length::<D, S>();
+        let zero = (0.0, D::Vector::ZERO);
+        let (mut walked, mut plain) = (vec![zero; grid.nodes.len()], vec![zero; grid.nodes.len()]);
+        for st in &stencils {
+            on_owners::<D, K, S>(&grid, st, |n, w| {
+                walked[n].0 += w.value();
+                walked[n].1 += w.gradient();
+            });
+            plain::for_each_node::<D, S>(st, |local, w, g, _| {
+                let (i, j, k) = (local % p, local / p % p, local / (p * p));
+                let b = st.base;
+                let node = [b[0] + i as i32, b[1] + j as i32, b[2] + k as i32];
+                let n = grid
+                    .node_index(node)
+                    .expect("the stencil's blocks are allocated");
+                plain[n].0 += w;
+                plain[n].1 += g;
+            });
+        }
+        for (n, (a, b)) in walked.iter().zip(&plain).enumerate() {
+            assert!(
+                (a.0 - b.0).abs() <= 1e-5 * (1.0 + b.0.abs()),
+                "w at node {n}"
+            );
+            assert!(near(a.1, b.1, b.1.length()), "∇w at node {n}");
+        }
+        assert!(
+            plain.iter().any(|x| x.0 > 0.0),
+            "the stencils reach allocated nodes"
+        );
+    }
+
+    #[test]
+    fn the_walk_on_owners_hands_each_owner_its_plain_weights() {
+        owners_match_plain::<D2, Linear, 2>();
+        owners_match_plain::<D2, QuadraticBspline, 3>();
+        owners_match_plain::<D2, Gimp, 3>();
+        owners_match_plain::<D3, Linear, 2>();
+        owners_match_plain::<D3, Gimp, 3>();
     }
 
     /// Whether two gradients agree up to rounding, column by column.
