@@ -12,7 +12,8 @@
 //! d_i) along the first axis, then multiply the row's sums by the row's factors w_j w_k,
 //! w'_j w_k and w_j w'_k. The scatter ([`scatter`]) calls the pass's per-node terms with the
 //! node's [`Weights`], which form w_ip, ∇w_ip, F ∇w_ip and A d_i with the row's factors
-//! first. A node then costs a few multiply-adds.
+//! first. A node then costs a few multiply-adds. [`scatter_pair`] walks two node arrays laid
+//! out alike at once (the 3D scatter's nodes and mass gradients).
 //!
 //! **Owners.** A pass over a few particles (the traction, `traction.rs`) walks the same rows on
 //! the nodes' owners instead ([`on_owners`]), looking each node's block up, so that it reads
@@ -352,6 +353,37 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize, N>(
             let row_nodes = &mut nodes[base..base + S];
             for i in 0..nodes_along::<D, K, S>(st, 0) {
                 term(&mut row_nodes[i], first.weights(st, i, row));
+            }
+        }
+    }
+}
+
+/// [`scatter`] over two node arrays laid out alike, `nodes` and `second`: calls
+/// `term(n, s, w)` for every node of the stencil with weight, in one walk (the same rows,
+/// nodes and [`Weights`] as two scatters, so the same sums bit for bit).
+#[inline(always)]
+pub fn scatter_pair<D: Dim, K: Kernel<S>, const S: usize, N, M>(
+    nodes: &mut [N],
+    second: &mut [M],
+    at: &At<S>,
+    mut term: impl FnMut(&mut N, &mut M, Weights<D>),
+) {
+    let p = row_length::<D, S>();
+    let st = &at.st;
+    let nodes = &mut nodes[at.origin..][..span::<D, S>()];
+    let second = &mut second[at.origin..][..span::<D, S>()];
+    let first = FirstAxis::<D, S>::of(st);
+    for k in 0..nodes_along::<D, K, S>(st, 2) {
+        for j in 0..nodes_along::<D, K, S>(st, 1) {
+            let base = j * p + k * p * p;
+            let row = Row::at::<D, S>(st, j, k);
+            let (row_nodes, row_second) = (&mut nodes[base..base + S], &mut second[base..base + S]);
+            for i in 0..nodes_along::<D, K, S>(st, 0) {
+                term(
+                    &mut row_nodes[i],
+                    &mut row_second[i],
+                    first.weights(st, i, row),
+                );
             }
         }
     }
@@ -927,7 +959,7 @@ mod tests {
 
     /// Terms stated with the walk's [`Weights`] add to the nodes what the same terms as plain
     /// per-node products add, up to rounding: m_i += w_ip m, (mv)_i += w_ip (mv + A d_i),
-    /// f_i += F ∇w_ip, ∇m_i += m ∇w_ip.
+    /// f_i += F ∇w_ip, ∇m_i += m ∇w_ip; [`scatter_pair`] adds exactly what two scatters add.
     fn scatter_matches_plain<D: Dim, K: Kernel<S>, const S: usize>() {
         let (nodes, stencils) = random_stencils::<D, K, S>(40, row_length::<D, S>());
         let mut seed = 3;
@@ -935,6 +967,7 @@ mod tests {
             let (mut rows, mut plain) = (nodes.clone(), nodes.clone());
             let mut g_rows = vec![D::Vector::ZERO; nodes.len()];
             let mut g_plain = g_rows.clone();
+            let (mut pair, mut g_pair) = (nodes.clone(), g_rows.clone());
             for st in &stencils {
                 let (m, mv, a, f) = share::<D>(&mut seed, affine, force);
                 let at = At { st: *st, origin: 0 };
@@ -955,6 +988,15 @@ mod tests {
                     }
                 });
                 scatter::<D, K, S, _>(&mut g_rows, &at, |g, w| *g += w.gradient() * m);
+                // The same terms in one walk over both fields: the same sums, bit for bit.
+                scatter_pair::<D, K, S, _, _>(&mut pair, &mut g_pair, &at, |n, g, w| {
+                    let p = columns.map_or(mv, |c| w.plus_offset(mv, c));
+                    n.vm += p.with_mass(m) * w.value();
+                    if let Some(f) = f {
+                        n.new_vel += w.gradient_times(f);
+                    }
+                    *g += w.gradient() * m;
+                });
                 plain::for_each_node::<D, S>(st, |n, w, gw, d| {
                     let mut p = mv;
                     if let Some(a) = a {
@@ -971,6 +1013,11 @@ mod tests {
                         }
                     }
                 });
+            }
+            for (n, (x, y)) in rows.iter().zip(&pair).enumerate() {
+                let bits = |n: &Node<D::Vector>| format!("{:?} {:?}", n.vm, n.new_vel);
+                assert!(bits(x) == bits(y), "pair walk, node {n}");
+                assert!(g_rows[n] == g_pair[n], "pair walk, ∇m {n}");
             }
             for (n, (x, y)) in rows.iter().zip(&plain).enumerate() {
                 assert!(same_mass(x, y), "momentum at node {n}");
