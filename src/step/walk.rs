@@ -1,5 +1,8 @@
 //! The walk over a particle's stencil, the one place that knows how a stencil lies on the
-//! grid: every pass states its Sec. 4.2 sums as terms handed to these walks.
+//! grid: every pass states its Sec. 4.2 sums as terms handed to these walks. The walks know
+//! rows, reach, axis folding, packing and lanes, and no physics: a pass writes its per-node
+//! terms once, in the pass (the scatter's and the traction's in a closure the walk calls on
+//! each node with its [`Weights`], the gather's as the node fields it sums).
 //!
 //! **The nodes.** A particle's stencil has `S` nodes per axis; a body's grid stores its nodes
 //! in padded blocks whose rows are `p` = block + S − 1 nodes long, so that node (i, j, k) of a
