@@ -5,6 +5,11 @@
 //! keeps the cost flat), each in 2D and 3D. Writes `docs/reports/passes-report.md`.
 //!
 //! `taskset -c 0 cargo bench --bench passes` (or `cargo xtask passes`; about two minutes).
+//!
+//! `-- --trace DIM STEPS SCENE` times nothing and writes no report: it runs the scene whose
+//! name contains SCENE (e.g. `touching`) in DIM dimensions for STEPS steps on one fresh
+//! simulation, for instruction counts per function under
+//! `valgrind --tool=callgrind target/release/deps/passes-* --trace 2 200 touching`.
 
 #[path = "support/report.rs"]
 mod report;
@@ -123,7 +128,49 @@ fn total(t: &PassTimings) -> f64 {
     t.allocate + t.scatter + t.stress + t.grid + t.contact + t.walls + t.gather
 }
 
+/// `--trace DIM STEPS SCENE` (see the module documentation).
+fn trace(args: &[String]) {
+    let usage =
+        "--trace takes DIM (2 or 3), STEPS and part of a scene's name, e.g. --trace 2 200 touching";
+    let (Some(dim), Some(steps), Some(part)) = (
+        args.first().and_then(|d| d.parse::<usize>().ok()),
+        args.get(1).and_then(|n| n.parse::<u64>().ok()),
+        args.get(2),
+    ) else {
+        eprintln!("{usage}");
+        std::process::exit(2);
+    };
+    if dim != 2 && dim != 3 {
+        eprintln!("{usage}");
+        std::process::exit(2);
+    }
+    let Some((name, scene)) = scenes(dim)
+        .into_iter()
+        .find(|(n, _)| n.contains(part.as_str()))
+    else {
+        eprintln!("no scene of the passes bench is named like {part:?}");
+        std::process::exit(2);
+    };
+    fn run<D: Dim>(scene: SceneConfig, steps: u64) -> usize {
+        let mut sim = Simulation::<D>::new(scene).expect("bench scene");
+        for _ in 0..steps {
+            sim.step().expect("step");
+        }
+        sim.particles().len()
+    }
+    let particles = if dim == 2 {
+        run::<D2>(scene, steps)
+    } else {
+        run::<D3>(scene, steps)
+    };
+    println!("{dim}D {name}: {particles} particles, {steps} steps");
+}
+
 fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if let Some(i) = args.iter().position(|a| a == "--trace") {
+        return trace(&args[i + 1..]);
+    }
     let mut rows = Vec::new();
     for dim in [2, 3] {
         let mut base = None;

@@ -17,7 +17,7 @@
 use super::report::{GatherReport, StressReport};
 use super::stress::{AfterGather, StressState, StressUpdatedFirst, UpdateStressLast};
 use super::transfer::Transfer;
-use super::walk::{self, CHUNK, Rates, Walker};
+use super::walk::{self, CHUNK, Field, Rates, Walker};
 use super::{BodyStep, Step, StressOrder, constraint_dissipation};
 use crate::boundary::Walls;
 use crate::grid::{Grid, Node};
@@ -199,24 +199,18 @@ fn gather_chunks<
         for q in chunk.clone() {
             let x = ps.x[q];
             let at = walker.at(ps.x, q);
-            // Step 6: Σ_i w_ip v_i^{n+1} (v_PIC), Σ_i w_ip v_i^n (for FLIP) and APIC's
-            // B_p = Σ_i w_ip v_i^{n+1} ⊗ d_i; step 2 (stress last): ∇v_p = Σ_i v_i^{n+1} ⊗ ∇w_ip.
-            let (new, old) = (
-                |n: &Node<D::Vector>| n.new_vel,
-                |n: &Node<D::Vector>| n.vel(),
-            );
-            let s = if A::GRADIENT {
-                walk::gather::<D, K, S, OLD, true, APIC>(nodes, &at, new, old)
+            let (new, old) = if A::GRADIENT {
+                walk::gather::<D, K, S, _>(nodes, &at, node_fields::<D, true, APIC, OLD>)
             } else {
-                walk::gather::<D, K, S, OLD, false, APIC>(nodes, &at, new, old)
+                walk::gather::<D, K, S, _>(nodes, &at, node_fields::<D, false, APIC, OLD>)
             };
             if A::GRADIENT {
-                rates.set(q - first, s.gradient);
+                rates.set(q - first, new.gradient);
             }
             if APIC && let Some(c) = affine.as_deref_mut() {
-                c[q] = Transfer::affine_velocity::<D, S>(s.moment, &at.st, h);
+                c[q] = Transfer::affine_velocity::<D, S>(new.moment, &at.st, h);
             }
-            let (v_new, v_old) = (s.value, s.second);
+            let (v_new, v_old) = (new.value, if OLD { old.value } else { new.value });
             let blended = transfer.velocity(ps.v[q], v_new, v_old);
             // Steps 7 and 8.
             let m = ps.mass[q];
@@ -243,6 +237,17 @@ fn gather_chunks<
     }
     r.finish(gravity);
     r
+}
+
+/// The gather's terms at node i, stated once: step 6's Σ_i w_ip v_i^{n+1} (v_PIC), with APIC
+/// its moment B_p = Σ_i w_ip v_i^{n+1} ⊗ d_i (`APIC`), and for FLIP Σ_i w_ip v_i^n (`OLD`);
+/// step 2 for the stress updated last, ∇v_p = Σ_i v_i^{n+1} ⊗ ∇w_ip (`GRADIENT`).
+#[inline(always)]
+#[allow(clippy::type_complexity)]
+fn node_fields<D: Dim, const GRADIENT: bool, const APIC: bool, const OLD: bool>(
+    n: &Node<D::Vector>,
+) -> (Field<D, true, GRADIENT, APIC>, Field<D, OLD, false, false>) {
+    (Field(n.new_vel), Field(n.vel()))
 }
 
 /// Steps 7–8 for a kinematic body: its particles keep their velocities and move, staying

@@ -50,8 +50,9 @@
 //! states its sums as terms handed to a walk — the scatter and the stress pass their per-node
 //! terms once, in a closure the walk calls on each node with its [`walk::Weights`] (m_i +=
 //! w_ip m_p in `scatter.rs`, f_i += F_p ∇w_ip with F_p = [`scatter::internal_force`]), the
-//! gather and the stress pass the node fields they sum against w_ip, ∇w_ip and w_ip d_i
-//! ([`walk::Sums`]) — and the stress pass its constitutive step once
+//! gather its node fields once, in a closure the walk calls on each node, each field asking
+//! for its sums against w_ip, ∇w_ip or w_ip d_i ([`walk::Field`]; the stress pass the gradient
+//! of one) — and the stress pass its constitutive step once
 //! (`stress::update_group`), run for one particle or eight in lanes
 //! ([`walk::update_in_lanes`]).
 

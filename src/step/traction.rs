@@ -17,9 +17,9 @@
 //! the step, Σ_i f_i · ½(v_i^n + v*_i) Δt with the velocity v*_i = v_i^n + Δt (F_i/m_i + g)
 //! that all the node's forces F_i give it, is energy brought in
 //! ([`crate::Diagnostics::energy_in`]). The surface particles are few, so this pass walks
-//! their stencils one by one on the nodes that own them.
+//! their stencils one by one on the nodes that own them ([`super::walk::on_owners`]).
 
-use super::walk::grid_coords;
+use super::walk::{Stencils, on_owners};
 use super::{BodyStep, Step};
 use crate::grid::Grid;
 use crate::kernel::{Kernel, with_kernel};
@@ -67,56 +67,24 @@ pub fn traction<D: Dim, K: Kernel<S>, const S: usize>(
 ) -> f64 {
     // the traction force on each node, in node order
     let mut forces = std::collections::BTreeMap::<usize, D::Vector>::new();
-    let mut nodes = Vec::with_capacity(S * S * S);
+    let mut stencils = Stencils::<D, K, S>::new(inv_h, lp);
     for (q, a) in area.iter_mut().enumerate() {
         if *a == D::Vector::ZERO {
             continue;
         }
-        let st = K::stencil(grid_coords::<D>(x[q], inv_h), D::DIM, inv_h, lp);
-        // The stencil's nodes that own a slot, with w_ip and ∇w_ip.
-        nodes.clear();
-        let ks = if D::DIM == 3 { S } else { 1 };
-        for k in 0..ks {
-            for j in 0..S {
-                for i in 0..S {
-                    let (wk, dwk) = if D::DIM == 3 {
-                        (st.w[k][2], st.dw[k][2])
-                    } else {
-                        (1.0, 0.0)
-                    };
-                    let w = st.w[i][0] * st.w[j][1] * wk;
-                    let g = D::vector([
-                        st.dw[i][0] * st.w[j][1] * wk,
-                        st.w[i][0] * st.dw[j][1] * wk,
-                        st.w[i][0] * st.w[j][1] * dwk,
-                    ]);
-                    if w == 0.0 && g == D::Vector::ZERO {
-                        continue;
-                    }
-                    let b = st.base;
-                    let node = [
-                        b[0] + i as i32,
-                        b[1] + j as i32,
-                        if D::DIM == 3 { b[2] + k as i32 } else { 0 },
-                    ];
-                    if let Some(n) = grid.node_index(node) {
-                        nodes.push((n, w, g));
-                    }
-                }
-            }
-        }
+        let st = stencils.at(x, q);
         // d(n da)/dt = (tr L) n da − Lᵀ n da = Σ_i [(v_i · ∇w_ip) n da − (v_i · n da) ∇w_ip].
         let mut rate = D::Vector::ZERO;
-        for &(n, _, g) in &nodes {
-            let vi = grid.nodes[n].vel();
+        on_owners::<D, K, S>(grid, &st, |n, w| {
+            let (vi, g) = (grid.nodes[n].vel(), w.gradient());
             rate += *a * vi.dot(g) - g * vi.dot(*a);
-        }
+        });
         *a += rate * dt;
         // f_i += w_ip (−p n da).
         let f = *a * -pressure;
-        for &(n, w, _) in &nodes {
-            *forces.entry(n).or_insert(D::Vector::ZERO) += f * w;
-        }
+        on_owners::<D, K, S>(grid, &st, |n, w| {
+            *forces.entry(n).or_insert(D::Vector::ZERO) += f * w.value();
+        });
     }
     let mut work = 0.0f64;
     for (&n, &f) in &forces {

@@ -1,5 +1,9 @@
 //! The walk over a particle's stencil, the one place that knows how a stencil lies on the
-//! grid: every pass states its Sec. 4.2 sums as terms handed to these walks.
+//! grid: every pass states its Sec. 4.2 sums as terms handed to these walks. The walks know
+//! rows, reach, axis folding, packing and lanes, and no physics: a pass's per-node term (a
+//! node field to sum, or a closure that adds to a node) is written once, in the pass, so a new
+//! per-node quantity is one edit there (a field in the tuple the gather's closure returns, or
+//! a line in the scatter's closure).
 //!
 //! **The nodes.** A particle's stencil has `S` nodes per axis; a body's grid stores its nodes
 //! in padded blocks whose rows are `p` = block + S − 1 nodes long, so that node (i, j, k) of a
@@ -8,11 +12,18 @@
 //!
 //! **Rows.** The weights are products of one-axis weights, w_ip = w_i w_j w_k and
 //! ∇w_ip = (w'_i w_j w_k, w_i w'_j w_k, w_i w_j w'_k) (grid units folded into w'), so each
-//! walk goes row by row. The gathers sum the node fields against w_i, w'_i (and the offset
-//! d_i) along the first axis, then multiply the row's sums by the row's factors w_j w_k,
-//! w'_j w_k and w_j w'_k. The scatter ([`scatter`]) calls the pass's per-node terms with the
-//! node's [`Weights`], which form w_ip, ∇w_ip, F ∇w_ip and A d_i with the row's factors
-//! first. A node then costs a few multiply-adds.
+//! walk goes row by row. A gather takes the node fields a pass states for a node (a tuple of
+//! [`Field`]s, each asking for Σ_i w_ip f_i, Σ_i f_i ⊗ ∇w_ip or Σ_i w_ip f_i ⊗ d_i), sums
+//! them against w_i, w'_i (and the offset d_i) along the first axis, then multiplies the
+//! row's sums by the row's factors w_j w_k, w'_j w_k and w_j w'_k ([`NodeField`]). The
+//! scatter ([`scatter`]) calls the pass's per-node terms with the node's [`Weights`], which
+//! form w_ip, ∇w_ip, F ∇w_ip and A d_i with the row's factors first. A node then costs a few
+//! multiply-adds. [`scatter_pair`] walks two node arrays laid out alike at once (the 3D
+//! scatter's nodes and mass gradients).
+//!
+//! **Owners.** A pass over a few particles (the traction, `traction.rs`) walks the same rows on
+//! the nodes' owners instead ([`on_owners`]), looking each node's block up, so that it reads
+//! and adds to the owners with no halo to fill or reduce.
 //!
 //! **Axis folding.** 2D runs the same loops with the third axis's weight 1 and derivative 0
 //! and one `k` (`third_axis`); LLVM folds them away.
@@ -22,10 +33,11 @@
 //! not cross a node, three elsewhere (`nodes_along`).
 //!
 //! **2D packing.** In 2D two vectors fit one `Vec4`, so the 2D walks keep two sums side by
-//! side: [`gather_rows_packed_2d`], [`gather_values_packed_2d`] and [`gradient_packed_2d`] are
-//! packing specialisations of the row walk [`gather_rows`], chosen by [`gather`] and
-//! [`gradient`], and [`Weights::gradient_times`] forms F ∇w_ip of both columns of F in one
-//! `Vec4`; the tests below compare each with the plain per-node sums.
+//! side: [`gather_rows_packed_2d`], [`gather_values_packed_2d`] (two fields, chosen by their
+//! shape) and [`gradient_packed_2d`] are packing specialisations of the row walk
+//! [`gather_rows`], chosen by [`gather`] and [`gradient`], and [`Weights::gradient_times`]
+//! forms F ∇w_ip of both columns of F in one `Vec4`; the tests below compare each with the
+//! plain per-node sums.
 //!
 //! **Lanes.** The stress update advances eight particles at once in SIMD lanes;
 //! [`update_in_lanes`] puts a chunk of particles into lanes, pads a short one, and takes the
@@ -223,12 +235,56 @@ pub struct Weights<D: Dim> {
 
 /// A stencil row's factors: w_j w_k, w'_j w_k, w_j w'_k, and the row's offsets d_j, d_k.
 #[derive(Clone, Copy)]
-struct Row {
+pub struct Row {
     wjk: Real,
     dwj_wk: Real,
     wj_dwk: Real,
     dj: Real,
     dk: Real,
+}
+
+impl Row {
+    /// The factors of row (j, k) of the stencil `st` (in 2D, w_k = 1 and w'_k = 0).
+    #[inline(always)]
+    fn at<D: Dim, const S: usize>(st: &Stencil<S>, j: usize, k: usize) -> Row {
+        let (wk, dwk) = third_axis::<D, S>(st, k);
+        Row {
+            wjk: st.w[j][1] * wk,
+            dwj_wk: st.dw[j][1] * wk,
+            wj_dwk: st.w[j][1] * dwk,
+            dj: st.d[j][1],
+            dk: if D::DIM == 3 { st.d[k][2] } else { 0.0 },
+        }
+    }
+}
+
+/// A stencil's first-axis weights w_i and w'_i as vectors, once per stencil.
+struct FirstAxis<D: Dim, const S: usize> {
+    wv: [D::Vector; S],
+    dwv: [D::Vector; S],
+}
+
+impl<D: Dim, const S: usize> FirstAxis<D, S> {
+    #[inline(always)]
+    fn of(st: &Stencil<S>) -> Self {
+        FirstAxis {
+            wv: std::array::from_fn(|i| D::Vector::splat(st.w[i][0])),
+            dwv: std::array::from_fn(|i| D::Vector::splat(st.dw[i][0])),
+        }
+    }
+
+    /// Node i's [`Weights`] on the row of factors `row`.
+    #[inline(always)]
+    fn weights(&self, st: &Stencil<S>, i: usize, row: Row) -> Weights<D> {
+        Weights {
+            wi: st.w[i][0],
+            dwi: st.dw[i][0],
+            di: st.d[i][0],
+            wiv: self.wv[i],
+            dwiv: self.dwv[i],
+            row,
+        }
+    }
 }
 
 impl<D: Dim> Weights<D> {
@@ -296,79 +352,313 @@ pub fn scatter<D: Dim, K: Kernel<S>, const S: usize, N>(
     let p = row_length::<D, S>();
     let st = &at.st;
     let nodes = &mut nodes[at.origin..][..span::<D, S>()];
-    // The first axis's weights as vectors, once.
-    let wv: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.w[i][0]));
-    let dwv: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.dw[i][0]));
+    let first = FirstAxis::<D, S>::of(st);
     for k in 0..nodes_along::<D, K, S>(st, 2) {
-        let (wk, dwk) = third_axis::<D, S>(st, k);
-        let dk = if D::DIM == 3 { st.d[k][2] } else { 0.0 };
         for j in 0..nodes_along::<D, K, S>(st, 1) {
             let base = j * p + k * p * p;
-            let row = Row {
-                wjk: st.w[j][1] * wk,
-                dwj_wk: st.dw[j][1] * wk,
-                wj_dwk: st.w[j][1] * dwk,
-                dj: st.d[j][1],
-                dk,
-            };
+            let row = Row::at::<D, S>(st, j, k);
             let row_nodes = &mut nodes[base..base + S];
             for i in 0..nodes_along::<D, K, S>(st, 0) {
-                let w = Weights {
-                    wi: st.w[i][0],
-                    dwi: st.dw[i][0],
-                    di: st.d[i][0],
-                    wiv: wv[i],
-                    dwiv: dwv[i],
-                    row,
-                };
-                term(&mut row_nodes[i], w);
+                term(&mut row_nodes[i], first.weights(st, i, row));
             }
         }
     }
 }
 
-/// What a gather sums over a particle's stencil from a node field f (and a second field g):
-/// the walks compute the sums asked for and leave the others zero.
+/// [`scatter`] over two node arrays laid out alike, `nodes` and `second`: calls
+/// `term(n, s, w)` for every node of the stencil with weight, in one walk (the same rows,
+/// nodes and [`Weights`] as two scatters, so the same sums bit for bit).
+#[inline(always)]
+pub fn scatter_pair<D: Dim, K: Kernel<S>, const S: usize, N, M>(
+    nodes: &mut [N],
+    second: &mut [M],
+    at: &At<S>,
+    mut term: impl FnMut(&mut N, &mut M, Weights<D>),
+) {
+    let p = row_length::<D, S>();
+    let st = &at.st;
+    let nodes = &mut nodes[at.origin..][..span::<D, S>()];
+    let second = &mut second[at.origin..][..span::<D, S>()];
+    let first = FirstAxis::<D, S>::of(st);
+    for k in 0..nodes_along::<D, K, S>(st, 2) {
+        for j in 0..nodes_along::<D, K, S>(st, 1) {
+            let base = j * p + k * p * p;
+            let row = Row::at::<D, S>(st, j, k);
+            let (row_nodes, row_second) = (&mut nodes[base..base + S], &mut second[base..base + S]);
+            for i in 0..nodes_along::<D, K, S>(st, 0) {
+                term(
+                    &mut row_nodes[i],
+                    &mut row_second[i],
+                    first.weights(st, i, row),
+                );
+            }
+        }
+    }
+}
+
+/// [`scatter`]'s walk over the stencil `st` on the nodes' owners: calls `term(n, w)` for every
+/// node with weight that `grid` allocated, n its storage index in the block that owns it (not
+/// a padded block's halo copy). For a pass over a few particles that reads and adds to the
+/// owners directly, with no halo to fill or reduce; each node costs a look-up of its block.
+#[inline(always)]
+pub fn on_owners<D: Dim, K: Kernel<S>, const S: usize>(
+    grid: &Grid<D>,
+    st: &Stencil<S>,
+    mut term: impl FnMut(usize, Weights<D>),
+) {
+    let first = FirstAxis::<D, S>::of(st);
+    let b = st.base;
+    for k in 0..nodes_along::<D, K, S>(st, 2) {
+        let bk = if D::DIM == 3 { b[2] + k as i32 } else { 0 };
+        for j in 0..nodes_along::<D, K, S>(st, 1) {
+            let row = Row::at::<D, S>(st, j, k);
+            for i in 0..nodes_along::<D, K, S>(st, 0) {
+                if let Some(n) = grid.node_index([b[0] + i as i32, b[1] + j as i32, bk]) {
+                    term(n, first.weights(st, i, row));
+                }
+            }
+        }
+    }
+}
+
+/// One node field f_i that a pass sums over a particle's stencil, with the sums it asks for:
+/// (`VALUE`) Σ_i w_ip f_i, (`GRADIENT`) Σ_i f_i ⊗ ∇w_ip and (`MOMENT`) Σ_i w_ip f_i ⊗ d_i, d_i
+/// the node's offset from the particle in cells. A field that asks for none is not summed. A
+/// pass states the fields of a node in the closure it hands to [`gather`], a tuple of these.
 #[derive(Clone, Copy)]
-pub struct Sums<D: Dim> {
+pub struct Field<D: Dim, const VALUE: bool, const GRADIENT: bool, const MOMENT: bool>(
+    pub D::Vector,
+);
+
+/// A field's sums over the stencil, as [`gather`] returns them (those not asked for zero).
+#[derive(Clone, Copy)]
+pub struct FieldSums<D: Dim> {
     /// Σ_i w_ip f_i.
     pub value: D::Vector,
-    /// Σ_i w_ip g_i (`value` again when g was not asked for).
-    pub second: D::Vector,
     /// Σ_i f_i ⊗ ∇w_ip.
     pub gradient: D::Grad,
-    /// Σ_i w_ip f_i ⊗ d_i, with d_i the node's offset from the particle in cells.
+    /// Σ_i w_ip f_i ⊗ d_i.
     pub moment: D::Grad,
 }
 
-/// The [`Sums`] over the stencil at `at` of the node fields `f` and (`SECOND`) `g`, with
-/// (`GRADIENT`) the gradient and (`MOMENT`) the moment of f. In 2D without the moment this is
+/// A field's sums along one stencil row (first-axis factors only): Σ_i w_i f_i, Σ_i w'_i f_i
+/// and Σ_i w_i d_i f_i.
+#[derive(Clone, Copy)]
+pub struct FieldRow<D: Dim> {
+    n: D::Vector,
+    d: D::Vector,
+    x: D::Vector,
+}
+
+/// A field's sums while the walk goes: the value, and the gradient's and moment's columns.
+#[derive(Clone, Copy)]
+pub struct FieldAcc<D: Dim> {
+    value: D::Vector,
+    c: [D::Vector; 3],
+    b: [D::Vector; 3],
+}
+
+/// A node field with the sums it asks for ([`Field`]).
+pub trait NodeField<D: Dim>: Copy {
+    const VALUE: bool;
+    const GRADIENT: bool;
+    const MOMENT: bool;
+    fn vector(self) -> D::Vector;
+
+    /// Whether any sum of the field is asked for.
+    #[inline(always)]
+    fn summed() -> bool {
+        Self::VALUE || Self::GRADIENT || Self::MOMENT
+    }
+
+    /// Adds the node's terms to the row's sums: the field at first-axis weight `w`,
+    /// derivative `dw` (both as vectors) and offset `d`.
+    #[inline(always)]
+    fn add(self, r: &mut FieldRow<D>, w: D::Vector, dw: D::Vector, d: Real) {
+        if !Self::summed() {
+            return;
+        }
+        let v = self.vector();
+        let vw = v * w;
+        r.n += vw;
+        if Self::MOMENT {
+            r.x += vw * d;
+        }
+        if Self::GRADIENT {
+            r.d += v * dw;
+        }
+    }
+
+    /// Adds a row's sums times the row's factors: w_j w_k for the value, (w_j w_k, w'_j w_k,
+    /// w_j w'_k) for the gradient's columns, w_j w_k (1, d_j, d_k) for the moment's.
+    #[inline(always)]
+    fn fold(r: &FieldRow<D>, s: &mut FieldAcc<D>, row: &Row) {
+        if !Self::summed() {
+            return;
+        }
+        s.value += r.n * row.wjk;
+        if Self::GRADIENT {
+            s.c[0] += r.d * row.wjk;
+            s.c[1] += r.n * row.dwj_wk;
+            if D::DIM == 3 {
+                s.c[2] += r.n * row.wj_dwk;
+            }
+        }
+        if Self::MOMENT {
+            s.b[0] += r.x * row.wjk;
+            s.b[1] += r.n * (row.wjk * row.dj);
+            if D::DIM == 3 {
+                s.b[2] += r.n * (row.wjk * row.dk);
+            }
+        }
+    }
+
+    /// The plain per-node form of [`NodeField::add`] and [`NodeField::fold`]: every sum with
+    /// the node's w_ip, ∇w_ip and d_i as the products they are (the tests' reference).
+    #[cfg(test)]
+    #[inline(always)]
+    fn add_plain(self, s: &mut FieldAcc<D>, w: Real, gw: D::Vector, d: D::Vector) {
+        let v = self.vector();
+        s.value += v * w;
+        for a in 0..D::DIM {
+            s.c[a] += v * gw[a];
+            s.b[a] += v * (w * d[a]);
+        }
+    }
+}
+
+impl<D: Dim, const VALUE: bool, const GRADIENT: bool, const MOMENT: bool> NodeField<D>
+    for Field<D, VALUE, GRADIENT, MOMENT>
+{
+    const VALUE: bool = VALUE;
+    const GRADIENT: bool = GRADIENT;
+    const MOMENT: bool = MOMENT;
+    #[inline(always)]
+    fn vector(self) -> D::Vector {
+        self.0
+    }
+}
+
+impl<D: Dim> FieldRow<D> {
+    const ZERO: Self = FieldRow {
+        n: D::Vector::ZERO,
+        d: D::Vector::ZERO,
+        x: D::Vector::ZERO,
+    };
+}
+
+impl<D: Dim> FieldAcc<D> {
+    const ZERO: Self = FieldAcc {
+        value: D::Vector::ZERO,
+        c: [D::Vector::ZERO; 3],
+        b: [D::Vector::ZERO; 3],
+    };
+    #[inline(always)]
+    fn finish(self) -> FieldSums<D> {
+        FieldSums {
+            value: self.value,
+            gradient: D::from_columns(self.c),
+            moment: D::from_columns(self.b),
+        }
+    }
+}
+
+/// The node fields a pass sums over a stencil: a tuple of [`NodeField`]s, one or more. The
+/// walk sums each field's terms ([`NodeField::add`], [`NodeField::fold`]); a new per-node
+/// quantity is one more field in the pass's tuple.
+pub trait Fields<D: Dim>: Copy {
+    /// One [`FieldSums`] per field, in the tuple's order.
+    type Sums;
+    /// One [`FieldRow`] per field.
+    type Rows: Copy;
+    /// One [`FieldAcc`] per field.
+    type Acc: Copy;
+    const ZERO_ROWS: Self::Rows;
+    const ZERO_ACC: Self::Acc;
+    fn add(self, r: &mut Self::Rows, w: D::Vector, dw: D::Vector, d: Real);
+    fn fold(r: &Self::Rows, s: &mut Self::Acc, row: &Row);
+    fn finish(s: Self::Acc) -> Self::Sums;
+    #[cfg(test)]
+    fn add_plain(self, s: &mut Self::Acc, w: Real, gw: D::Vector, d: D::Vector);
+
+    /// The sums of the fields `f` gives the stencil's `nodes` (from its first): the row walk
+    /// [`gather_rows`], or a packing specialisation of it.
+    #[inline(always)]
+    fn walk<K: Kernel<S>, const S: usize>(
+        nodes: &[Node<D::Vector>],
+        st: &Stencil<S>,
+        f: impl Fn(&Node<D::Vector>) -> Self,
+    ) -> Self::Sums {
+        gather_rows::<D, K, S, Self>(nodes, st, f)
+    }
+}
+
+macro_rules! fields_tuple {
+    ($($F:ident $i:tt),+; $($walk:item)?) => {
+        impl<D: Dim, $($F: NodeField<D>),+> Fields<D> for ($($F,)+) {
+            type Sums = ($(fields_tuple!(@as $F FieldSums<D>),)+);
+            type Rows = ($(fields_tuple!(@as $F FieldRow<D>),)+);
+            type Acc = ($(fields_tuple!(@as $F FieldAcc<D>),)+);
+            const ZERO_ROWS: Self::Rows = ($(fields_tuple!(@as $F FieldRow::<D>::ZERO),)+);
+            const ZERO_ACC: Self::Acc = ($(fields_tuple!(@as $F FieldAcc::<D>::ZERO),)+);
+            #[inline(always)]
+            fn add(self, r: &mut Self::Rows, w: D::Vector, dw: D::Vector, d: Real) {
+                $(self.$i.add(&mut r.$i, w, dw, d);)+
+            }
+            #[inline(always)]
+            fn fold(r: &Self::Rows, s: &mut Self::Acc, row: &Row) {
+                $($F::fold(&r.$i, &mut s.$i, row);)+
+            }
+            #[inline(always)]
+            fn finish(s: Self::Acc) -> Self::Sums {
+                ($(s.$i.finish(),)+)
+            }
+            #[cfg(test)]
+            #[inline(always)]
+            fn add_plain(self, s: &mut Self::Acc, w: Real, gw: D::Vector, d: D::Vector) {
+                $(self.$i.add_plain(&mut s.$i, w, gw, d);)+
+            }
+            $($walk)?
+        }
+    };
+    (@as $F:ident $($t:tt)*) => { $($t)* };
+}
+
+fields_tuple!(A 0; );
+fields_tuple!(A 0, B 1, C 2; );
+fields_tuple!(A 0, B 1, C 2, E 3; );
+// Two fields in 2D, the second asking for its value at most and the first for no moment:
+// the packing specialisations.
+fields_tuple!(A 0, B 1;
+    #[inline(always)]
+    fn walk<K: Kernel<S>, const S: usize>(
+        nodes: &[Node<D::Vector>],
+        st: &Stencil<S>,
+        f: impl Fn(&Node<D::Vector>) -> Self,
+    ) -> Self::Sums {
+        if D::DIM == 2 && A::VALUE && !A::MOMENT && !B::GRADIENT && !B::MOMENT {
+            if A::GRADIENT {
+                gather_rows_packed_2d::<D, K, S, A, B>(nodes, st, f)
+            } else {
+                gather_values_packed_2d::<D, K, S, A, B>(nodes, st, f)
+            }
+        } else {
+            gather_rows::<D, K, S, Self>(nodes, st, f)
+        }
+    }
+);
+
+/// The sums of the node fields `f` states ([`Fields`]) over the stencil at `at`. With two
+/// fields in 2D, the first without its moment and the second with its value alone, this is
 /// [`gather_rows_packed_2d`] or, without the gradient either, [`gather_values_packed_2d`];
 /// else [`gather_rows`].
 #[inline(always)]
-pub fn gather<
-    D: Dim,
-    K: Kernel<S>,
-    const S: usize,
-    const SECOND: bool,
-    const GRADIENT: bool,
-    const MOMENT: bool,
->(
+pub fn gather<D: Dim, K: Kernel<S>, const S: usize, F: Fields<D>>(
     nodes: &[Node<D::Vector>],
     at: &At<S>,
-    f: impl Fn(&Node<D::Vector>) -> D::Vector,
-    g: impl Fn(&Node<D::Vector>) -> D::Vector,
-) -> Sums<D> {
-    let (nodes, st) = (at.nodes::<D>(nodes), &at.st);
-    if D::DIM == 2 && !MOMENT {
-        if GRADIENT {
-            gather_rows_packed_2d::<D, K, S, SECOND>(nodes, st, f, g)
-        } else {
-            gather_values_packed_2d::<D, K, S, SECOND>(nodes, st, f, g)
-        }
-    } else {
-        gather_rows::<D, K, S, SECOND, GRADIENT, MOMENT>(nodes, st, f, g)
-    }
+    f: impl Fn(&Node<D::Vector>) -> F,
+) -> F::Sums {
+    F::walk::<K, S>(at.nodes::<D>(nodes), &at.st, f)
 }
 
 /// The gradient Σ_i f_i ⊗ ∇w_ip of the node field `f` at `at`: in 2D
@@ -383,103 +673,77 @@ pub fn gradient<D: Dim, K: Kernel<S>, const S: usize>(
     if D::DIM == 2 {
         gradient_packed_2d::<D, K, S>(nodes, st, f)
     } else {
-        gather_rows::<D, K, S, false, true, false>(nodes, st, &f, &f).gradient
+        let (l,) =
+            gather_rows::<D, K, S, _>(nodes, st, |n| (Field::<D, false, true, false>(f(n)),));
+        l.gradient
     }
 }
 
 /// [`gather`] row by row, for the stencil's `nodes` (from its first), in any dimension: along
-/// a row Σ_i w_i f_i, Σ_i w_i g_i, Σ_i w'_i f_i and Σ_i w_i d_i f_i, then the row's factors.
+/// a row each field's Σ_i w_i f_i, Σ_i w'_i f_i and Σ_i w_i d_i f_i ([`NodeField::add`]),
+/// then the row's factors ([`NodeField::fold`]).
 #[inline(always)]
-pub fn gather_rows<
-    D: Dim,
-    K: Kernel<S>,
-    const S: usize,
-    const SECOND: bool,
-    const GRADIENT: bool,
-    const MOMENT: bool,
->(
+pub fn gather_rows<D: Dim, K: Kernel<S>, const S: usize, F: Fields<D>>(
     nodes: &[Node<D::Vector>],
     st: &Stencil<S>,
-    f: impl Fn(&Node<D::Vector>) -> D::Vector,
-    g: impl Fn(&Node<D::Vector>) -> D::Vector,
-) -> Sums<D> {
+    f: impl Fn(&Node<D::Vector>) -> F,
+) -> F::Sums {
     let p = row_length::<D, S>();
     let nodes = &nodes[..span::<D, S>()];
-    let (mut value, mut second) = (D::Vector::ZERO, D::Vector::ZERO);
-    let mut c = [D::Vector::ZERO; 3];
-    let mut b = [D::Vector::ZERO; 3];
+    let mut acc = F::ZERO_ACC;
     // The first axis's weights as vectors, once.
     let w: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.w[i][0]));
     let dw: [D::Vector; S] = std::array::from_fn(|i| D::Vector::splat(st.dw[i][0]));
     for k in 0..nodes_along::<D, K, S>(st, 2) {
         let (wk, dwk) = third_axis::<D, S>(st, k);
+        let dk = if D::DIM == 3 { st.d[k][2] } else { 0.0 };
         for j in 0..nodes_along::<D, K, S>(st, 1) {
             let base = j * p + k * p * p;
             let row = &nodes[base..base + S];
-            let (mut rn, mut ro, mut rd) = (D::Vector::ZERO, D::Vector::ZERO, D::Vector::ZERO);
-            let mut rx = D::Vector::ZERO;
+            let mut r = F::ZERO_ROWS;
             for i in 0..nodes_along::<D, K, S>(st, 0) {
-                let v = f(&row[i]);
-                let vw = v * w[i];
-                rn += vw;
-                if MOMENT {
-                    rx += vw * st.d[i][0];
-                }
-                if SECOND {
-                    ro += g(&row[i]) * w[i];
-                }
-                if GRADIENT {
-                    rd += v * dw[i];
-                }
+                f(&row[i]).add(&mut r, w[i], dw[i], st.d[i][0]);
             }
-            let wjk = st.w[j][1] * wk;
-            value += rn * wjk;
-            second += ro * wjk;
-            if GRADIENT {
-                c[0] += rd * wjk;
-                c[1] += rn * (st.dw[j][1] * wk);
-                if D::DIM == 3 {
-                    c[2] += rn * (st.w[j][1] * dwk);
-                }
-            }
-            if MOMENT {
-                b[0] += rx * wjk;
-                b[1] += rn * (wjk * st.d[j][1]);
-                if D::DIM == 3 {
-                    b[2] += rn * (wjk * st.d[k][2]);
-                }
-            }
+            let factors = Row {
+                wjk: st.w[j][1] * wk,
+                dwj_wk: st.dw[j][1] * wk,
+                wj_dwk: st.w[j][1] * dwk,
+                dj: st.d[j][1],
+                dk,
+            };
+            F::fold(&r, &mut acc, &factors);
         }
     }
-    Sums {
-        value,
-        second: if SECOND { second } else { value },
-        gradient: D::from_columns(c),
-        moment: D::from_columns(b),
-    }
+    F::finish(acc)
 }
 
-/// [`gather_rows`] in 2D without the moment, packing specialisation: along a row,
-/// (f w_i, g w_i) — or without g, (f w_i, f w'_i) — in one `Vec4`, then the two gradient
-/// columns (Σ_i w'_i f_i) w_j and (Σ_i w_i f_i) w'_j side by side in another.
+/// [`gather_rows`] in 2D for two fields, the first (f) without its moment, the second (g)
+/// with its value at most, packing specialisation: along a row, (f w_i, g w_i) — or without
+/// g, (f w_i, f w'_i) — in one `Vec4`, then the two gradient columns (Σ_i w'_i f_i) w_j and
+/// (Σ_i w_i f_i) w'_j side by side in another.
 #[inline(always)]
-pub fn gather_rows_packed_2d<D: Dim, K: Kernel<S>, const S: usize, const SECOND: bool>(
+pub fn gather_rows_packed_2d<D: Dim, K: Kernel<S>, const S: usize, A, B>(
     nodes: &[Node<D::Vector>],
     st: &Stencil<S>,
-    f: impl Fn(&Node<D::Vector>) -> D::Vector,
-    g: impl Fn(&Node<D::Vector>) -> D::Vector,
-) -> Sums<D> {
-    debug_assert_eq!(D::DIM, 2);
+    f: impl Fn(&Node<D::Vector>) -> (A, B),
+) -> (FieldSums<D>, FieldSums<D>)
+where
+    A: NodeField<D>,
+    B: NodeField<D>,
+{
+    debug_assert!(D::DIM == 2 && !A::MOMENT && !B::GRADIENT && !B::MOMENT);
+    let second = B::VALUE;
     let p = row_length::<D, S>();
     let nodes = &nodes[..span::<D, S>()];
     let (mut vel, mut grad) = (Vec4::ZERO, Vec4::ZERO);
     for j in 0..nodes_along::<D, K, S>(st, 1) {
         let row = &nodes[j * p..j * p + S];
         // rn: Σ_i w_i f_i, rd: Σ_i w'_i f_i, ro: Σ_i w_i g_i.
-        let (rn, rd, ro) = if SECOND {
+        let (rn, rd, ro) = if second {
             let (mut rv, mut rd) = (Vec4::ZERO, Vec2::ZERO);
             for i in 0..nodes_along::<D, K, S>(st, 0) {
-                let (n, o) = (f(&row[i]), g(&row[i]));
+                let (n, o) = f(&row[i]);
+                let (n, o) = (n.vector(), o.vector());
                 rv += Vec4::new(n[0], n[1], o[0], o[1]) * st.w[i][0];
                 rd += Vec2::new(n[0], n[1]) * st.dw[i][0];
             }
@@ -487,7 +751,7 @@ pub fn gather_rows_packed_2d<D: Dim, K: Kernel<S>, const S: usize, const SECOND:
         } else {
             let mut r = Vec4::ZERO;
             for i in 0..nodes_along::<D, K, S>(st, 0) {
-                let n = f(&row[i]);
+                let n = f(&row[i]).0.vector();
                 r += Vec4::new(n[0], n[1], n[0], n[1])
                     * Vec4::new(st.w[i][0], st.w[i][0], st.dw[i][0], st.dw[i][0]);
             }
@@ -498,53 +762,65 @@ pub fn gather_rows_packed_2d<D: Dim, K: Kernel<S>, const S: usize, const SECOND:
         grad += Vec4::new(rd.x, rd.y, rn.x, rn.y)
             * Vec4::new(st.w[j][1], st.w[j][1], st.dw[j][1], st.dw[j][1]);
     }
-    let value = D::vector([vel.x, vel.y, 0.0]);
-    Sums {
-        value,
-        second: if SECOND {
-            D::vector([vel.z, vel.w, 0.0])
-        } else {
-            value
+    let gradient = D::from_columns([
+        D::vector([grad.x, grad.y, 0.0]),
+        D::vector([grad.z, grad.w, 0.0]),
+        D::Vector::ZERO,
+    ]);
+    (
+        FieldSums {
+            value: D::vector([vel.x, vel.y, 0.0]),
+            gradient: if A::GRADIENT { gradient } else { D::GRAD_ZERO },
+            moment: D::GRAD_ZERO,
         },
-        gradient: D::from_columns([
-            D::vector([grad.x, grad.y, 0.0]),
-            D::vector([grad.z, grad.w, 0.0]),
-            D::Vector::ZERO,
-        ]),
-        moment: D::GRAD_ZERO,
-    }
+        FieldSums {
+            value: if second {
+                D::vector([vel.z, vel.w, 0.0])
+            } else {
+                D::Vector::ZERO
+            },
+            gradient: D::GRAD_ZERO,
+            moment: D::GRAD_ZERO,
+        },
+    )
 }
 
-/// [`gather_rows`] in 2D for the values alone, packing specialisation: f and g side by side
-/// in one `Vec4`.
+/// [`gather_rows`] in 2D for the values alone of two fields, packing specialisation: f and g
+/// side by side in one `Vec4`.
 #[inline(always)]
-pub fn gather_values_packed_2d<D: Dim, K: Kernel<S>, const S: usize, const SECOND: bool>(
+pub fn gather_values_packed_2d<D: Dim, K: Kernel<S>, const S: usize, A, B>(
     nodes: &[Node<D::Vector>],
     st: &Stencil<S>,
-    f: impl Fn(&Node<D::Vector>) -> D::Vector,
-    g: impl Fn(&Node<D::Vector>) -> D::Vector,
-) -> Sums<D> {
-    debug_assert_eq!(D::DIM, 2);
+    f: impl Fn(&Node<D::Vector>) -> (A, B),
+) -> (FieldSums<D>, FieldSums<D>)
+where
+    A: NodeField<D>,
+    B: NodeField<D>,
+{
+    debug_assert!(D::DIM == 2 && !A::MOMENT && !A::GRADIENT && !B::GRADIENT && !B::MOMENT);
     let p = row_length::<D, S>();
     let nodes = &nodes[..span::<D, S>()];
     let acc = sum_from_first(nodes_along::<D, K, S>(st, 1), |j| {
         let row = &nodes[j * p..j * p + S];
         sum_from_first(nodes_along::<D, K, S>(st, 0), |i| {
-            let (n, o) = (f(&row[i]), g(&row[i]));
+            let (n, o) = f(&row[i]);
+            let (n, o) = (n.vector(), o.vector());
             Vec4::new(n[0], n[1], o[0], o[1]) * st.w[i][0]
         }) * st.w[j][1]
     });
-    let value = D::vector([acc.x, acc.y, 0.0]);
-    Sums {
-        value,
-        second: if SECOND {
-            D::vector([acc.z, acc.w, 0.0])
-        } else {
-            value
-        },
+    let value = |v: D::Vector| FieldSums {
+        value: v,
         gradient: D::GRAD_ZERO,
         moment: D::GRAD_ZERO,
-    }
+    };
+    (
+        value(D::vector([acc.x, acc.y, 0.0])),
+        value(if B::VALUE {
+            D::vector([acc.z, acc.w, 0.0])
+        } else {
+            D::Vector::ZERO
+        }),
+    )
 }
 
 /// The gradient of [`gather_rows`] in 2D, packing specialisation: both columns in one `Vec4`,
@@ -807,30 +1083,15 @@ pub(crate) mod plain {
         }
     }
 
-    /// The plain [`super::gather`], every sum asked for.
-    pub fn gather<D: Dim, const S: usize>(
+    /// The plain [`super::gather`]: every sum of every field, node by node.
+    pub fn gather<D: Dim, const S: usize, F: Fields<D>>(
         nodes: &[Node<D::Vector>],
         st: &Stencil<S>,
-        f: impl Fn(&Node<D::Vector>) -> D::Vector,
-        g: impl Fn(&Node<D::Vector>) -> D::Vector,
-    ) -> Sums<D> {
-        let (mut value, mut second) = (D::Vector::ZERO, D::Vector::ZERO);
-        let (mut c, mut b) = ([D::Vector::ZERO; 3], [D::Vector::ZERO; 3]);
-        for_each_node::<D, S>(st, |n, w, gw, d| {
-            let v = f(&nodes[n]);
-            value += v * w;
-            second += g(&nodes[n]) * w;
-            for a in 0..D::DIM {
-                c[a] += v * gw[a];
-                b[a] += v * (w * d[a]);
-            }
-        });
-        Sums {
-            value,
-            second,
-            gradient: D::from_columns(c),
-            moment: D::from_columns(b),
-        }
+        f: impl Fn(&Node<D::Vector>) -> F,
+    ) -> F::Sums {
+        let mut acc = F::ZERO_ACC;
+        for_each_node::<D, S>(st, |n, w, gw, d| f(&nodes[n]).add_plain(&mut acc, w, gw, d));
+        F::finish(acc)
     }
 }
 
@@ -872,7 +1133,7 @@ mod tests {
 
     /// Terms stated with the walk's [`Weights`] add to the nodes what the same terms as plain
     /// per-node products add, up to rounding: m_i += w_ip m, (mv)_i += w_ip (mv + A d_i),
-    /// f_i += F ∇w_ip, ∇m_i += m ∇w_ip.
+    /// f_i += F ∇w_ip, ∇m_i += m ∇w_ip; [`scatter_pair`] adds exactly what two scatters add.
     fn scatter_matches_plain<D: Dim, K: Kernel<S>, const S: usize>() {
         let (nodes, stencils) = random_stencils::<D, K, S>(40, row_length::<D, S>());
         let mut seed = 3;
@@ -880,6 +1141,7 @@ mod tests {
             let (mut rows, mut plain) = (nodes.clone(), nodes.clone());
             let mut g_rows = vec![D::Vector::ZERO; nodes.len()];
             let mut g_plain = g_rows.clone();
+            let (mut pair, mut g_pair) = (nodes.clone(), g_rows.clone());
             for st in &stencils {
                 let (m, mv, a, f) = share::<D>(&mut seed, affine, force);
                 let at = At { st: *st, origin: 0 };
@@ -900,6 +1162,15 @@ mod tests {
                     }
                 });
                 scatter::<D, K, S, _>(&mut g_rows, &at, |g, w| *g += w.gradient() * m);
+                // The same terms in one walk over both fields: the same sums, bit for bit.
+                scatter_pair::<D, K, S, _, _>(&mut pair, &mut g_pair, &at, |n, g, w| {
+                    let p = columns.map_or(mv, |c| w.plus_offset(mv, c));
+                    n.vm += p.with_mass(m) * w.value();
+                    if let Some(f) = f {
+                        n.new_vel += w.gradient_times(f);
+                    }
+                    *g += w.gradient() * m;
+                });
                 plain::for_each_node::<D, S>(st, |n, w, gw, d| {
                     let mut p = mv;
                     if let Some(a) = a {
@@ -916,6 +1187,11 @@ mod tests {
                         }
                     }
                 });
+            }
+            for (n, (x, y)) in rows.iter().zip(&pair).enumerate() {
+                let bits = |n: &Node<D::Vector>| format!("{:?} {:?}", n.vm, n.new_vel);
+                assert!(bits(x) == bits(y), "pair walk, node {n}");
+                assert!(g_rows[n] == g_pair[n], "pair walk, ∇m {n}");
             }
             for (n, (x, y)) in rows.iter().zip(&plain).enumerate() {
                 assert!(same_mass(x, y), "momentum at node {n}");
@@ -934,6 +1210,54 @@ mod tests {
         scatter_matches_plain::<D3, Gimp, 3>();
     }
 
+    /// The walk on the owners hands each allocated node of a stencil the weight and gradient
+    /// the plain per-node products give it, at the node's owner: Σ w_ip and Σ ∇w_ip summed at
+    /// each owner agree up to rounding, and the walk reaches every node with weight.
+    fn owners_match_plain<D: Dim, K: Kernel<S>, const S: usize>() {
+        let (_, stencils) = random_stencils::<D, K, S>(30, row_length::<D, S>());
+        let mut grid = Grid::<D>::default();
+        grid.rebuild(stencils.len(), S, |q| stencils[q].base);
+        let p = row_length::<D, S>();
+        let zero = (0.0, D::Vector::ZERO);
+        let (mut walked, mut plain) = (vec![zero; grid.nodes.len()], vec![zero; grid.nodes.len()]);
+        for st in &stencils {
+            on_owners::<D, K, S>(&grid, st, |n, w| {
+                walked[n].0 += w.value();
+                walked[n].1 += w.gradient();
+            });
+            plain::for_each_node::<D, S>(st, |local, w, g, _| {
+                let (i, j, k) = (local % p, local / p % p, local / (p * p));
+                let b = st.base;
+                let node = [b[0] + i as i32, b[1] + j as i32, b[2] + k as i32];
+                let n = grid
+                    .node_index(node)
+                    .expect("the stencil's blocks are allocated");
+                plain[n].0 += w;
+                plain[n].1 += g;
+            });
+        }
+        for (n, (a, b)) in walked.iter().zip(&plain).enumerate() {
+            assert!(
+                (a.0 - b.0).abs() <= 1e-5 * (1.0 + b.0.abs()),
+                "w at node {n}"
+            );
+            assert!(near(a.1, b.1, b.1.length()), "∇w at node {n}");
+        }
+        assert!(
+            plain.iter().any(|x| x.0 > 0.0),
+            "the stencils reach allocated nodes"
+        );
+    }
+
+    #[test]
+    fn the_walk_on_owners_hands_each_owner_its_plain_weights() {
+        owners_match_plain::<D2, Linear, 2>();
+        owners_match_plain::<D2, QuadraticBspline, 3>();
+        owners_match_plain::<D2, Gimp, 3>();
+        owners_match_plain::<D3, Linear, 2>();
+        owners_match_plain::<D3, Gimp, 3>();
+    }
+
     /// Whether two gradients agree up to rounding, column by column.
     fn near_grad<D: Dim>(a: D::Grad, b: D::Grad) -> bool {
         (0..D::DIM).all(|c| {
@@ -947,47 +1271,100 @@ mod tests {
         (0..D::DIM).all(|c| D::column(&a, c) == D::column(&b, c))
     }
 
-    /// The row walk, with every sum and with each alone, and in 2D its packing
-    /// specialisations, sum what the plain per-node sums do, up to rounding.
+    /// Whether a field's sums agree with the plain ones up to rounding, those asked for
+    /// (`value`, `gradient`, `moment`) and the others zero.
+    fn near_sums<D: Dim>(s: &FieldSums<D>, plain: &FieldSums<D>, asked: [bool; 3]) -> bool {
+        let zero = |g: &D::Grad| same_grad::<D>(*g, D::GRAD_ZERO);
+        (if asked[0] {
+            near(s.value, plain.value, plain.value.length())
+        } else {
+            s.value == D::Vector::ZERO
+        }) && (if asked[1] {
+            near_grad::<D>(s.gradient, plain.gradient)
+        } else {
+            zero(&s.gradient)
+        }) && (if asked[2] {
+            near_grad::<D>(s.moment, plain.moment)
+        } else {
+            zero(&s.moment)
+        })
+    }
+
+    /// The walks, as a pass calls them ([`gather`]: the row walk, and in 2D its packing
+    /// specialisations) and as [`gather_rows`], sum each field's asked-for terms as the plain
+    /// per-node sums do, up to rounding, with any number of fields: the gather pass's two
+    /// (v_i^{n+1} with its gradient and moment as asked, v_i^n's value or nothing) and a third.
     fn gather_matches_plain<D: Dim, K: Kernel<S>, const S: usize>() {
+        type V<D> = <D as Dim>::Vector;
         let (nodes, stencils) = random_stencils::<D, K, S>(50, row_length::<D, S>());
-        let (f, g) = (
-            |n: &Node<D::Vector>| n.new_vel,
-            |n: &Node<D::Vector>| n.vel(),
-        );
         for st in &stencils {
-            let plain = plain::gather::<D, S>(&nodes, st, f, g);
-            let all = gather_rows::<D, K, S, true, true, true>(&nodes, st, f, g);
-            let pic = gather_rows::<D, K, S, false, false, false>(&nodes, st, f, g);
-            let grad = gather_rows::<D, K, S, false, true, false>(&nodes, st, f, g);
-            let moment = gather_rows::<D, K, S, false, false, true>(&nodes, st, f, g);
-            let scale = plain.value.length();
-            assert!(near(all.value, plain.value, scale) && pic.value == all.value);
-            assert!(near(all.second, plain.second, plain.second.length()));
-            assert!(pic.second == pic.value, "without g, the value twice");
-            assert!(
-                near_grad::<D>(all.gradient, plain.gradient)
-                    && same_grad::<D>(grad.gradient, all.gradient)
-            );
-            assert!(
-                near_grad::<D>(all.moment, plain.moment)
-                    && same_grad::<D>(moment.moment, all.moment)
-            );
-            if D::DIM == 2 {
-                let rows = gather_rows_packed_2d::<D, K, S, true>(&nodes, st, f, g);
-                let rows_pic = gather_rows_packed_2d::<D, K, S, false>(&nodes, st, f, g);
-                let values = gather_values_packed_2d::<D, K, S, true>(&nodes, st, f, g);
-                let l = gradient_packed_2d::<D, K, S>(&nodes, st, f);
-                for s in [rows, rows_pic, values] {
-                    assert!(near(s.value, plain.value, scale));
-                }
-                assert!(rows_pic.second == rows_pic.value);
-                assert!(near(rows.second, plain.second, plain.second.length()));
-                assert!(near(values.second, plain.second, plain.second.length()));
-                for l in [rows.gradient, rows_pic.gradient, l] {
-                    assert!(near_grad::<D>(l, plain.gradient));
-                }
+            let at = At { st: *st, origin: 0 };
+            let (new, old) = plain::gather::<D, S, _>(&nodes, st, |n| {
+                (
+                    Field::<D, true, true, true>(n.new_vel),
+                    Field::<D, true, true, true>(n.vel()),
+                )
+            });
+            // Every combination the gather pass asks for: (gradient, moment, old velocity).
+            macro_rules! pass {
+                ($g:literal, $m:literal, $o:literal) => {{
+                    let f = |n: &Node<V<D>>| {
+                        (
+                            Field::<D, true, $g, $m>(n.new_vel),
+                            Field::<D, $o, false, false>(n.vel()),
+                        )
+                    };
+                    let (a, b) = gather::<D, K, S, _>(&nodes, &at, f);
+                    assert!(
+                        near_sums(&a, &new, [true, $g, $m]),
+                        "v^(n+1) {:?}",
+                        ($g, $m, $o)
+                    );
+                    assert!(
+                        near_sums(&b, &old, [$o, false, false]),
+                        "v^n {:?}",
+                        ($g, $m, $o)
+                    );
+                    // The row walk itself: each sum the same, bit for bit, with or without
+                    // the others.
+                    let (r, _) = gather_rows::<D, K, S, _>(&nodes, st, f);
+                    let (all,) = gather_rows::<D, K, S, _>(&nodes, st, |n: &Node<V<D>>| {
+                        (Field::<D, true, true, true>(n.new_vel),)
+                    });
+                    assert!(r.value == all.value);
+                    assert!(!$g || same_grad::<D>(r.gradient, all.gradient));
+                    assert!(!$m || same_grad::<D>(r.moment, all.moment));
+                }};
             }
+            pass!(false, false, false);
+            pass!(false, false, true);
+            pass!(true, false, false);
+            pass!(true, false, true);
+            pass!(false, true, false);
+            pass!(false, true, true);
+            pass!(true, true, false);
+            pass!(true, true, true);
+            // The gradient walk (in 2D its packing specialisation).
+            let l = gradient::<D, K, S>(&nodes, &at, |n| n.vel());
+            assert!(near_grad::<D>(l, old.gradient));
+            // A third field needs no change to the walks.
+            let (plain3, _, _) = plain::gather::<D, S, _>(&nodes, st, |n| {
+                (
+                    Field::<D, true, true, true>(n.new_vel - n.vel()),
+                    Field::<D, false, false, false>(n.vel()),
+                    Field::<D, false, false, false>(n.vel()),
+                )
+            });
+            let (a, b, c) = gather::<D, K, S, _>(&nodes, &at, |n| {
+                (
+                    Field::<D, true, true, false>(n.new_vel),
+                    Field::<D, true, false, false>(n.vel()),
+                    Field::<D, true, true, true>(n.new_vel - n.vel()),
+                )
+            });
+            assert!(near_sums(&a, &new, [true, true, false]));
+            assert!(near_sums(&b, &old, [true, false, false]));
+            assert!(near_sums(&c, &plain3, [true, true, true]));
         }
     }
 
