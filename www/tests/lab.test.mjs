@@ -1,0 +1,76 @@
+// The soil lab on the page, in headless Chromium (Debian's package through playwright-core):
+// the Lab button opens it; a shear-box run at σ_n = 10 kPa plots τ–δ and the lid's rise from
+// the solver's readings, its normal stress is the lid's weight over its length (the slider's
+// value within 2 %), and it adds a failure point; a second run at 20 kPa reads a larger peak τ,
+// and the page fits the envelope of the two (the read-back φ and c are `fitEnvelope` of the
+// recorded failures) and says why the shear box and the biaxial test read different angles,
+// quoting Davis's 26.6° for φ = 30°, ψ = 0; a biaxial run plots q–ε_a and ε_v–ε_a and adds a
+// failure circle. Served by `cargo xtask test` (MPM_URL).
+//
+//   MPM_URL=http://127.0.0.1:8080/ node --test www/tests/lab.test.mjs
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { mkdirSync } from 'node:fs';
+import { join } from 'node:path';
+import { launch, openPage } from './browser.mjs';
+
+const URL_ROOT = process.env.MPM_URL || 'http://127.0.0.1:8080/';
+const OUT = process.env.MPM_OUT || 'target/e2e';
+mkdirSync(OUT, { recursive: true });
+
+let browser;
+before(async () => { browser = await launch(); });
+after(async () => { await browser?.close(); });
+
+/// Sets the lab's sliders and runs one test to its end; returns the lab's state after it.
+const runTest = async (page, test, load) => {
+  await page.selectOption('#lab-test', test);
+  await page.evaluate((v) => { const e = document.getElementById('lab-load'); e.value = v; e.dispatchEvent(new Event('input')); }, String(load));
+  const before = await page.evaluate(() => mpmLab.runs.length);
+  await page.click('#lab-run');
+  await page.waitForFunction((n) => mpmLab.runs.length > n && !mpmLab.running, before, { timeout: 300_000 });
+  return page.evaluate(() => ({
+    runs: mpmLab.runs, readings: mpmLab.readings, fits: mpmLab.fits, speed: mpmLab.speed,
+    fit: document.getElementById('lab-fit').textContent, why: document.getElementById('lab-why').textContent,
+    status: document.getElementById('lab-status').textContent,
+  }));
+};
+
+test('the lab runs two shear boxes, fits their envelope and says why the tests differ', { timeout: 900_000 }, async () => {
+  const { page, errors } = await openPage(browser.context, URL_ROOT);
+  assert.equal(await page.isVisible('#lab'), false);
+  await page.click('#lab-open');
+  assert.equal(await page.isVisible('#lab'), true);
+
+  const first = await runTest(page, 'shear_box', 10);
+  console.log(`shear box at 10 kPa: ${first.status}`);
+  assert.ok(first.readings.length > 100, `${first.readings.length} readings`);
+  const sn = first.readings.at(-1).normal_stress;
+  assert.ok(Math.abs(sn / 10e3 - 1) < 0.02, `σ_n read ${sn} Pa against the slider's 10 kPa`);
+  assert.ok(first.readings.some((r) => r.shear_stress > 0), 'the sample resists the shear');
+  assert.equal(first.runs.length, 1);
+  assert.equal(first.fits.shear_box, null, 'one run fixes no envelope');
+
+  const second = await runTest(page, 'shear_box', 20);
+  console.log(`shear box at 20 kPa: ${second.status}`);
+  const [[sn1, t1], [sn2, t2]] = second.runs.map((r) => r.failure);
+  assert.ok(sn2 > sn1 && t2 > t1, `peak τ ${t1} Pa at ${sn1} Pa, ${t2} Pa at ${sn2} Pa`);
+  const fit = second.fits.shear_box;
+  assert.ok(fit, 'two runs fit an envelope');
+  const slope = (t2 - t1) / (sn2 - sn1);
+  assert.ok(Math.abs(fit.friction_angle - (Math.atan(slope) * 180) / Math.PI) < 0.05,
+    `read-back ${fit.friction_angle}° against the two points' slope`);
+  assert.ok(second.fit.includes(`φ read ${fit.friction_angle.toFixed(1)}°`), second.fit);
+  assert.ok(second.why.includes('Davis 1968') && second.why.includes('26.6°'), second.why);
+  await page.screenshot({ path: join(OUT, 'lab-shear-box.png') });
+
+  const biaxial = await runTest(page, 'biaxial', 20);
+  console.log(`biaxial at 20 kPa: ${biaxial.status}`);
+  assert.ok(biaxial.readings.length > 100);
+  assert.ok(biaxial.readings.at(-1).axial_strain > 0, 'the platen compresses the sample');
+  const [s1, s3] = biaxial.runs.at(-1).failure;
+  assert.ok(Math.abs(s3 / 20e3 - 1) < 1e-9 && s1 > s3, `circle σ1 ${s1}, σ3 ${s3}`);
+  await page.screenshot({ path: join(OUT, 'lab-biaxial.png') });
+  assert.deepEqual(errors, []);
+  await page.close();
+});
