@@ -538,7 +538,9 @@ impl LabTest {
     /// returned, as a JSON array (`mpm::lab::ShearReading` or `BiaxialReading` fields).
     pub fn advance(&mut self, span: f64, every: f64) -> Result<String, JsError> {
         if !(span > 0.0 && every > 0.0 && span.is_finite() && every.is_finite()) {
-            return Err(js_err("LabTest.advance: span and every must be finite and > 0"));
+            return Err(js_err(
+                "LabTest.advance: span and every must be finite and > 0",
+            ));
         }
         let sim = &mut self.sim;
         let (out, n) = match &mut self.reader {

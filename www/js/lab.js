@@ -24,8 +24,9 @@ export function sceneFile(test, model) {
 }
 
 /// The test's scene with the sliders' values: the sample's material (`model`, φ, ψ in degrees,
-/// c in Pa) and its load (`load`, Pa: the lid's weight over its length for the shear box, the
-/// confining traction σ3 for the biaxial test). Pure (tested).
+/// c in Pa) and its load (`load`, Pa: for the shear box the normal stress on the shear plane,
+/// the lid's weight and the upper half of the sample's over the box's length; for the biaxial
+/// test the confining traction σ3). Pure.
 export function labScene(base, test, { model, phi, psi, c, load }) {
   const scene = structuredClone(base);
   const sample = scene.bodies[0];
@@ -35,9 +36,12 @@ export function labScene(base, test, { model, phi, psi, c, load }) {
   else delete m.friction_match;
   sample.material = { [model]: m };
   if (test === 'shear_box') {
+    // the shear plane carries the lid and the upper half of the sample (mpm::lab::ShearBox)
+    const { min, max } = sample.shape.box;
+    const half = 0.5 * m.density * G * (max[1] - min[1]);
     const lid = scene.bodies.find((b) => b.name === 'lid');
     const [kind] = Object.keys(lid.material);
-    lid.material[kind].density = load / (G * LID_THICKNESS);
+    lid.material[kind].density = Math.max(0, load - half) / (G * LID_THICKNESS);
   } else {
     sample.traction.pressure = load;
   }
@@ -52,9 +56,10 @@ export function whyDifferent(material, fits) {
     fits.shear_box ? `the shear box reads ${fits.shear_box.friction_angle.toFixed(1)}°` : null,
     fits.biaxial ? `the biaxial test ${fits.biaxial.friction_angle.toFixed(1)}°` : null,
   ].filter(Boolean).join(' and ');
-  return `${read ? `Here ${read}. ` : ''}The shear box forces the sample to slip on a horizontal plane, so it reads`
-    + ` tan φ_ds = sin φ cos ψ / (1 − sin φ sin ψ) (Davis 1968): ${davis.friction_angle.toFixed(1)}° for φ = ${material.phi}°,`
-    + ` ψ = ${material.psi}°; the biaxial test's circles touch the material's own envelope (${own} = ${material.phi}°).`;
+  return `${read ? `Here ${read}. ` : ''}The two tests need not agree: the shear box makes the sample slip on`
+    + ` its horizontal mid-plane, where Davis (1968) puts the ratio τ/σ_n at failure at tan φ_ds = sin φ cos ψ / (1 − sin φ sin ψ),`
+    + ` ${davis.friction_angle.toFixed(1)}° for φ = ${material.phi}°, ψ = ${material.psi}°; the biaxial test's circles touch`
+    + ` the material's own envelope (${own} = ${material.phi}°).`;
 }
 
 /// A line plot of `series` ([{x, y}] readings) on `canvas`.
@@ -82,7 +87,8 @@ const mm = (v) => `${+(v * 1e3).toPrecision(3)}`;
 const pct = (v) => `${+(v * 100).toPrecision(3)}`;
 
 export class Lab {
-  constructor() {
+  constructor(app) {
+    this.app = app;
     this.root = $('lab');
     this.runs = []; // finished tests: {test, failure: [a, b]}
     this.readings = [];
@@ -103,7 +109,12 @@ export class Lab {
     if (location.hash === '#lab') this.open();
   }
 
-  open() { this.root.hidden = false; this.draw(); }
+  /// Opens the lab and pauses the page's own scene (the lab's test has the core to itself).
+  open() {
+    this.app?.setPlaying(false);
+    this.root.hidden = false;
+    this.draw();
+  }
   close() { this.root.hidden = true; this.running = false; }
 
   /// The sliders' material: {model, phi, psi, c (Pa)}.
@@ -209,8 +220,7 @@ export class Lab {
     if (!this.test) return;
     const p = this.test.particles();
     const colours = ['#d9a441', '#6c7a89', '#9aa6b2', '#495057'];
-    const size = this.kind === 'biaxial' ? 0.3 : 0.3;
-    const s = Math.min(w, h * 2) / size;
+    const s = Math.min(w, h) / 0.3; // both scenes' domains are 0.3 m wide
     for (let i = 0; i < p.length; i += 3) {
       ctx.fillStyle = colours[p[i + 2]] ?? '#333';
       ctx.fillRect(p[i] * s, h - p[i + 1] * s - 2, 2.5, 2.5);
@@ -223,7 +233,7 @@ export class Lab {
     const live = this.running && this.kind === 'biaxial' && this.readings.length
       ? [{ test: 'biaxial', failure: [this.readings.at(-1).sigma1, this.readings.at(-1).sigma3], live: true }] : [];
     const runs = [...this.runs, ...live];
-    const sMax = Math.max(1e3, ...runs.map((r) => r.failure[0] * 1.15));
+    const sMax = Math.max(1e3, ...runs.map(({ test, failure: [a, b] }) => 1.15 * (test === 'biaxial' ? a : Math.max(a, b / 0.55))));
     const box = { x0: 56, y0: 8, x1: w - 10, y1: h - 34 };
     const s = Math.min((box.x1 - box.x0) / sMax, (box.y1 - box.y0) / (sMax * 0.6));
     axes(ctx, box, [0, (box.x1 - box.x0) / s], [0, (box.y1 - box.y0) / s], 'normal stress σ (kPa)', 'τ (kPa)', kPa, kPa);

@@ -1,7 +1,7 @@
 // The soil lab on the page, in headless Chromium (Debian's package through playwright-core):
 // the Lab button opens it; a shear-box run at σ_n = 10 kPa plots τ–δ and the lid's rise from
-// the solver's readings, its normal stress is the lid's weight over its length (the slider's
-// value within 2 %), and it adds a failure point; a second run at 20 kPa reads a larger peak τ,
+// the solver's readings, its normal stress (the lid's and the upper half-sample's weight over
+// the box's length) is the slider's value within 2 %, and it adds a failure point; a second run at 20 kPa reads a larger peak τ,
 // and the page fits the envelope of the two (the read-back φ and c are `fitEnvelope` of the
 // recorded failures) and says why the shear box and the biaxial test read different angles,
 // quoting Davis's 26.6° for φ = 30°, ψ = 0; a biaxial run plots q–ε_a and ε_v–ε_a and adds a
@@ -61,7 +61,7 @@ test('the lab runs two shear boxes, fits their envelope and says why the tests d
   assert.ok(Math.abs(fit.friction_angle - (Math.atan(slope) * 180) / Math.PI) < 0.05,
     `read-back ${fit.friction_angle}° against the two points' slope`);
   assert.ok(second.fit.includes(`φ read ${fit.friction_angle.toFixed(1)}°`), second.fit);
-  assert.ok(second.why.includes('Davis 1968') && second.why.includes('26.6°'), second.why);
+  assert.ok(second.why.includes('Davis (1968)') && second.why.includes('26.6°'), second.why);
   await page.screenshot({ path: join(OUT, 'lab-shear-box.png') });
 
   const biaxial = await runTest(page, 'biaxial', 20);
