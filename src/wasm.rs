@@ -573,7 +573,7 @@ impl LabTest {
         let mut out = Vec::with_capacity(3 * x.len());
         for (b, body) in self.sim.bodies().iter().enumerate() {
             for i in body.range() {
-                out.extend([x[i][0] as f32, x[i][1] as f32, b as f32]);
+                out.extend([x[i][0], x[i][1], b as f32]);
             }
         }
         out
