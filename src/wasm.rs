@@ -567,6 +567,16 @@ impl LabTest {
         }
     }
 
+    /// A lesson's soil-lab quantity of this run as its reader reports it
+    /// ([`crate::lesson::lab_value`]: `peak_shear_stress`, Pa; `lid_rise`, m); `undefined`
+    /// before a reading, for a biaxial test or another name.
+    pub fn quantity(&self, name: &str) -> Option<f64> {
+        match &self.reader {
+            LabReader::Shear(t) => crate::lesson::lab_value(name, t),
+            LabReader::Biaxial(_) => None,
+        }
+    }
+
     /// The particles as [x, y, body, x, y, body, …] (m; body index), for drawing.
     pub fn particles(&self) -> Vec<f32> {
         let x = &self.sim.particles().x;
@@ -578,4 +588,25 @@ impl LabTest {
         }
         out
     }
+}
+
+/// The scene (JSON) of run `run` of a soil-lab lesson (`lesson_json`, its scene `scene_json`):
+/// the lesson's `lab.set` parameters at the run's load ([`crate::lesson::LabRuns::scene`]).
+#[wasm_bindgen(js_name = lessonLabScene)]
+pub fn lesson_lab_scene(lesson_json: &str, scene_json: &str, run: usize) -> Result<String, JsError> {
+    let lesson = crate::lesson::Lesson::from_json(lesson_json).map_err(js_err)?;
+    let scene = crate::SceneConfig::from_json(scene_json).map_err(js_err)?;
+    let lab = lesson
+        .lab
+        .ok_or_else(|| js_err("lessonLabScene: the lesson has no lab runs (lab.loads)"))?;
+    Ok(json(&lab.scene(&scene, run).map_err(js_err)?))
+}
+
+/// A soil-lab scene (JSON) at `load` (Pa): the shear box's normal stress on its shear plane
+/// or the biaxial test's σ3 ([`crate::lesson::lab_scene`]), as JSON; errors name the field.
+#[wasm_bindgen(js_name = labSceneAt)]
+pub fn lab_scene_at(scene_json: &str, load: f64) -> Result<String, JsError> {
+    let scene = crate::SceneConfig::from_json(scene_json).map_err(js_err)?;
+    let scene = crate::lesson::lab_scene(&scene, load).map_err(js_err)?;
+    Ok(json(&scene))
 }
