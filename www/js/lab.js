@@ -3,19 +3,21 @@
 // solver computes). While a test runs it plots τ–δ and the lid's rise (shear box) or q–ε_a and
 // ε_v–ε_a (biaxial); each finished test adds its failure point or circle to a Mohr plot, and
 // from two runs of a kind the page fits the envelope (`fitEnvelope`) and reads back φ and c
-// beside the sliders' values. Opened by the Lab button or a link (`#lab`).
+// beside the sliders' values. Opened by the Lab button or a link (`#lab`). A soil-lab lesson
+// (`lab` in its file: docs/lessons.md) opens here: its caption and question, then, on Run, its
+// runs at their loads; once the last has run its duration the question is answered with the
+// quantity the solver's reader reports (`LabTest.quantity`, combined by `labAnswer`).
 
-import init, { LabTest, davisEnvelope, fitEnvelope } from '../pkg/mpm.js';
+import init, { LabTest, davisEnvelope, fitEnvelope, labAnswer, labSceneAt, lessonLabScene } from '../pkg/mpm.js';
 import { axes, setup } from './plots.js';
+import { el } from './widgets.js';
+import { answerIndex } from './measure-view.js';
 
 const $ = (id) => document.getElementById(id);
-const G = 9.81;
 /// Simulated duration of each test (s), as the soil-lab table of docs/validation.md runs them.
 export const DURATION = { shear_box: 0.4, biaxial: 0.3 };
 /// Seconds between readings.
 const EVERY = 0.002;
-/// The lid's thickness in scenes/lab/shear_box_mc_2d.json (m): σ_n = ρ_lid g t_lid.
-const LID_THICKNESS = 0.01;
 
 /// The scene file of a test and material.
 export function sceneFile(test, model) {
@@ -26,7 +28,7 @@ export function sceneFile(test, model) {
 /// The test's scene with the sliders' values: the sample's material (`model`, φ, ψ in degrees,
 /// c in Pa) and its load (`load`, Pa: for the shear box the normal stress on the shear plane,
 /// the lid's weight and the upper half of the sample's over the box's length; for the biaxial
-/// test the confining traction σ3). Pure.
+/// test the confining traction σ3: the solver's `labSceneAt`).
 export function labScene(base, test, { model, phi, psi, c, load }) {
   const scene = structuredClone(base);
   const sample = scene.bodies[0];
@@ -35,17 +37,14 @@ export function labScene(base, test, { model, phi, psi, c, load }) {
   if (model === 'drucker_prager') m.friction_match = 'plane_strain';
   else delete m.friction_match;
   sample.material = { [model]: m };
-  if (test === 'shear_box') {
-    // the shear plane carries the lid and the upper half of the sample (mpm::lab::ShearBox)
-    const { min, max } = sample.shape.box;
-    const half = 0.5 * m.density * G * (max[1] - min[1]);
-    const lid = scene.bodies.find((b) => b.name === 'lid');
-    const [kind] = Object.keys(lid.material);
-    lid.material[kind].density = Math.max(0, load - half) / (G * LID_THICKNESS);
-  } else {
-    sample.traction.pressure = load;
-  }
-  return scene;
+  return JSON.parse(labSceneAt(JSON.stringify(scene), load));
+}
+
+const KPA = (v) => `${+(v / 1e3).toPrecision(3)}`;
+/// A lab question's measured value in words: τ ratios as "1.93×", a rise in mm.
+export function labShown(quantity, value, runs) {
+  if (quantity === 'lid_rise') return `the lid rose ${(value * 1e3).toFixed(2)} mm`;
+  return runs.length === 2 ? `peak τ ${value.toFixed(2)}× as large` : `peak τ ${KPA(value)} kPa`;
 }
 
 /// The sentence that says why the two tests read different angles, with the page's numbers.
@@ -56,7 +55,12 @@ export function whyDifferent(material, fits) {
     fits.shear_box ? `the shear box reads ${fits.shear_box.friction_angle.toFixed(1)}°` : null,
     fits.biaxial ? `the biaxial test ${fits.biaxial.friction_angle.toFixed(1)}°` : null,
   ].filter(Boolean).join(' and ');
-  return `${read ? `Here ${read}. ` : ''}The two tests need not agree: the shear box makes the sample slip on`
+  const sb = fits.shear_box;
+  // both figures side by side, and how far apart: the page claims no agreement it does not show
+  const against = sb
+    ? `The shear box read ${sb.friction_angle.toFixed(1)}°; Davis's closed form gives ${davis.friction_angle.toFixed(1)}°`
+      + ` for these sliders, ${Math.abs(sb.friction_angle - davis.friction_angle).toFixed(1)}° apart. ` : '';
+  return `${read ? `Here ${read}. ` : ''}${against}The two tests need not agree: the shear box makes the sample slip on`
     + ` its horizontal mid-plane, where Davis (1968) puts the ratio τ/σ_n at failure at tan φ_ds = sin φ cos ψ / (1 − sin φ sin ψ),`
     + ` ${davis.friction_angle.toFixed(1)}° for φ = ${material.phi}°, ψ = ${material.psi}°; the biaxial test's circles touch`
     + ` the material's own envelope (${own} = ${material.phi}°).`;
@@ -95,6 +99,7 @@ export class Lab {
     this.test = null;
     this.fits = { shear_box: null, biaxial: null };
     this.bases = {};
+    this.lessonRun = null; // a soil-lab lesson open here: {lesson, text, scene, picked, values, answer}
     this.ready = init();
     $('lab-open').addEventListener('click', () => this.open());
     $('lab-close').addEventListener('click', () => this.close());
@@ -115,7 +120,46 @@ export class Lab {
     this.root.hidden = false;
     this.draw();
   }
-  close() { this.root.hidden = true; this.running = false; }
+  close() {
+    this.root.hidden = true;
+    this.running = false;
+    this.lessonRun = null;
+    $('lab-lesson').hidden = true;
+  }
+
+  /// Opens soil-lab lesson `lesson` (as the page fetched it, with its `id`) on its scene's
+  /// text: its caption and question; Run runs its loads in turn.
+  openLesson(lesson, sceneText) {
+    const { id, ...file } = lesson;
+    const q = lesson.question ?? null;
+    this.lessonRun = { id, lesson, text: JSON.stringify(file), scene: sceneText, picked: -1, values: [], answer: null };
+    this.clearRuns();
+    $('lab-test').value = JSON.parse(sceneText).bodies.some((b) => b.traction) ? 'biaxial' : 'shear_box';
+    this.syncLoad();
+    $('lab-lesson-title').textContent = lesson.title;
+    $('lab-lesson-caption').textContent = lesson.caption;
+    const box = $('lab-lesson-question');
+    box.replaceChildren();
+    if (q) {
+      const buttons = q.choices.map((c, i) => el('button', {
+        'data-choice': String(i), 'aria-pressed': 'false',
+        onclick: () => {
+          if (this.lessonRun?.answer || this.lessonRun?.busy) return; // the prediction stands once running
+          this.lessonRun.picked = i;
+          for (const b of buttons) b.setAttribute('aria-pressed', String(b === buttons[i]));
+          verdict.textContent = 'Now press Run and watch.';
+        },
+      }, c.text));
+      const verdict = el('div', { class: 'verdict', id: 'lab-lesson-verdict' }, 'Predict first: pick an answer, then press Run.');
+      box.replaceChildren(el('div', { class: 'ask' }, q.ask), el('div', { class: 'choices' }, ...buttons), verdict);
+      this.lessonRun.buttons = buttons;
+      this.lessonRun.verdict = verdict;
+    }
+    $('lab-lesson').hidden = false;
+    const loads = lesson.lab.loads.map((l) => `${KPA(l)} kPa`).join(', ');
+    $('lab-status').textContent = `Run runs the lesson's ${lesson.lab.loads.length === 1 ? 'test' : 'tests'} at ${loads}.`;
+    this.open();
+  }
 
   /// The sliders' material: {model, phi, psi, c (Pa)}.
   material() {
@@ -140,27 +184,72 @@ export class Lab {
 
   async run() {
     await this.ready;
+    if (this.lessonRun) return this.lessonRun.busy ? undefined : this.runLesson();
     const test = $('lab-test').value;
     const material = this.material();
     const file = sceneFile(test, material.model);
     this.bases[file] ??= await (await fetch(file, { cache: 'no-cache' })).json();
     const scene = labScene(this.bases[file], test, { ...material, load: +$('lab-load').value * 1e3 });
+    return this.runScene(scene, test);
+  }
+
+  /// The open lesson's runs in turn, each for its duration; then its question is answered
+  /// from what the solver's reader reports of the runs it names (never before the last ends).
+  async runLesson() {
+    const run = this.lessonRun;
+    run.values = [];
+    run.answer = null;
+    run.busy = true;
+    for (const b of run.buttons ?? []) b.classList.remove('answer');
+    this.clearRuns();
+    try {
+      await this.lessonRuns(run);
+    } finally {
+      run.busy = false;
+    }
+  }
+
+  async lessonRuns(run) {
+    const q = run.lesson.question;
+    const kind = $('lab-test').value;
+    for (let i = 0; i < run.lesson.lab.loads.length; i++) {
+      const scene = JSON.parse(lessonLabScene(run.text, run.scene, i));
+      const ended = await this.runScene(scene, kind, run.lesson.duration);
+      if (!ended || this.lessonRun !== run) return;
+      run.values.push(q ? this.test.quantity(q.measure.quantity) ?? null : null);
+    }
+    if (!q) return;
+    const values = q.measure.runs.map((r) => run.values[r]);
+    const value = values.includes(null) ? undefined : labAnswer(new Float64Array(values));
+    if (value === undefined) return;
+    const i = answerIndex(q, value);
+    run.answer = { value, index: i };
+    if (i >= 0) run.buttons[i].classList.add('answer');
+    const mine = run.picked < 0 ? '' : run.picked === i ? ' Your prediction was right.' : ` You predicted “${q.choices[run.picked].text}”.`;
+    run.verdict.textContent = `Measured by the page: ${labShown(q.measure.quantity, value, q.measure.runs)}`
+      + `${i >= 0 ? ` → “${q.choices[i].text}”.` : ' (outside every choice).'}${mine}`;
+  }
+
+  /// Runs `scene` (a lab test of kind `test`) for `end` s of simulated time (the test's
+  /// default when absent), plotting as it goes; resolves true when it ran to its end.
+  runScene(scene, test, end = DURATION[test]) {
     this.test?.free();
     try {
       this.test = new LabTest(JSON.stringify(scene));
     } catch (e) {
       $('lab-status').textContent = `The test did not start: ${e.message}`;
-      return;
+      return Promise.resolve(false);
     }
     this.kind = test;
     this.readings = [];
     this.running = true;
     $('lab-run').disabled = true;
     $('lab-status').textContent = 'Running…';
-    const end = DURATION[test];
     const started = performance.now();
+    let done;
+    const ended = new Promise((resolve) => { done = resolve; });
     const frame = () => {
-      if (!this.running) { $('lab-run').disabled = false; return; }
+      if (!this.running) { $('lab-run').disabled = false; done(false); return; }
       const t0 = performance.now();
       try {
         while (this.test.time() < end - 1e-9 && performance.now() - t0 < 14) {
@@ -169,17 +258,20 @@ export class Lab {
       } catch (e) {
         this.running = false;
         $('lab-status').textContent = `The test stopped: ${e.message}`;
+        done(false);
       }
       this.draw();
       if (this.running && this.test.time() >= end - 1e-9) {
         this.running = false;
         this.speed = end / ((performance.now() - started) / 1e3);
         this.finish();
+        done(true);
       }
       if (this.running) requestAnimationFrame(frame);
       else $('lab-run').disabled = false;
     };
     requestAnimationFrame(frame);
+    return ended;
   }
 
   finish() {

@@ -51,7 +51,7 @@ async function main() {
     overlay: new Overlay($('overlay')),
   });
   window.mpm = app; // for tests, benchmarks and curious students
-  window.mpmLab = new Lab(app);
+  window.mpmLab = app.lab = new Lab(app);
   buildControls(app);
   buildLessonMenu(app, lessons);
   setupFiles(app, document.querySelector('.stage'));

@@ -5,7 +5,10 @@
 // and the page fits the envelope of the two (the read-back φ and c are `fitEnvelope` of the
 // recorded failures) and says why the shear box and the biaxial test read different angles,
 // quoting Davis's 26.6° for φ = 30°, ψ = 0; a biaxial run plots q–ε_a and ε_v–ε_a and adds a
-// failure circle. Served by `cargo xtask test` (MPM_URL).
+// failure circle. The soil-lab lessons open in the Lab from their links, ask before they run
+// (nothing judged, no choice marked), and after their runs answer with the quantity the
+// solver's reader reports (the lid's last rise; the ratio of the two peak τ). Served by
+// `cargo xtask test` (MPM_URL).
 //
 //   MPM_URL=http://127.0.0.1:8080/ node --test www/tests/lab.test.mjs
 import { test, before, after } from 'node:test';
@@ -62,6 +65,9 @@ test('the lab runs two shear boxes, fits their envelope and says why the tests d
     `read-back ${fit.friction_angle}° against the two points' slope`);
   assert.ok(second.fit.includes(`φ read ${fit.friction_angle.toFixed(1)}°`), second.fit);
   assert.ok(second.why.includes('Davis (1968)') && second.why.includes('26.6°'), second.why);
+  // both figures stated, never that they agree
+  assert.ok(second.why.includes(`The shear box read ${fit.friction_angle.toFixed(1)}°; Davis's closed form gives 26.6°`), second.why);
+  assert.doesNotMatch(second.why, /agrees|matches/, second.why);
   await page.screenshot({ path: join(OUT, 'lab-shear-box.png') });
 
   const biaxial = await runTest(page, 'biaxial', 20);
@@ -73,4 +79,53 @@ test('the lab runs two shear boxes, fits their envelope and says why the tests d
   await page.screenshot({ path: join(OUT, 'lab-biaxial.png') });
   assert.deepEqual(errors, []);
   await page.close();
+});
+
+/// Opens soil-lab lesson `id` from its link; checks it waits unjudged, picks `choice`, runs it
+/// and returns the lab's state once answered.
+const lesson = async (id, choice) => {
+  const { page, errors } = await openPage(browser.context, `${URL_ROOT}#lesson=${id}`);
+  await page.waitForFunction((id) => mpmLab.lessonRun?.id === id, id, { timeout: 60_000 });
+  assert.equal(await page.isVisible('#lab'), true, `${id}: the lesson opens the Lab`);
+  assert.equal(await page.isVisible('#lab-lesson-question [data-choice="0"]'), true);
+  const unjudged = await page.evaluate(() => ({
+    answer: mpmLab.lessonRun.answer, runs: mpmLab.runs.length,
+    marked: document.querySelectorAll('#lab-lesson-question .answer').length,
+    verdict: document.getElementById('lab-lesson-verdict').textContent,
+  }));
+  assert.deepEqual(unjudged, { answer: null, runs: 0, marked: 0, verdict: 'Predict first: pick an answer, then press Run.' }, id);
+  await page.click(`#lab-lesson-question [data-choice="${choice}"]`);
+  await page.click('#lab-run');
+  await page.waitForFunction(() => mpmLab.lessonRun.answer !== null, null, { timeout: 600_000 });
+  const s = await page.evaluate(() => ({
+    answer: mpmLab.lessonRun.answer, values: mpmLab.lessonRun.values, runs: mpmLab.runs,
+    last: mpmLab.readings.at(-1), verdict: document.getElementById('lab-lesson-verdict').textContent,
+    marked: [...document.querySelectorAll('#lab-lesson-question .answer')].map((b) => b.dataset.choice),
+  }));
+  console.log(`${id}: ${s.verdict}`);
+  assert.deepEqual(s.marked, [String(s.answer.index)], `${id}: the measured choice is marked`);
+  await page.screenshot({ path: join(OUT, `lab-lesson-${id}.png`) });
+  assert.deepEqual(errors, []);
+  await page.close();
+  return s;
+};
+
+test('the dilatancy lesson answers with the lid rise its run read', { timeout: 900_000 }, async () => {
+  const s = await lesson('dilatancy', 2);
+  assert.equal(s.runs.length, 1);
+  // the solver's reader: the lid's rise at the run's last reading
+  assert.equal(s.answer.value, s.last.lid_rise);
+  assert.equal(s.answer.index, 2, `ψ = 10°: the lid rises (${s.answer.value} m)`);
+  assert.match(s.verdict, /the lid rose .* mm → “It rises by more than 0.05 mm”\. Your prediction was right\./);
+});
+
+test('the shear-box lesson answers with the ratio of its two runs\' peak τ', { timeout: 900_000 }, async () => {
+  const s = await lesson('shear_box', 1);
+  assert.equal(s.runs.length, 2);
+  const [[sn1, t1], [sn2, t2]] = s.runs.map((r) => r.failure);
+  assert.ok(Math.abs(sn1 / 10e3 - 1) < 0.02 && Math.abs(sn2 / 20e3 - 1) < 0.02, `σ_n ${sn1}, ${sn2} Pa`);
+  // each run's peak τ as its reader reports it, the second over the first
+  assert.deepEqual(s.values, [t1, t2]);
+  assert.ok(Math.abs(s.answer.value - t2 / t1) < 1e-12, `${s.answer.value} against ${t2 / t1}`);
+  assert.ok(s.answer.index >= 0, s.verdict);
 });
