@@ -133,7 +133,10 @@ pub fn lab_scene(scene: &SceneConfig, load: f64) -> Result<SceneConfig> {
     );
     let half = 0.5 * scene.bodies[sample].material.density() * g * (s.max[1] - s.min[1]);
     let density = (load - half).max(0.0) / (g * (l.max[1] - l.min[1]));
-    let name = format!("bodies[{lid}].{}.density", scene.bodies[lid].material.kind());
+    let name = format!(
+        "bodies[{lid}].{}.density",
+        scene.bodies[lid].material.kind()
+    );
     Target::parse(&name)?.set_in_scene(&mut scene, density, true)?;
     Ok(scene)
 }
@@ -776,8 +779,8 @@ mod tests {
     /// A soil-lab question names runs of the lesson's lab loads; its errors name the field.
     #[test]
     fn a_lab_question_names_runs_of_a_shear_box() {
-        let shear = SceneConfig::from_json(include_str!("../scenes/lab/shear_box_mc_2d.json"))
-            .unwrap();
+        let shear =
+            SceneConfig::from_json(include_str!("../scenes/lab/shear_box_mc_2d.json")).unwrap();
         let ask = |edit: &dyn Fn(&mut serde_json::Value)| {
             let mut v = serde_json::json!({
                 "title": "Shear box", "caption": "Twice the load.", "scene": "box.json",

@@ -593,7 +593,11 @@ impl LabTest {
 /// The scene (JSON) of run `run` of a soil-lab lesson (`lesson_json`, its scene `scene_json`):
 /// the lesson's `lab.set` parameters at the run's load ([`crate::lesson::LabRuns::scene`]).
 #[wasm_bindgen(js_name = lessonLabScene)]
-pub fn lesson_lab_scene(lesson_json: &str, scene_json: &str, run: usize) -> Result<String, JsError> {
+pub fn lesson_lab_scene(
+    lesson_json: &str,
+    scene_json: &str,
+    run: usize,
+) -> Result<String, JsError> {
     let lesson = crate::lesson::Lesson::from_json(lesson_json).map_err(js_err)?;
     let scene = crate::SceneConfig::from_json(scene_json).map_err(js_err)?;
     let lab = lesson
@@ -609,4 +613,12 @@ pub fn lab_scene_at(scene_json: &str, load: f64) -> Result<String, JsError> {
     let scene = crate::SceneConfig::from_json(scene_json).map_err(js_err)?;
     let scene = crate::lesson::lab_scene(&scene, load).map_err(js_err)?;
     Ok(json(&scene))
+}
+
+/// A soil-lab lesson's answer from its runs' quantities, in the order of the question's
+/// `measure.runs` ([`crate::lesson::lab_answer`]: one run's value, or the first's over the
+/// second's); `undefined` when they fix none.
+#[wasm_bindgen(js_name = labAnswer)]
+pub fn lab_answer(values: &[f64]) -> Option<f64> {
+    crate::lesson::lab_answer(values)
 }

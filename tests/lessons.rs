@@ -393,8 +393,15 @@ fn lab_runs(name: &str) -> (Lesson, Vec<mpm::lab::ShearBox>) {
             let mut sim = mpm::Simulation::<mpm::D2>::new(lab.scene(&scene, i).unwrap()).unwrap();
             let mut t = mpm::lab::ShearBox::new(&sim).unwrap();
             // before the run nothing answers the question
-            for q in mpm::lesson::QUANTITIES.iter().filter(|q| mpm::lesson::is_lab_quantity(q)) {
-                assert_eq!(mpm::lesson::lab_value(q, &t), None, "{name}: {q} before a reading");
+            for q in mpm::lesson::QUANTITIES
+                .iter()
+                .filter(|q| mpm::lesson::is_lab_quantity(q))
+            {
+                assert_eq!(
+                    mpm::lesson::lab_value(q, &t),
+                    None,
+                    "{name}: {q} before a reading"
+                );
             }
             t.run(&mut sim, lesson.duration, 0.002).unwrap();
             // the run's normal stress is the lesson's load (the lid set by lab_scene)
@@ -438,7 +445,11 @@ fn lab_answer(lesson: &Lesson, runs: &[mpm::lab::ShearBox]) -> (f64, usize) {
 fn the_shear_box_lesson_is_answered_from_its_runs() {
     let (lesson, runs) = lab_runs("shear_box.json");
     for t in &runs {
-        let peak = t.readings.iter().map(|r| r.shear_stress).fold(f64::MIN, f64::max);
+        let peak = t
+            .readings
+            .iter()
+            .map(|r| r.shear_stress)
+            .fold(f64::MIN, f64::max);
         assert_eq!(mpm::lesson::lab_value("peak_shear_stress", t), Some(peak));
         assert_eq!(t.failure().map(|f| f.1), Some(peak));
         assert!(peak > 0.0, "the sample resists the shear: peak τ {peak} Pa");

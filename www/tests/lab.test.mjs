@@ -70,6 +70,15 @@ test('the lab runs two shear boxes, fits their envelope and says why the tests d
   assert.doesNotMatch(second.why, /agrees|matches/, second.why);
   await page.screenshot({ path: join(OUT, 'lab-shear-box.png') });
 
+  // a third load: the envelope of the three points, as the page shows it beside Davis's
+  const third = await runTest(page, 'shear_box', 40);
+  const fit3 = third.fits.shear_box;
+  const points = third.runs.filter((r) => r.test === 'shear_box').map((r) => r.failure);
+  assert.equal(points.length, 3);
+  const again = await page.evaluate((p) => import('./www/pkg/mpm.js').then((m) => JSON.parse(m.fitEnvelope('points', new Float64Array(p.flat())))), points);
+  assert.deepEqual(fit3, again, 'the read-back is the fit of the three failures');
+  console.log(`shear box at 10/20/40 kPa: peaks ${points.map(([s, t]) => `${(t / 1e3).toFixed(2)} kPa at ${(s / 1e3).toFixed(2)}`).join(', ')}; ${third.fit} ${third.why}`);
+
   const biaxial = await runTest(page, 'biaxial', 20);
   console.log(`biaxial at 20 kPa: ${biaxial.status}`);
   assert.ok(biaxial.readings.length > 100);
