@@ -51,16 +51,13 @@ export function labShown(quantity, value, runs) {
 export function whyDifferent(material, fits) {
   const davis = JSON.parse(davisEnvelope(material.phi, material.psi, material.c));
   const own = material.model === 'drucker_prager' ? 'its plane-strain matched cone, φ_ps = φ' : 'its Mohr–Coulomb envelope, φ';
-  const read = [
-    fits.shear_box ? `the shear box reads ${fits.shear_box.friction_angle.toFixed(1)}°` : null,
-    fits.biaxial ? `the biaxial test ${fits.biaxial.friction_angle.toFixed(1)}°` : null,
-  ].filter(Boolean).join(' and ');
+  const read = fits.biaxial ? `the biaxial test reads ${fits.biaxial.friction_angle.toFixed(1)}°` : '';
   const sb = fits.shear_box;
   // both figures side by side, and how far apart: the page claims no agreement it does not show
   const against = sb
     ? `The shear box read ${sb.friction_angle.toFixed(1)}°; Davis's closed form gives ${davis.friction_angle.toFixed(1)}°`
       + ` for these sliders, ${Math.abs(sb.friction_angle - davis.friction_angle).toFixed(1)}° apart. ` : '';
-  return `${read ? `Here ${read}. ` : ''}${against}The two tests need not agree: the shear box makes the sample slip on`
+  return `${against}${read ? `Here ${read}. ` : ''}The two tests need not agree: the shear box makes the sample slip on`
     + ` its horizontal mid-plane, where Davis (1968) puts the ratio τ/σ_n at failure at tan φ_ds = sin φ cos ψ / (1 − sin φ sin ψ),`
     + ` ${davis.friction_angle.toFixed(1)}° for φ = ${material.phi}°, ψ = ${material.psi}°; the biaxial test's circles touch`
     + ` the material's own envelope (${own} = ${material.phi}°).`;
@@ -129,7 +126,7 @@ export class Lab {
 
   /// Opens soil-lab lesson `lesson` (as the page fetched it, with its `id`) on its scene's
   /// text: its caption and question; Run runs its loads in turn.
-  openLesson(lesson, sceneText) {
+  async openLesson(lesson, sceneText) {
     const { id, ...file } = lesson;
     const q = lesson.question ?? null;
     this.lessonRun = { id, lesson, text: JSON.stringify(file), scene: sceneText, picked: -1, values: [], answer: null };
@@ -156,6 +153,15 @@ export class Lab {
       this.lessonRun.verdict = verdict;
     }
     $('lab-lesson').hidden = false;
+    // the controls show the lesson's first run: its sand and load (what the Davis sentence quotes)
+    await this.ready;
+    const first = JSON.parse(lessonLabScene(this.lessonRun.text, sceneText, 0)).bodies.find((b) => b.material.mohr_coulomb || b.material.drucker_prager);
+    const [model] = Object.keys(first.material);
+    const m = first.material[model];
+    $('lab-model').value = model;
+    Object.entries({ 'lab-phi': m.friction_angle, 'lab-psi': m.dilatancy_angle ?? 0, 'lab-c': (m.cohesion ?? 0) / 1e3, 'lab-load': lesson.lab.loads[0] / 1e3 })
+      .forEach(([id, v]) => { $(id).value = String(v); });
+    this.showValues();
     const loads = lesson.lab.loads.map((l) => `${KPA(l)} kPa`).join(', ');
     $('lab-status').textContent = `Run runs the lesson's ${lesson.lab.loads.length === 1 ? 'test' : 'tests'} at ${loads}.`;
     this.open();

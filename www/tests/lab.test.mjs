@@ -108,7 +108,7 @@ const lesson = async (id, choice) => {
   await page.waitForFunction(() => mpmLab.lessonRun.answer !== null, null, { timeout: 600_000 });
   const s = await page.evaluate(() => ({
     answer: mpmLab.lessonRun.answer, values: mpmLab.lessonRun.values, runs: mpmLab.runs,
-    last: mpmLab.readings.at(-1), verdict: document.getElementById('lab-lesson-verdict').textContent,
+    last: mpmLab.readings.at(-1), psi: document.getElementById('lab-psi').value, verdict: document.getElementById('lab-lesson-verdict').textContent,
     marked: [...document.querySelectorAll('#lab-lesson-question .answer')].map((b) => b.dataset.choice),
   }));
   console.log(`${id}: ${s.verdict}`);
@@ -122,6 +122,7 @@ const lesson = async (id, choice) => {
 test('the dilatancy lesson answers with the lid rise its run read', { timeout: 900_000 }, async () => {
   const s = await lesson('dilatancy', 2);
   assert.equal(s.runs.length, 1);
+  assert.equal(s.psi, '10', 'the Lab shows the lesson\'s ψ');
   // the solver's reader: the lid's rise at the run's last reading
   assert.equal(s.answer.value, s.last.lid_rise);
   assert.equal(s.answer.index, 2, `ψ = 10°: the lid rises (${s.answer.value} m)`);
