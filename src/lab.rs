@@ -12,10 +12,17 @@
 //!
 //! **The direct shear box** (plane strain): a sample in a split box, the lower half fixed, the
 //! upper half (a kinematic body) driven sideways at a constant speed, a loaded lid (a solid
-//! body) on top. τ = F/L from the force F the sample exerts on the upper half along its motion
-//! over the box's length L; σ_n on the shear plane at the sample's mid-height from the weight
-//! of the lid and of the sample's upper half; the lid's rise from its centre of mass; the
-//! vertical force the sample exerts on the lid checks σ_n against statics.
+//! body) on top. Both readings come from the statics of what lies above the shear plane (the
+//! sample's upper part and the lid), the plane lying midway between the halves: τ = F_x/L
+//! from the force F the sample and the lid exert on the upper half along its motion, over the
+//! box's length L; σ_n = (W + F_y)/L from the weight W of the lid and of the sand above the
+//! plane and the vertical force F_y the upper half exerts on them. The upper half is held
+//! vertically, as the kinematic body it is, so it carries part of the load or presses the
+//! sample down (with ψ = 0 it presses: its rims hold down the sand that the trailing wall
+//! pushes), and the plane's normal stress is not the lid's alone; a box whose upper half is
+//! held reads it the same way, from the vertical force on the half or below the sample. The
+//! lid's rise comes from its centre of mass; the vertical force the sample exerts on the lid
+//! checks the lid's load against statics.
 //!
 //! **The envelope**: failure points (σ_n, τ) of shear tests are fitted by least squares with
 //! τ = c + σ_n tan φ; failure circles (σ1, σ3) of biaxial tests with the line
@@ -262,12 +269,15 @@ pub struct ShearReading {
     pub time: f64,
     /// δ, how far the upper half has moved (m).
     pub displacement: f64,
-    /// τ = F/L, the force the sample exerts on the upper half along its motion over the
-    /// box's length (Pa).
+    /// τ = F_x/L, the force the sample and the lid exert on the upper half along its motion
+    /// over the box's length (Pa).
     pub shear_stress: f64,
-    /// σ_n = W/L on the shear plane (at the sample's mid-height): the weight of the lid and
-    /// of the sample's upper half over the box's length (Pa).
+    /// σ_n = (W + F_y)/L on the shear plane: the weight of the lid and of the sand above the
+    /// plane and the vertical force of the upper half on them, over the box's length (Pa).
     pub normal_stress: f64,
+    /// F_y/L, the vertical force the upper half exerts on the sand and the lid, over the
+    /// box's length (Pa; pressing down positive).
+    pub frame_load: f64,
     /// The vertical force the sample exerts on the lid over the box's length (Pa): σ_n by
     /// statics once the lid rests.
     pub lid_support: f64,
@@ -276,20 +286,24 @@ pub struct ShearReading {
 }
 
 /// A plane-strain direct shear test on a simulation: the sample (the first granular body),
-/// the upper half (a kinematic body moving along x), the lid (a solid body that is not
-/// kinematic) and the box's inner length L (the sample's initial width).
+/// the upper half (a kinematic body moving along x), the lower half (a kinematic body at
+/// rest), the lid (a solid body that is not kinematic), the box's inner length L (the
+/// sample's initial width) and the shear plane, midway between the lower half's top and the
+/// upper half's bottom.
 #[derive(Clone, Debug)]
 pub struct ShearBox {
     pub sample: usize,
     pub upper: usize,
     pub lid: usize,
     length: f64,
+    /// The shear plane's height (m).
+    pub plane: f64,
     speed: f64,
     start: f64,
     lid0: f64,
     weight: f64,
     lid_weight: f64,
-    impulse: [f64; 2],
+    impulse: [f64; 3],
     elapsed: f64,
     /// The readings so far.
     pub readings: Vec<ShearReading>,
@@ -320,6 +334,20 @@ impl ShearBox {
                     "a shear box needs an upper half driven sideways",
                 )
             })?;
+        let lower = (0..present)
+            .find(|&i| {
+                let b = &scene.bodies[i];
+                b.kinematic
+                    && b.velocity
+                        .as_ref()
+                        .is_none_or(|v| v.iter().all(|&x| x == 0.0))
+            })
+            .ok_or_else(|| {
+                missing(
+                    "no kinematic body at rest",
+                    "a shear box needs a fixed lower half",
+                )
+            })?;
         let lid = (0..present)
             .find(|&i| {
                 let b = &scene.bodies[i];
@@ -334,12 +362,21 @@ impl ShearBox {
         let s = sim.bodies()[sample].stats();
         let spacing = scene.cell_size / scene.bodies[sample].particles_per_cell as f64;
         let g = scene.gravity_vector()[1].abs();
-        let above = 0.5 * s.mass + sim.bodies()[lid].stats().mass;
+        let b = sim.bodies();
+        let plane = 0.5 * (b[lower].stats().bbox_max[1] + b[upper].stats().bbox_min[1]);
+        let p = sim.particles();
+        let sand_above: f64 = b[sample]
+            .range()
+            .filter(|&i| p.x[i][1] as f64 > plane)
+            .map(|i| p.mass[i] as f64)
+            .sum();
+        let above = sand_above + b[lid].stats().mass;
         Ok(ShearBox {
             sample,
             upper,
             lid,
             length: s.bbox_max[0] - s.bbox_min[0] + spacing,
+            plane,
             speed: scene.bodies[upper]
                 .velocity
                 .as_ref()
@@ -348,7 +385,7 @@ impl ShearBox {
             lid0: sim.bodies()[lid].stats().center_of_mass[1],
             weight: above * g,
             lid_weight: sim.bodies()[lid].stats().mass * g,
-            impulse: [0.0; 2],
+            impulse: [0.0; 3],
             elapsed: 0.0,
             readings: Vec::new(),
         })
@@ -358,8 +395,10 @@ impl ShearBox {
     pub fn after_step(&mut self, sim: &Simulation<D2>) {
         let dt = sim.diagnostics().dt;
         let b = sim.bodies();
-        self.impulse[0] += b[self.upper].stats().contact_force[0] * dt;
+        let upper = b[self.upper].stats().contact_force;
+        self.impulse[0] += upper[0] * dt;
         self.impulse[1] += b[self.lid].stats().contact_force[1] * dt;
+        self.impulse[2] += upper[1] * dt;
         self.elapsed += dt;
     }
 
@@ -373,7 +412,9 @@ impl ShearBox {
             }
         };
         let (fx, fy) = (mean(self.impulse[0]), mean(self.impulse[1]));
-        self.impulse = [0.0; 2];
+        // the sand and the lid push the upper half up by what it presses them down with
+        let frame = mean(self.impulse[2]);
+        self.impulse = [0.0; 3];
         self.elapsed = 0.0;
         let sign = self.speed.signum();
         let reading = ShearReading {
@@ -381,7 +422,8 @@ impl ShearBox {
             displacement: (sim.time() - self.start) * self.speed.abs(),
             // the sample resists the motion: its force on the upper half opposes it
             shear_stress: -sign * fx / self.length,
-            normal_stress: self.weight / self.length,
+            normal_stress: (self.weight + frame) / self.length,
+            frame_load: frame / self.length,
             lid_support: fy / self.length,
             lid_rise: sim.bodies()[self.lid].stats().center_of_mass[1] - self.lid0,
         };
@@ -405,23 +447,42 @@ impl ShearBox {
         self.lid_weight / self.length
     }
 
-    /// The failure point (σ_n, τ) at the peak shear stress of the readings.
+    /// The failure point (σ_n, τ): the mean of the readings over the last quarter of the
+    /// travel so far, where the band flows plastically (τ/σ_n is steady from δ ≈ 0.3 mm on in
+    /// the shipped box, while σ_n changes with the upper half's load: every reading there lies
+    /// on the envelope, and Davis's angle is that of plastic flow).
     pub fn failure(&self) -> Option<(f64, f64)> {
-        self.readings
+        let last = self.readings.last()?.displacement;
+        let flowing: Vec<_> = self
+            .readings
             .iter()
-            .max_by(|a, b| a.shear_stress.total_cmp(&b.shear_stress))
-            .map(|r| (r.normal_stress, r.shear_stress))
+            .filter(|r| r.displacement >= 0.75 * last && r.time > self.start)
+            .collect();
+        if flowing.is_empty() {
+            return None;
+        }
+        let n = flowing.len() as f64;
+        let sum = flowing.iter().fold((0.0, 0.0), |(s, t), r| {
+            (s + r.normal_stress, t + r.shear_stress)
+        });
+        Some((sum.0 / n, sum.1 / n))
     }
 
     /// The readings as CSV: a header, then one row per reading.
     pub fn csv(&self) -> String {
         let mut out = String::from(
-            "time_s,displacement_m,shear_stress_pa,normal_stress_pa,lid_support_pa,lid_rise_m\n",
+            "time_s,displacement_m,shear_stress_pa,normal_stress_pa,frame_load_pa,lid_support_pa,lid_rise_m\n",
         );
         for r in &self.readings {
             out += &format!(
-                "{},{},{},{},{},{}\n",
-                r.time, r.displacement, r.shear_stress, r.normal_stress, r.lid_support, r.lid_rise
+                "{},{},{},{},{},{},{}\n",
+                r.time,
+                r.displacement,
+                r.shear_stress,
+                r.normal_stress,
+                r.frame_load,
+                r.lid_support,
+                r.lid_rise
             );
         }
         out

@@ -585,7 +585,7 @@ fn run_lab(sim: AnySimulation, a: &RunArgs, csv: &Path) -> Result<(), Failure> {
         run.map_err(|e| stopped(e, sim.time()))?;
         let peak = test.failure().map(|(sn, tau)| {
             format!(
-                "peak shear stress {tau:.1} Pa at σ_n = {sn:.1} Pa: τ/σ_n = tan {:.2}°",
+                "failure (the last quarter of the travel): τ = {tau:.1} Pa at σ_n = {sn:.1} Pa on the shear plane: τ/σ_n = tan {:.2}°",
                 (tau / sn).atan().to_degrees()
             )
         });
