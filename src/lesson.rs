@@ -54,8 +54,8 @@ pub struct Lesson {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LabRuns {
-    /// The load of each run (Pa): the shear box's normal stress on the shear plane, or the
-    /// biaxial test's confining pressure σ3; one to four.
+    /// The load of each run (Pa): the shear box's lid load (its weight over the box's length),
+    /// or the biaxial test's confining pressure σ3; one to four.
     pub loads: Vec<f64>,
     /// Parameters set in the scene for every run, by name ([`crate::params`]:
     /// `mohr_coulomb.dilatancy_angle`), before the load.
@@ -92,9 +92,10 @@ impl LabRuns {
 pub const MAX_LAB_LOAD: f64 = 1e6;
 
 /// `scene`, a soil-lab test, at `load` (Pa): a biaxial test (a body under a traction) takes it
-/// as its confining pressure σ3; a shear box ([`crate::lab::ShearBox`]) as the normal stress on
-/// its shear plane, the lid's weight and the upper half-sample's over the box's length, by
-/// setting the lid's density. Errors name the field.
+/// as its confining pressure σ3; a shear box ([`crate::lab::ShearBox`]) as its lid's load, the
+/// lid's weight over the box's length, by setting the lid's density
+/// ([`crate::lab::lid_density`]; σ_n on the shear plane is then read, not set). Errors name
+/// the field.
 pub fn lab_scene(scene: &SceneConfig, load: f64) -> Result<SceneConfig> {
     if !(load.is_finite() && load > 0.0 && load <= MAX_LAB_LOAD) {
         return Err(Error::invalid(
@@ -108,31 +109,14 @@ pub fn lab_scene(scene: &SceneConfig, load: f64) -> Result<SceneConfig> {
         t.pressure = load;
         return Ok(scene);
     }
-    let dim = scene.dim;
-    let find = |pick: &dyn Fn(&crate::config::BodyConfig) -> bool, what: &str| {
-        scene.bodies.iter().position(pick).ok_or_else(|| {
-            Error::invalid(
-                "bodies",
-                format!("no {what}"),
-                "a lab scene is a biaxial test (a body under a traction) or a shear box (a sand sample and a solid lid)",
-            )
-        })
-    };
-    let sample = find(
-        &|b| !b.kinematic && b.material.behaviour().friction().is_some(),
-        "sand",
-    )?;
-    let lid = find(
-        &|b| !b.kinematic && b.material.behaviour().friction().is_none(),
-        "lid",
-    )?;
-    let g = scene.gravity_vector()[1].abs();
-    let (s, l) = (
-        scene.bodies[sample].shape.bounds(dim),
-        scene.bodies[lid].shape.bounds(dim),
-    );
-    let half = 0.5 * scene.bodies[sample].material.density() * g * (s.max[1] - s.min[1]);
-    let density = (load - half).max(0.0) / (g * (l.max[1] - l.min[1]));
+    let (lid, density) = crate::lab::lid_density(&scene, load).map_err(|e| match e {
+        Error::Invalid { value, .. } => Error::invalid(
+            "bodies",
+            value,
+            "a lab scene is a biaxial test (a body under a traction) or a shear box (a sand sample and a solid lid)",
+        ),
+        e => e,
+    })?;
     let name = format!(
         "bodies[{lid}].{}.density",
         scene.bodies[lid].material.kind()
@@ -148,7 +132,7 @@ pub const QUANTITIES: [&str; 5] = [
     "flank_angle",
     "runout",
     "runout_ratio",
-    "peak_shear_stress",
+    "shear_strength",
     "lid_rise",
 ];
 
@@ -158,12 +142,13 @@ pub fn is_lab_quantity(quantity: &str) -> bool {
     QUANTITIES[3..].contains(&quantity)
 }
 
-/// A soil-lab quantity of one shear-box run, as its reader reports it: `peak_shear_stress`
-/// the τ of its failure point ([`crate::lab::ShearBox::failure`], Pa), `lid_rise` the lid's
+/// A soil-lab quantity of one shear-box run, as its reader reports it: `shear_strength` the τ
+/// of its failure point ([`crate::lab::ShearBox::failure`]: the mean over the last quarter of
+/// the travel, Pa), `lid_rise` the lid's
 /// rise at its last reading (m); `None` before a reading or for another quantity.
 pub fn lab_value(quantity: &str, test: &crate::lab::ShearBox) -> Option<f64> {
     match quantity {
-        "peak_shear_stress" => test.failure().map(|(_, tau)| tau),
+        "shear_strength" => test.failure().map(|(_, tau)| tau),
         "lid_rise" => test.readings.last().map(|r| r.lid_rise),
         _ => None,
     }
@@ -246,7 +231,7 @@ impl Question {
             return Err(Error::invalid(
                 "question.measure.runs",
                 format!("{} runs", self.measure.runs.len()),
-                "only a soil-lab quantity (peak_shear_stress, lid_rise) names runs",
+                "only a soil-lab quantity (shear_strength, lid_rise) names runs",
             ));
         } else if !(1..=2).contains(&self.measure.bodies.len()) {
             return Err(Error::invalid(
@@ -787,7 +772,7 @@ mod tests {
                 "duration": 0.4, "view": {"plot": "none", "params": ["mohr_coulomb.friction_angle"]},
                 "lab": {"loads": [10000, 20000], "set": {"mohr_coulomb.dilatancy_angle": 10}},
                 "question": {"ask": "What τ at twice the load?",
-                             "measure": {"quantity": "peak_shear_stress", "runs": [1, 0]},
+                             "measure": {"quantity": "shear_strength", "runs": [1, 0]},
                              "choices": [{"text": "the same", "range": [0, 1.3]},
                                          {"text": "twice", "range": [1.3, 3]}]}
             });
@@ -809,7 +794,7 @@ mod tests {
                 &|v| {
                     v.as_object_mut().unwrap().remove("lab");
                 },
-                "question.measure.quantity = peak_shear_stress: a soil-lab quantity needs",
+                "question.measure.quantity = shear_strength: a soil-lab quantity needs",
             ),
             (
                 &|v| v["lab"]["loads"][1] = (-5.0).into(),
@@ -828,18 +813,17 @@ mod tests {
             let e = ask(edit).unwrap_err().to_string();
             assert!(e.starts_with(want), "{e}\n  want {want}");
         }
-        // the load sets the normal stress on the shear plane: the lid's and the upper
-        // half-sample's weight over the box's length (ShearBox's σ_n)
+        // the load sets the lid's: its weight over the box's length (0.1 m), as the shear
+        // box's reader weighs it on the simulation's particles
         let at = lab_scene(&shear, 20e3).unwrap();
-        let (lid, sample) = (&at.bodies[3], &at.bodies[0]);
+        let lid = &at.bodies[3];
         let g = at.gravity_vector()[1].abs();
-        let w = |b: &crate::config::BodyConfig| {
-            let a = b.shape.bounds(2);
-            b.material.density() * g * (a.max[1] - a.min[1]) * (a.max[0] - a.min[0])
-        };
-        let length = 0.1;
-        let sn = (w(lid) + 0.5 * w(sample)) / length;
-        assert!((sn / 20e3 - 1.0).abs() < 1e-9, "σ_n {sn} Pa");
+        let a = lid.shape.bounds(2);
+        let load = lid.material.density() * g * (a.max[1] - a.min[1]) * (a.max[0] - a.min[0]) / 0.1;
+        assert!((load / 20e3 - 1.0).abs() < 1e-9, "lid load {load} Pa");
+        let sim = crate::Simulation::<crate::D2>::new(at).unwrap();
+        let read = crate::lab::ShearBox::new(&sim).unwrap().lid_pressure();
+        assert!((read / 20e3 - 1.0).abs() < 0.01, "the reader's lid load {read} Pa");
     }
 
     #[test]

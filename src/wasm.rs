@@ -557,8 +557,8 @@ impl LabTest {
         Ok(out)
     }
 
-    /// The failure read so far, JSON: the shear box's point `[σ_n, τ]` at its peak shear
-    /// stress, or the biaxial test's circle `[σ1, σ3]` at its peak deviator (Pa); `null`
+    /// The failure read so far, JSON: the shear box's point `[σ_n, τ]` on its shear plane
+    /// (the mean over the last quarter of the travel), or the biaxial test's circle `[σ1, σ3]` at its peak deviator (Pa); `null`
     /// before any reading.
     pub fn failure(&self) -> String {
         match &self.reader {
@@ -568,7 +568,7 @@ impl LabTest {
     }
 
     /// A lesson's soil-lab quantity of this run as its reader reports it
-    /// ([`crate::lesson::lab_value`]: `peak_shear_stress`, Pa; `lid_rise`, m); `undefined`
+    /// ([`crate::lesson::lab_value`]: `shear_strength`, Pa; `lid_rise`, m); `undefined`
     /// before a reading, for a biaxial test or another name.
     pub fn quantity(&self, name: &str) -> Option<f64> {
         match &self.reader {
@@ -606,8 +606,8 @@ pub fn lesson_lab_scene(
     Ok(json(&lab.scene(&scene, run).map_err(js_err)?))
 }
 
-/// A soil-lab scene (JSON) at `load` (Pa): the shear box's normal stress on its shear plane
-/// or the biaxial test's σ3 ([`crate::lesson::lab_scene`]), as JSON; errors name the field.
+/// A soil-lab scene (JSON) at `load` (Pa): the shear box's lid load (its weight over the
+/// box's length) or the biaxial test's σ3 ([`crate::lesson::lab_scene`]), as JSON; errors name the field.
 #[wasm_bindgen(js_name = labSceneAt)]
 pub fn lab_scene_at(scene_json: &str, load: f64) -> Result<String, JsError> {
     let scene = crate::SceneConfig::from_json(scene_json).map_err(js_err)?;

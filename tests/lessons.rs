@@ -404,11 +404,24 @@ fn lab_runs(name: &str) -> (Lesson, Vec<mpm::lab::ShearBox>) {
                 );
             }
             t.run(&mut sim, lesson.duration, 0.002).unwrap();
-            // the run's normal stress is the lesson's load (the lid set by lab_scene)
-            let sn = t.readings.last().unwrap().normal_stress;
+            // the run's lid load is the lesson's load (the lid set by lab_scene), as the
+            // reader weighs the lid, and the sample carries it (statics, after 20 ms)
             assert!(
-                (sn / lab.loads[i] - 1.0).abs() < 0.02,
-                "{name}: run {i}: σ_n {sn} Pa against the load {} Pa",
+                (t.lid_pressure() / lab.loads[i] - 1.0).abs() < 0.01,
+                "{name}: run {i}: lid load {} Pa against the load {} Pa",
+                t.lid_pressure(),
+                lab.loads[i]
+            );
+            let held: Vec<f64> = t
+                .readings
+                .iter()
+                .filter(|r| r.time > 0.02)
+                .map(|r| r.lid_support)
+                .collect();
+            let support = held.iter().sum::<f64>() / held.len() as f64;
+            assert!(
+                (support / lab.loads[i] - 1.0).abs() < 0.02,
+                "{name}: run {i}: the sample holds the lid with {support} Pa against {} Pa",
                 lab.loads[i]
             );
             t
@@ -438,29 +451,33 @@ fn lab_answer(lesson: &Lesson, runs: &[mpm::lab::ShearBox]) -> (f64, usize) {
     (v, i)
 }
 
-/// The shear-box lesson: its two runs read σ_n = 10 and 20 kPa; `peak_shear_stress` is the τ
-/// of each reader's failure point (the largest τ it read), and the question is answered by
-/// the ratio of the two, which falls in one of the choices.
+/// The shear-box lesson: its two runs at lid loads of 10 and 20 kPa (ψ = 0, c = 0);
+/// `shear_strength` is the τ of each reader's failure point (the mean over the last quarter of
+/// the travel), where τ/σ_n on the shear plane reads Davis's angle within 2° (26.57°), and
+/// the question is answered by the ratio of the two: τ about doubles with the load.
 #[test]
 fn the_shear_box_lesson_is_answered_from_its_runs() {
     let (lesson, runs) = lab_runs("shear_box.json");
+    let davis = mpm::lab::davis(30.0, 0.0, 0.0).friction_angle;
+    let mut taus = Vec::new();
     for t in &runs {
-        let peak = t
-            .readings
-            .iter()
-            .map(|r| r.shear_stress)
-            .fold(f64::MIN, f64::max);
-        assert_eq!(mpm::lesson::lab_value("peak_shear_stress", t), Some(peak));
-        assert_eq!(t.failure().map(|f| f.1), Some(peak));
-        assert!(peak > 0.0, "the sample resists the shear: peak τ {peak} Pa");
+        let (sn, tau) = t.failure().unwrap();
+        assert_eq!(mpm::lesson::lab_value("shear_strength", t), Some(tau));
+        let angle = (tau / sn).atan().to_degrees();
+        eprintln!("shear_box: τ {tau:.0} Pa at σ_n {sn:.0} Pa: {angle:.2}° (Davis {davis:.2}°)");
+        assert!(
+            (angle - davis).abs() < 2.0,
+            "τ {tau} Pa at σ_n {sn} Pa: {angle}° against Davis's {davis}°"
+        );
+        taus.push(tau);
     }
     let (ratio, choice) = lab_answer(&lesson, &runs);
-    let peaks: Vec<f64> = runs.iter().map(|t| t.failure().unwrap().1).collect();
-    assert_eq!(ratio, peaks[1] / peaks[0]);
+    assert_eq!(ratio, taus[1] / taus[0]);
     eprintln!(
-        "shear_box: peak τ {:.0} and {:.0} Pa, ratio {ratio:.3}: choice {choice}",
-        peaks[0], peaks[1]
+        "shear_box: τ {:.0} and {:.0} Pa, ratio {ratio:.3}: choice {choice}",
+        taus[0], taus[1]
     );
+    assert_eq!(choice, 1, "twice the load: τ about doubles ({ratio})");
 }
 
 /// The dilatancy lesson: `lid_rise` is the lid's rise at the reader's last reading, and the

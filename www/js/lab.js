@@ -14,8 +14,9 @@ import { el } from './widgets.js';
 import { answerIndex } from './measure-view.js';
 
 const $ = (id) => document.getElementById(id);
-/// Simulated duration of each test (s), as the soil-lab table of docs/validation.md runs them.
-export const DURATION = { shear_box: 0.4, biaxial: 0.3 };
+/// Simulated duration of each test (s), as the soil-lab table of docs/validation.md runs them
+/// (the shear box 2 mm of travel at 0.02 m/s).
+export const DURATION = { shear_box: 0.1, biaxial: 0.3 };
 /// Seconds between readings.
 const EVERY = 0.002;
 
@@ -26,9 +27,9 @@ export function sceneFile(test, model) {
 }
 
 /// The test's scene with the sliders' values: the sample's material (`model`, φ, ψ in degrees,
-/// c in Pa) and its load (`load`, Pa: for the shear box the normal stress on the shear plane,
-/// the lid's weight and the upper half of the sample's over the box's length; for the biaxial
-/// test the confining traction σ3: the solver's `labSceneAt`).
+/// c in Pa) and its load (`load`, Pa: for the shear box the lid's load, its weight over the
+/// box's length, while σ_n on the shear plane is read; for the biaxial test the confining
+/// traction σ3: the solver's `labSceneAt`).
 export function labScene(base, test, { model, phi, psi, c, load }) {
   const scene = structuredClone(base);
   const sample = scene.bodies[0];
@@ -41,10 +42,10 @@ export function labScene(base, test, { model, phi, psi, c, load }) {
 }
 
 const KPA = (v) => `${+(v / 1e3).toPrecision(3)}`;
-/// A lab question's measured value in words: τ ratios as "1.93×", a rise in mm.
+/// A lab question's measured value in words: ratios of shear strengths as "1.93×", a rise in mm.
 export function labShown(quantity, value, runs) {
   if (quantity === 'lid_rise') return `the lid rose ${(value * 1e3).toFixed(2)} mm`;
-  return runs.length === 2 ? `peak τ ${value.toFixed(2)}× as large` : `peak τ ${KPA(value)} kPa`;
+  return runs.length === 2 ? `shear strength τ ${value.toFixed(2)}× as large` : `shear strength τ ${KPA(value)} kPa`;
 }
 
 /// The sentence that says why the two tests read different angles, with the page's numbers.
@@ -174,7 +175,7 @@ export class Lab {
 
   syncLoad() {
     const shear = $('lab-test').value === 'shear_box';
-    $('lab-load-label').textContent = shear ? 'σ_n (kPa)' : 'σ3 (kPa)';
+    $('lab-load-label').textContent = shear ? 'lid load (kPa)' : 'σ3 (kPa)';
     this.showValues();
   }
 
@@ -292,7 +293,7 @@ export class Lab {
     }
     const [a, b] = failure;
     $('lab-status').textContent = (this.kind === 'shear_box'
-      ? `Peak τ = ${kPa(b)} kPa at σ_n = ${kPa(a)} kPa`
+      ? `τ = ${kPa(b)} kPa at σ_n = ${kPa(a)} kPa on the shear plane (the mean over the last quarter of the travel)`
       : `Failure circle σ1 = ${kPa(a)} kPa, σ3 = ${kPa(b)} kPa`)
       + ` (${this.speed.toFixed(2)}× real time).`;
     this.draw();
