@@ -823,7 +823,10 @@ mod tests {
         assert!((load / 20e3 - 1.0).abs() < 1e-9, "lid load {load} Pa");
         let sim = crate::Simulation::<crate::D2>::new(at).unwrap();
         let read = crate::lab::ShearBox::new(&sim).unwrap().lid_pressure();
-        assert!((read / 20e3 - 1.0).abs() < 0.01, "the reader's lid load {read} Pa");
+        assert!(
+            (read / 20e3 - 1.0).abs() < 0.01,
+            "the reader's lid load {read} Pa"
+        );
     }
 
     #[test]
