@@ -30,6 +30,7 @@
 //! circle of a Mohr–Coulomb material touches. [`davis`] gives what a plane-strain shear box
 //! reads for a material of friction angle φ and dilatancy ψ.
 
+use crate::config::SceneConfig;
 use crate::error::{Error, Result};
 use crate::math::D2;
 use crate::sim::Simulation;
@@ -307,6 +308,35 @@ pub struct ShearBox {
     elapsed: f64,
     /// The readings so far.
     pub readings: Vec<ShearReading>,
+}
+
+/// The lid of a shear-box scene and the density that gives it `load` (Pa), its weight over
+/// the box's length (the sample's width), as [`ShearBox::lid_pressure`] reads it: the sample
+/// is the first sand body and the lid the first solid body, neither kinematic, as
+/// [`ShearBox::new`] finds them. The lid's load sets the test; σ_n on the shear plane is read
+/// ([`ShearReading::normal_stress`]). An error names what is missing.
+pub fn lid_density(scene: &SceneConfig, load: f64) -> Result<(usize, f64)> {
+    let find = |sand: bool, what: &str| {
+        scene
+            .bodies
+            .iter()
+            .position(|b| !b.kinematic && b.material.behaviour().friction().is_some() == sand)
+            .ok_or_else(|| {
+                Error::invalid(
+                    "bodies",
+                    format!("no {what}"),
+                    "a shear box needs a sand sample and a solid lid",
+                )
+            })
+    };
+    let (sample, lid) = (find(true, "sand")?, find(false, "lid")?);
+    let g = scene.gravity_vector()[1].abs();
+    let (s, l) = (
+        scene.bodies[sample].shape.bounds(scene.dim),
+        scene.bodies[lid].shape.bounds(scene.dim),
+    );
+    let area = (l.max[0] - l.min[0]) * (l.max[1] - l.min[1]);
+    Ok((lid, load * (s.max[0] - s.min[0]) / (g * area)))
 }
 
 impl ShearBox {

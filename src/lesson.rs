@@ -43,11 +43,126 @@ pub struct Lesson {
     /// measurements.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub question: Option<Question>,
+    /// A soil-lab lesson: the scene is a lab test ([`crate::lab`]) run once per load, each
+    /// for `duration`, in the page's Lab panel.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lab: Option<LabRuns>,
+}
+
+/// The runs of a soil-lab lesson: its scene (a shear box, or a biaxial test: a body under a
+/// traction) at each load, in order.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LabRuns {
+    /// The load of each run (Pa): the shear box's lid load (its weight over the box's length),
+    /// or the biaxial test's confining pressure σ3; one to four.
+    pub loads: Vec<f64>,
+    /// Parameters set in the scene for every run, by name ([`crate::params`]:
+    /// `mohr_coulomb.dilatancy_angle`), before the load.
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub set: std::collections::BTreeMap<String, f64>,
+}
+
+impl LabRuns {
+    /// The scene of run `i`: `scene` with the parameters of `set`, at the run's load.
+    pub fn scene(&self, scene: &SceneConfig, i: usize) -> Result<SceneConfig> {
+        let load = *self.loads.get(i).ok_or_else(|| {
+            Error::invalid("run", i, format!("must be below {}", self.loads.len()))
+        })?;
+        let mut scene = scene.clone();
+        for (name, &v) in &self.set {
+            let field = format!("lab.set.{name}");
+            Target::parse(name)
+                .and_then(|t| t.set_in_scene(&mut scene, v, true))
+                .map_err(|e| match e {
+                    Error::Invalid { value, allowed, .. } => Error::invalid(&field, value, allowed),
+                    e => e,
+                })?;
+        }
+        lab_scene(&scene, load).map_err(|e| match e {
+            Error::Invalid { value, allowed, .. } if allowed.contains("(Pa)") => {
+                Error::invalid(format!("lab.loads[{i}]"), value, allowed)
+            }
+            e => e,
+        })
+    }
+}
+
+/// The highest load a lab lesson runs at (Pa).
+pub const MAX_LAB_LOAD: f64 = 1e6;
+
+/// `scene`, a soil-lab test, at `load` (Pa): a biaxial test (a body under a traction) takes it
+/// as its confining pressure σ3; a shear box ([`crate::lab::ShearBox`]) as its lid's load, the
+/// lid's weight over the box's length, by setting the lid's density
+/// ([`crate::lab::lid_density`]; σ_n on the shear plane is then read, not set). Errors name
+/// the field.
+pub fn lab_scene(scene: &SceneConfig, load: f64) -> Result<SceneConfig> {
+    if !(load.is_finite() && load > 0.0 && load <= MAX_LAB_LOAD) {
+        return Err(Error::invalid(
+            "load",
+            load,
+            format!("must be in (0, {MAX_LAB_LOAD}] (Pa)"),
+        ));
+    }
+    let mut scene = scene.clone();
+    if let Some(t) = scene.bodies.iter_mut().find_map(|b| b.traction.as_mut()) {
+        t.pressure = load;
+        return Ok(scene);
+    }
+    let (lid, density) = crate::lab::lid_density(&scene, load).map_err(|e| match e {
+        Error::Invalid { value, .. } => Error::invalid(
+            "bodies",
+            value,
+            "a lab scene is a biaxial test (a body under a traction) or a shear box (a sand sample and a solid lid)",
+        ),
+        e => e,
+    })?;
+    let name = format!(
+        "bodies[{lid}].{}.density",
+        scene.bodies[lid].material.kind()
+    );
+    Target::parse(&name)?.set_in_scene(&mut scene, density, true)?;
+    Ok(scene)
 }
 
 /// The quantities a lesson's question can be answered with: what the page measures of its
-/// sand bodies ([`crate::measure::deposits`]).
-pub const QUANTITIES: [&str; 3] = ["flank_angle", "runout", "runout_ratio"];
+/// sand bodies ([`crate::measure::deposits`]), then what the soil lab's shear box reads of a
+/// run ([`lab_value`]).
+pub const QUANTITIES: [&str; 5] = [
+    "flank_angle",
+    "runout",
+    "runout_ratio",
+    "shear_strength",
+    "lid_rise",
+];
+
+/// Whether `quantity` is read from a soil-lab run (the shear box's reader), not from the
+/// page's sand measures.
+pub fn is_lab_quantity(quantity: &str) -> bool {
+    QUANTITIES[3..].contains(&quantity)
+}
+
+/// A soil-lab quantity of one shear-box run, as its reader reports it: `shear_strength` the τ
+/// of its failure point ([`crate::lab::ShearBox::failure`]: the mean over the last quarter of
+/// the travel, Pa), `lid_rise` the lid's
+/// rise at its last reading (m); `None` before a reading or for another quantity.
+pub fn lab_value(quantity: &str, test: &crate::lab::ShearBox) -> Option<f64> {
+    match quantity {
+        "shear_strength" => test.failure().map(|(_, tau)| tau),
+        "lid_rise" => test.readings.last().map(|r| r.lid_rise),
+        _ => None,
+    }
+}
+
+/// The answer of a soil-lab question from its runs' values (in the order of `measure.runs`):
+/// one run's value, or the first's over the second's.
+pub fn lab_answer(values: &[f64]) -> Option<f64> {
+    match values {
+        [a] => Some(*a),
+        [a, b] if *b != 0.0 => Some(a / b),
+        _ => None,
+    }
+}
 
 /// A question with choices, shown before the first Play and answered after the run with the
 /// page's measurement of `measure`: the choice whose range holds the measured value is the
@@ -65,12 +180,17 @@ pub struct Question {
 /// What answers a question: `quantity` of body `bodies[0]`, less that of `bodies[1]` when
 /// two are named. `flank_angle` is the mean of the body's fitted flanks (degrees), `runout`
 /// its farthest run-out beyond its footprint (m; in 3D the mean over the sectors),
-/// `runout_ratio` that over the footprint's half-width L0 (or R0).
+/// `runout_ratio` that over the footprint's half-width L0 (or R0). A soil-lab quantity names
+/// `runs` instead (indices into `lab.loads`): run `runs[0]`'s value, over run `runs[1]`'s when
+/// two are named.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct QuestionMeasure {
     pub quantity: String,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub bodies: Vec<usize>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub runs: Vec<usize>,
 }
 
 /// One answer to choose: its text and the range `[low, high)` of the measured value it
@@ -87,9 +207,9 @@ pub const MAX_ASK: usize = 200;
 pub const MAX_CHOICE: usize = 120;
 
 impl Question {
-    /// Checks the question against the lesson's scene; errors name the field path
-    /// (`question.choices[1].range`).
-    pub fn validate(&self, scene: &SceneConfig) -> Result<()> {
+    /// Checks the question against the lesson's scene and lab runs; errors name the field
+    /// path (`question.choices[1].range`).
+    pub fn validate(&self, scene: &SceneConfig, lab: Option<&LabRuns>) -> Result<()> {
         let n = self.ask.trim().chars().count();
         if n == 0 || n > MAX_ASK {
             return Err(Error::invalid(
@@ -105,7 +225,15 @@ impl Question {
                 QUANTITIES,
             ));
         }
-        if !(1..=2).contains(&self.measure.bodies.len()) {
+        if is_lab_quantity(&self.measure.quantity) {
+            self.validate_lab(scene, lab)?;
+        } else if !self.measure.runs.is_empty() {
+            return Err(Error::invalid(
+                "question.measure.runs",
+                format!("{} runs", self.measure.runs.len()),
+                "only a soil-lab quantity (shear_strength, lid_rise) names runs",
+            ));
+        } else if !(1..=2).contains(&self.measure.bodies.len()) {
             return Err(Error::invalid(
                 "question.measure.bodies",
                 format!("{} bodies", self.measure.bodies.len()),
@@ -163,6 +291,51 @@ impl Question {
                 ));
             }
             last = hi;
+        }
+        Ok(())
+    }
+}
+
+impl Question {
+    /// A soil-lab question: the lesson has lab runs of a shear box, the measure names one or
+    /// two of them and no body.
+    fn validate_lab(&self, scene: &SceneConfig, lab: Option<&LabRuns>) -> Result<()> {
+        let Some(lab) = lab else {
+            return Err(Error::invalid(
+                "question.measure.quantity",
+                &self.measure.quantity,
+                "a soil-lab quantity needs the lesson's lab runs (lab.loads)",
+            ));
+        };
+        if scene.bodies.iter().any(|b| b.traction.is_some()) {
+            return Err(Error::invalid(
+                "question.measure.quantity",
+                &self.measure.quantity,
+                "is read from a shear box: the scene is a biaxial test",
+            ));
+        }
+        if !self.measure.bodies.is_empty() {
+            return Err(Error::invalid(
+                "question.measure.bodies",
+                format!("{} bodies", self.measure.bodies.len()),
+                "a soil-lab quantity names runs, not bodies",
+            ));
+        }
+        if !(1..=2).contains(&self.measure.runs.len()) {
+            return Err(Error::invalid(
+                "question.measure.runs",
+                format!("{} runs", self.measure.runs.len()),
+                "must name 1 run, or 2 (the first over the second)",
+            ));
+        }
+        for (i, &r) in self.measure.runs.iter().enumerate() {
+            if r >= lab.loads.len() {
+                return Err(Error::invalid(
+                    format!("question.measure.runs[{i}]"),
+                    r,
+                    format!("must be a run of lab.loads, below {}", lab.loads.len()),
+                ));
+            }
         }
         Ok(())
     }
@@ -305,8 +478,20 @@ impl Lesson {
                 "a point is needed to show a stress path (the particle nearest it is inspected)",
             ));
         }
+        if let Some(lab) = &self.lab {
+            if !(1..=4).contains(&lab.loads.len()) {
+                return Err(Error::invalid(
+                    "lab.loads",
+                    format!("{} loads", lab.loads.len()),
+                    "must hold 1 to 4 loads (Pa)",
+                ));
+            }
+            for i in 0..lab.loads.len() {
+                lab.scene(scene, i)?.validate()?;
+            }
+        }
         if let Some(q) = &self.question {
-            q.validate(scene)?;
+            q.validate(scene, self.lab.as_ref())?;
         }
         check_non_negative("duration", self.duration, "s")?;
         if !(self.duration > 0.0 && self.duration <= 60.0) {
@@ -573,6 +758,74 @@ mod tests {
             e,
             "question.measure.bodies[1] = 2: must be a granular body (drucker_prager or \
              mohr_coulomb): the page measures sand"
+        );
+    }
+
+    /// A soil-lab question names runs of the lesson's lab loads; its errors name the field.
+    #[test]
+    fn a_lab_question_names_runs_of_a_shear_box() {
+        let shear =
+            SceneConfig::from_json(include_str!("../scenes/lab/shear_box_mc_2d.json")).unwrap();
+        let ask = |edit: &dyn Fn(&mut serde_json::Value)| {
+            let mut v = serde_json::json!({
+                "title": "Shear box", "caption": "Twice the load.", "scene": "box.json",
+                "duration": 0.4, "view": {"plot": "none", "params": ["mohr_coulomb.friction_angle"]},
+                "lab": {"loads": [10000, 20000], "set": {"mohr_coulomb.dilatancy_angle": 10}},
+                "question": {"ask": "What τ at twice the load?",
+                             "measure": {"quantity": "shear_strength", "runs": [1, 0]},
+                             "choices": [{"text": "the same", "range": [0, 1.3]},
+                                         {"text": "twice", "range": [1.3, 3]}]}
+            });
+            edit(&mut v);
+            Lesson::from_json(&v.to_string())?.validate(&shear)
+        };
+        ask(&|_| ()).unwrap();
+        type Edit<'a> = &'a dyn Fn(&mut serde_json::Value);
+        let cases: [(Edit, &str); 6] = [
+            (
+                &|v| v["question"]["measure"]["runs"] = serde_json::json!([2]),
+                "question.measure.runs[0] = 2: must be a run of lab.loads, below 2",
+            ),
+            (
+                &|v| v["question"]["measure"]["bodies"] = serde_json::json!([0]),
+                "question.measure.bodies = 1 bodies: a soil-lab quantity names runs",
+            ),
+            (
+                &|v| {
+                    v.as_object_mut().unwrap().remove("lab");
+                },
+                "question.measure.quantity = shear_strength: a soil-lab quantity needs",
+            ),
+            (
+                &|v| v["lab"]["loads"][1] = (-5.0).into(),
+                "lab.loads[1] = -5: must be in (0, 1000000] (Pa)",
+            ),
+            (
+                &|v| v["lab"]["loads"] = serde_json::json!([]),
+                "lab.loads = 0 loads: must hold 1 to 4 loads",
+            ),
+            (
+                &|v| v["lab"]["set"] = serde_json::json!({"drucker_prager.friction_angle": 30}),
+                "lab.set.drucker_prager.friction_angle = ",
+            ),
+        ];
+        for (edit, want) in cases {
+            let e = ask(edit).unwrap_err().to_string();
+            assert!(e.starts_with(want), "{e}\n  want {want}");
+        }
+        // the load sets the lid's: its weight over the box's length (0.1 m), as the shear
+        // box's reader weighs it on the simulation's particles
+        let at = lab_scene(&shear, 20e3).unwrap();
+        let lid = &at.bodies[3];
+        let g = at.gravity_vector()[1].abs();
+        let a = lid.shape.bounds(2);
+        let load = lid.material.density() * g * (a.max[1] - a.min[1]) * (a.max[0] - a.min[0]) / 0.1;
+        assert!((load / 20e3 - 1.0).abs() < 1e-9, "lid load {load} Pa");
+        let sim = crate::Simulation::<crate::D2>::new(at).unwrap();
+        let read = crate::lab::ShearBox::new(&sim).unwrap().lid_pressure();
+        assert!(
+            (read / 20e3 - 1.0).abs() < 0.01,
+            "the reader's lid load {read} Pa"
         );
     }
 

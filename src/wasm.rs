@@ -474,3 +474,151 @@ pub fn davis_envelope(friction_angle: f64, dilatancy_angle: f64, cohesion: f64) 
         cohesion,
     ))
 }
+
+/// The test a [`LabTest`] reads.
+enum LabReader {
+    Shear(crate::lab::ShearBox),
+    Biaxial(crate::lab::Biaxial),
+}
+
+/// A soil-lab test run live ([`crate::lab`]): a plane-strain scene of `scenes/lab/` (a body
+/// under a traction makes it a biaxial test, else a shear box), its readings taken from the
+/// forces the solver computes, as the CLI's `--lab-csv` takes them.
+#[wasm_bindgen]
+pub struct LabTest {
+    sim: crate::Simulation<crate::D2>,
+    reader: LabReader,
+    sent: usize,
+}
+
+#[wasm_bindgen]
+impl LabTest {
+    /// Builds the test from scene JSON (dim 2); errors name the field.
+    #[wasm_bindgen(constructor)]
+    pub fn new(scene_json: &str) -> Result<LabTest, JsError> {
+        let scene = crate::SceneConfig::from_json(scene_json).map_err(js_err)?;
+        if scene.dim != 2 {
+            return Err(js_err(format!(
+                "LabTest: dim = {}: the soil tests are plane strain: must be 2",
+                scene.dim
+            )));
+        }
+        let biaxial = scene.bodies.iter().any(|b| b.traction.is_some());
+        let sim = crate::Simulation::<crate::D2>::new(scene).map_err(js_err)?;
+        let reader = if biaxial {
+            let mut t = crate::lab::Biaxial::new(&sim).map_err(js_err)?;
+            t.read(&sim);
+            LabReader::Biaxial(t)
+        } else {
+            let mut t = crate::lab::ShearBox::new(&sim).map_err(js_err)?;
+            t.read(&sim);
+            LabReader::Shear(t)
+        };
+        Ok(LabTest {
+            sim,
+            reader,
+            sent: 0,
+        })
+    }
+
+    /// `"shear_box"` or `"biaxial"`.
+    pub fn kind(&self) -> String {
+        match self.reader {
+            LabReader::Shear(_) => "shear_box".into(),
+            LabReader::Biaxial(_) => "biaxial".into(),
+        }
+    }
+
+    /// Simulated time (s).
+    pub fn time(&self) -> f64 {
+        self.sim.time()
+    }
+
+    /// Runs `span` seconds, reading every `every` seconds; returns the readings not yet
+    /// returned, as a JSON array (`mpm::lab::ShearReading` or `BiaxialReading` fields).
+    pub fn advance(&mut self, span: f64, every: f64) -> Result<String, JsError> {
+        if !(span > 0.0 && every > 0.0 && span.is_finite() && every.is_finite()) {
+            return Err(js_err(
+                "LabTest.advance: span and every must be finite and > 0",
+            ));
+        }
+        let sim = &mut self.sim;
+        let (out, n) = match &mut self.reader {
+            LabReader::Shear(t) => {
+                t.run(sim, span, every).map_err(js_err)?;
+                (json(&t.readings[self.sent..].to_vec()), t.readings.len())
+            }
+            LabReader::Biaxial(t) => {
+                t.run(sim, span, every).map_err(js_err)?;
+                (json(&t.readings[self.sent..].to_vec()), t.readings.len())
+            }
+        };
+        self.sent = n;
+        Ok(out)
+    }
+
+    /// The failure read so far, JSON: the shear box's point `[σ_n, τ]` on its shear plane
+    /// (the mean over the last quarter of the travel), or the biaxial test's circle `[σ1, σ3]` at its peak deviator (Pa); `null`
+    /// before any reading.
+    pub fn failure(&self) -> String {
+        match &self.reader {
+            LabReader::Shear(t) => json(&t.failure()),
+            LabReader::Biaxial(t) => json(&t.failure()),
+        }
+    }
+
+    /// A lesson's soil-lab quantity of this run as its reader reports it
+    /// ([`crate::lesson::lab_value`]: `shear_strength`, Pa; `lid_rise`, m); `undefined`
+    /// before a reading, for a biaxial test or another name.
+    pub fn quantity(&self, name: &str) -> Option<f64> {
+        match &self.reader {
+            LabReader::Shear(t) => crate::lesson::lab_value(name, t),
+            LabReader::Biaxial(_) => None,
+        }
+    }
+
+    /// The particles as [x, y, body, x, y, body, …] (m; body index), for drawing.
+    pub fn particles(&self) -> Vec<f32> {
+        let x = &self.sim.particles().x;
+        let mut out = Vec::with_capacity(3 * x.len());
+        for (b, body) in self.sim.bodies().iter().enumerate() {
+            for i in body.range() {
+                out.extend([x[i][0], x[i][1], b as f32]);
+            }
+        }
+        out
+    }
+}
+
+/// The scene (JSON) of run `run` of a soil-lab lesson (`lesson_json`, its scene `scene_json`):
+/// the lesson's `lab.set` parameters at the run's load ([`crate::lesson::LabRuns::scene`]).
+#[wasm_bindgen(js_name = lessonLabScene)]
+pub fn lesson_lab_scene(
+    lesson_json: &str,
+    scene_json: &str,
+    run: usize,
+) -> Result<String, JsError> {
+    let lesson = crate::lesson::Lesson::from_json(lesson_json).map_err(js_err)?;
+    let scene = crate::SceneConfig::from_json(scene_json).map_err(js_err)?;
+    let lab = lesson
+        .lab
+        .ok_or_else(|| js_err("lessonLabScene: the lesson has no lab runs (lab.loads)"))?;
+    Ok(json(&lab.scene(&scene, run).map_err(js_err)?))
+}
+
+/// A soil-lab scene (JSON) at `load` (Pa): the shear box's lid load (its weight over the
+/// box's length) or the biaxial test's σ3 ([`crate::lesson::lab_scene`]), as JSON; errors name the field.
+#[wasm_bindgen(js_name = labSceneAt)]
+pub fn lab_scene_at(scene_json: &str, load: f64) -> Result<String, JsError> {
+    let scene = crate::SceneConfig::from_json(scene_json).map_err(js_err)?;
+    let scene = crate::lesson::lab_scene(&scene, load).map_err(js_err)?;
+    Ok(json(&scene))
+}
+
+/// A soil-lab lesson's answer from its runs' quantities, in the order of the question's
+/// `measure.runs` ([`crate::lesson::lab_answer`]: one run's value, or the first's over the
+/// second's); `undefined` when they fix none.
+#[wasm_bindgen(js_name = labAnswer)]
+pub fn lab_answer(values: &[f64]) -> Option<f64> {
+    crate::lesson::lab_answer(values)
+}

@@ -76,6 +76,16 @@ fn every_lesson_loads_validates_and_runs() {
     }
     for name in &names {
         let (lesson, scene) = load(name);
+        if let Some(lab) = &lesson.lab {
+            // a soil-lab lesson runs in the Lab panel: each run's scene builds and steps
+            for i in 0..lab.loads.len() {
+                let mut sim = mpm::Simulation::<mpm::D2>::new(lab.scene(&scene, i).unwrap())
+                    .unwrap_or_else(|e| panic!("{name}: run {i}: {e}"));
+                mpm::lab::ShearBox::new(&sim).unwrap_or_else(|e| panic!("{name}: {e}"));
+                sim.step().unwrap();
+            }
+            continue;
+        }
         let mut pg = Playground::new(scene).unwrap();
         let n = pg.particle_count();
         assert!(
@@ -371,4 +381,114 @@ fn the_column_lesson_is_measured_and_marked() {
             .any(|c| ratio >= c.range[0] && ratio <= c.range[1]),
         "{ratio} lies in a choice"
     );
+}
+
+/// Runs a soil-lab lesson's shear boxes as the Lab panel runs them (each run's scene, read
+/// every 2 ms for the lesson's duration); returns the lesson and the readers.
+fn lab_runs(name: &str) -> (Lesson, Vec<mpm::lab::ShearBox>) {
+    let (lesson, scene) = load(name);
+    let lab = lesson.lab.clone().expect("a soil-lab lesson");
+    let runs = (0..lab.loads.len())
+        .map(|i| {
+            let mut sim = mpm::Simulation::<mpm::D2>::new(lab.scene(&scene, i).unwrap()).unwrap();
+            let mut t = mpm::lab::ShearBox::new(&sim).unwrap();
+            // before the run nothing answers the question
+            for q in mpm::lesson::QUANTITIES
+                .iter()
+                .filter(|q| mpm::lesson::is_lab_quantity(q))
+            {
+                assert_eq!(
+                    mpm::lesson::lab_value(q, &t),
+                    None,
+                    "{name}: {q} before a reading"
+                );
+            }
+            t.run(&mut sim, lesson.duration, 0.002).unwrap();
+            // the run's lid load is the lesson's load (the lid set by lab_scene), as the
+            // reader weighs the lid, and the sample carries it (statics, after 20 ms)
+            assert!(
+                (t.lid_pressure() / lab.loads[i] - 1.0).abs() < 0.01,
+                "{name}: run {i}: lid load {} Pa against the load {} Pa",
+                t.lid_pressure(),
+                lab.loads[i]
+            );
+            let held: Vec<f64> = t
+                .readings
+                .iter()
+                .filter(|r| r.time > 0.02)
+                .map(|r| r.lid_support)
+                .collect();
+            let support = held.iter().sum::<f64>() / held.len() as f64;
+            assert!(
+                (support / lab.loads[i] - 1.0).abs() < 0.02,
+                "{name}: run {i}: the sample holds the lid with {support} Pa against {} Pa",
+                lab.loads[i]
+            );
+            t
+        })
+        .collect();
+    (lesson, runs)
+}
+
+/// The question's answer from the runs, as the page judges it: the quantity of each named run
+/// as its reader reports it, combined by `lab_answer`; the choice whose range holds it.
+fn lab_answer(lesson: &Lesson, runs: &[mpm::lab::ShearBox]) -> (f64, usize) {
+    let q = lesson.question.as_ref().unwrap();
+    let values: Vec<f64> = q
+        .measure
+        .runs
+        .iter()
+        .map(|&r| mpm::lesson::lab_value(&q.measure.quantity, &runs[r]).unwrap())
+        .collect();
+    let v = mpm::lesson::lab_answer(&values).unwrap();
+    let n = q.choices.len();
+    let i = q
+        .choices
+        .iter()
+        .enumerate()
+        .position(|(i, c)| v >= c.range[0] && (v < c.range[1] || (i == n - 1 && v <= c.range[1])))
+        .unwrap_or_else(|| panic!("{v} is outside every choice"));
+    (v, i)
+}
+
+/// The shear-box lesson: its two runs at lid loads of 10 and 20 kPa (ψ = 0, c = 0);
+/// `shear_strength` is the τ of each reader's failure point (the mean over the last quarter of
+/// the travel), where τ/σ_n on the shear plane reads Davis's angle within 2° (26.57°), and
+/// the question is answered by the ratio of the two: τ about doubles with the load.
+#[test]
+fn the_shear_box_lesson_is_answered_from_its_runs() {
+    let (lesson, runs) = lab_runs("shear_box.json");
+    let davis = mpm::lab::davis(30.0, 0.0, 0.0).friction_angle;
+    let mut taus = Vec::new();
+    for t in &runs {
+        let (sn, tau) = t.failure().unwrap();
+        assert_eq!(mpm::lesson::lab_value("shear_strength", t), Some(tau));
+        let angle = (tau / sn).atan().to_degrees();
+        eprintln!("shear_box: τ {tau:.0} Pa at σ_n {sn:.0} Pa: {angle:.2}° (Davis {davis:.2}°)");
+        assert!(
+            (angle - davis).abs() < 2.0,
+            "τ {tau} Pa at σ_n {sn} Pa: {angle}° against Davis's {davis}°"
+        );
+        taus.push(tau);
+    }
+    let (ratio, choice) = lab_answer(&lesson, &runs);
+    assert_eq!(ratio, taus[1] / taus[0]);
+    eprintln!(
+        "shear_box: τ {:.0} and {:.0} Pa, ratio {ratio:.3}: choice {choice}",
+        taus[0], taus[1]
+    );
+    assert_eq!(choice, 1, "twice the load: τ about doubles ({ratio})");
+}
+
+/// The dilatancy lesson: `lid_rise` is the lid's rise at the reader's last reading, and the
+/// question is answered by it; with ψ = 10° the lid rises.
+#[test]
+fn the_dilatancy_lesson_is_answered_from_its_run() {
+    let (lesson, runs) = lab_runs("dilatancy.json");
+    let last = runs[0].readings.last().unwrap().lid_rise;
+    assert_eq!(mpm::lesson::lab_value("lid_rise", &runs[0]), Some(last));
+    let (rise, choice) = lab_answer(&lesson, &runs);
+    assert_eq!(rise, last);
+    eprintln!("dilatancy: lid rise {:.3} mm: choice {choice}", rise * 1e3);
+    assert_eq!(choice, 2, "ψ = 10°: the lid rises ({rise} m)");
 }

@@ -116,6 +116,9 @@ export class App {
       lesson = null;
     }
     await this.loaded(out, ignored, lesson);
+    // a soil-lab lesson runs its tests in the Lab panel; another scene leaves it
+    if (lesson?.lab) this.lab?.openLesson(lesson, source.text);
+    else if (this.lab?.lessonRun) this.lab.close();
   }
 
   /// The scene or lesson of the view cannot open (`why`): a lesson says so in its banner, a

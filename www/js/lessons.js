@@ -92,7 +92,8 @@ export class LessonPanel {
     $('lesson-title').textContent = lesson.title;
     $('lesson-caption').textContent = lesson.caption;
     this.sliders.clear();
-    const names = lesson.view?.params ?? [];
+    // a soil-lab lesson's runs take their parameters from its file: no slider here moves them
+    const names = lesson.lab ? [] : lesson.view?.params ?? [];
     const rows = [];
     for (const name of names) {
       const spec = lessonSpec(name, app.session.table, app.session.scene);
@@ -102,7 +103,8 @@ export class LessonPanel {
       rows.push(w.root);
     }
     $('lesson-params').replaceChildren(...rows);
-    this.ask(lesson.question);
+    // a soil-lab lesson asks and answers in the Lab panel, from its runs
+    this.ask(lesson.lab ? null : lesson.question);
     for (const e of document.querySelectorAll('.param.lesson-param')) e.classList.remove('lesson-param');
     this.root.hidden = false;
     this.root.classList.remove('folded');

@@ -20,6 +20,7 @@ import { GlRenderer } from './render-gl.js';
 import { CanvasRenderer } from './render-2d.js';
 import { loadBunny, loadSceneList } from './scenes.js';
 import { Session } from './session.js';
+import { Lab } from './lab.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -50,6 +51,7 @@ async function main() {
     overlay: new Overlay($('overlay')),
   });
   window.mpm = app; // for tests, benchmarks and curious students
+  window.mpmLab = app.lab = new Lab(app);
   buildControls(app);
   buildLessonMenu(app, lessons);
   setupFiles(app, document.querySelector('.stage'));

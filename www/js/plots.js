@@ -5,7 +5,7 @@ import { format } from './params.js';
 import { energyWindow, pqWindow, surfaceLine, ticks } from './plot-scale.js';
 import { mohr, mohrWindow } from './measure-view.js';
 
-function setup(canvas) {
+export function setup(canvas) {
   const dpr = Math.min(2, window.devicePixelRatio || 1);
   const w = canvas.clientWidth, h = canvas.clientHeight;
   if (canvas.width !== Math.round(w * dpr) || canvas.height !== Math.round(h * dpr)) {
@@ -18,7 +18,7 @@ function setup(canvas) {
   return { ctx, w, h };
 }
 
-function axes(ctx, box, xr, yr, xlabel, ylabel, fmtX, fmtY) {
+export function axes(ctx, box, xr, yr, xlabel, ylabel, fmtX, fmtY) {
   const { x0, y0, x1, y1 } = box;
   ctx.strokeStyle = '#d5dbe5';
   ctx.fillStyle = '#5b6577';

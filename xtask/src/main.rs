@@ -345,6 +345,8 @@ fn dist_files() -> Result<Vec<PathBuf>, String> {
         ("www/js", &["js"][..]),
         ("www/pkg", &["js", "wasm", "json"][..]),
         ("scenes", &["json", "obj", "txt", "md"][..]),
+        // the soil lab's tests (the Lab and its lessons fetch them)
+        ("scenes/lab", &["json"][..]),
         ("lessons", &["json"][..]),
     ] {
         for p in files_in(&r.join(dir), exts)? {
