@@ -658,43 +658,23 @@ fn test() -> Result<(), String> {
     ]))?;
     let chromium = ensure_browser_tools()?;
     let url = background_server()?;
-    let mut e2e = command(
-        "node",
-        &["--test", "--test-reporter=spec", "www/tests/e2e.test.mjs"],
-    );
-    e2e.env("MPM_URL", &url)
-        .env("CHROMIUM", &chromium)
-        .env("MPM_OUT", root().join("target/e2e"));
-    run_cmd(e2e)?;
-    // The page in a classroom: lessons, save and open, recording, touch and small screens.
-    let mut class = command(
-        "node",
-        &[
-            "--test",
-            "--test-reporter=spec",
-            "www/tests/classroom.test.mjs",
-        ],
-    );
-    class
-        .env("MPM_URL", &url)
-        .env("CHROMIUM", &chromium)
-        .env("MPM_OUT", root().join("target/e2e"));
-    run_cmd(class)?;
-    // Measuring on the page: the HUD's layouts, the readouts, the law markers, Mohr circles,
-    // the lessons' questions.
-    let mut measure = command(
-        "node",
-        &[
-            "--test",
-            "--test-reporter=spec",
-            "www/tests/measure.test.mjs",
-        ],
-    );
-    measure
-        .env("MPM_URL", &url)
-        .env("CHROMIUM", &chromium)
-        .env("MPM_OUT", root().join("target/e2e"));
-    run_cmd(measure)?;
+    // The page in Chromium, one file at a time: the page itself (e2e), the page in a classroom
+    // (lessons, save and open, recording, touch and small screens), measuring on the page (the
+    // HUD's layouts, readouts, law markers, Mohr circles, the lessons' questions), and the soil
+    // lab (the shear box and the biaxial test, the envelope, the soil-lab lessons).
+    for file in [
+        "www/tests/e2e.test.mjs",
+        "www/tests/classroom.test.mjs",
+        "www/tests/measure.test.mjs",
+        "www/tests/lab.test.mjs",
+    ] {
+        let mut browser = command("node", &["--test", "--test-reporter=spec", file]);
+        browser
+            .env("MPM_URL", &url)
+            .env("CHROMIUM", &chromium)
+            .env("MPM_OUT", root().join("target/e2e"));
+        run_cmd(browser)?;
+    }
     // The static folder alone, served by a plain static server under a sub-path.
     write_dist(&dist_dir())?;
     let mut dist = command(
