@@ -108,6 +108,12 @@ pub fn davis(friction_angle: f64, dilatancy_angle: f64, cohesion: f64) -> Envelo
     }
 }
 
+/// Whether `scene` is a biaxial test (a body under a traction, [`Biaxial`]) rather than a
+/// shear box ([`ShearBox`]): the one place the two soil tests are told apart.
+pub fn is_biaxial(scene: &SceneConfig) -> bool {
+    scene.bodies.iter().any(|b| b.traction.is_some())
+}
+
 /// One reading of a biaxial test.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct BiaxialReading {

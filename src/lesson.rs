@@ -79,12 +79,7 @@ impl LabRuns {
                     e => e,
                 })?;
         }
-        lab_scene(&scene, load).map_err(|e| match e {
-            Error::Invalid { value, allowed, .. } if allowed.contains("(Pa)") => {
-                Error::invalid(format!("lab.loads[{i}]"), value, allowed)
-            }
-            e => e,
-        })
+        lab_scene(&scene, load, &format!("lab.loads[{i}]"))
     }
 }
 
@@ -95,11 +90,11 @@ pub const MAX_LAB_LOAD: f64 = 1e6;
 /// as its confining pressure σ3; a shear box ([`crate::lab::ShearBox`]) as its lid's load, the
 /// lid's weight over the box's length, by setting the lid's density
 /// ([`crate::lab::lid_density`]; σ_n on the shear plane is then read, not set). Errors name
-/// the field.
-pub fn lab_scene(scene: &SceneConfig, load: f64) -> Result<SceneConfig> {
+/// the field; a bad load names `field`.
+pub fn lab_scene(scene: &SceneConfig, load: f64, field: &str) -> Result<SceneConfig> {
     if !(load.is_finite() && load > 0.0 && load <= MAX_LAB_LOAD) {
         return Err(Error::invalid(
-            "load",
+            field,
             load,
             format!("must be in (0, {MAX_LAB_LOAD}] (Pa)"),
         ));
@@ -307,7 +302,7 @@ impl Question {
                 "a soil-lab quantity needs the lesson's lab runs (lab.loads)",
             ));
         };
-        if scene.bodies.iter().any(|b| b.traction.is_some()) {
+        if crate::lab::is_biaxial(scene) {
             return Err(Error::invalid(
                 "question.measure.quantity",
                 &self.measure.quantity,
@@ -815,7 +810,7 @@ mod tests {
         }
         // the load sets the lid's: its weight over the box's length (0.1 m), as the shear
         // box's reader weighs it on the simulation's particles
-        let at = lab_scene(&shear, 20e3).unwrap();
+        let at = lab_scene(&shear, 20e3, "load").unwrap();
         let lid = &at.bodies[3];
         let g = at.gravity_vector()[1].abs();
         let a = lid.shape.bounds(2);

@@ -503,7 +503,7 @@ impl LabTest {
                 scene.dim
             )));
         }
-        let biaxial = scene.bodies.iter().any(|b| b.traction.is_some());
+        let biaxial = crate::lab::is_biaxial(&scene);
         let sim = crate::Simulation::<crate::D2>::new(scene).map_err(js_err)?;
         let reader = if biaxial {
             let mut t = crate::lab::Biaxial::new(&sim).map_err(js_err)?;
@@ -611,7 +611,7 @@ pub fn lesson_lab_scene(
 #[wasm_bindgen(js_name = labSceneAt)]
 pub fn lab_scene_at(scene_json: &str, load: f64) -> Result<String, JsError> {
     let scene = crate::SceneConfig::from_json(scene_json).map_err(js_err)?;
-    let scene = crate::lesson::lab_scene(&scene, load).map_err(js_err)?;
+    let scene = crate::lesson::lab_scene(&scene, load, "load").map_err(js_err)?;
     Ok(json(&scene))
 }
 

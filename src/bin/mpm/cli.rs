@@ -564,7 +564,7 @@ fn run_lab(sim: AnySimulation, a: &RunArgs, csv: &Path) -> Result<(), Failure> {
     };
     let started = Instant::now();
     let every = a.time / 200.0;
-    let biaxial = sim.scene().bodies.iter().any(|b| b.traction.is_some());
+    let biaxial = mpm::lab::is_biaxial(sim.scene());
     let (text, peak) = if biaxial {
         let mut test = mpm::lab::Biaxial::new(&sim).map_err(lab)?;
         test.read(&sim);
