@@ -294,7 +294,7 @@ test('2D: sleeping is on by default, the settled sand falls asleep and shows in 
   await page.waitForFunction(() => mpm.sim.sleeping === false && mpm.session.frame?.asleep === 0, null, { timeout: 10_000 });
   // Reset keeps the choice.
   await page.click('#reset');
-  await page.waitForFunction(() => mpm.sim.sleeping === false && mpm.simTime > 0.3, null, { timeout: 60_000 });
+  await page.waitForFunction(() => mpm.sim.sleeping === false && mpm.simTime > 0.3 && mpm.session.frame, null, { timeout: 60_000 });
   assert.equal(await page.evaluate(() => mpm.session.frame.asleep), 0);
   // The link keeps the choice, and opens with it.
   const hash = await page.evaluate(() => location.hash);
