@@ -153,6 +153,16 @@ pub fn table(header: &[&str], rows: &[Vec<String>]) -> String {
     s
 }
 
+/// A study's "change per halving of h" subsection: its table, or, from a run of one grid, a
+/// line saying the changes need the neighbouring grids' report.
+pub fn halving_table(header: &[&str], rows: &[Vec<String>]) -> String {
+    if rows.is_empty() {
+        "One grid in this run: the change per halving of h needs its neighbours (the full or the coarse sweep).\n".to_string()
+    } else {
+        format!("### Change per halving of h\n\n{}", table(header, rows))
+    }
+}
+
 /// The slope of log y against log x (a convergence order when x is the cell size).
 pub fn log_slope(x: &[f64], y: &[f64]) -> f64 {
     let pts: Vec<(f64, f64)> = x

@@ -68,7 +68,7 @@ pub fn lowcolumn_study(md: &mut String, path: &std::path::Path, grids: &crate::g
     }
     let _ = writeln!(
         md,
-        "## Low columns on a rough floor at {} cells per H0, {} (a = 0.5, floor μ = {ROUGH_FLOOR})\n\nThe plane column a = 0.5 (L0 = 0.2 m, H0 = 0.1 m, collapsing both ways; E = 350 kPa, ν = 0.3, 2200 kg/m³), default numerics. Run-out (L − L0)/L0 where the deposit is one grain ({} mm) thick / at the farthest particle, against Lube et al. (2005)'s 1.2 a = {law:.2}: within −20 % / +25 %, the farthest at most 2a. Flank: least-squares slope of the surface between 20 % and 80 % of the deposit's height (mean of the two sides), in [φ_ps − 6°, φ_ps + 1°]. Toe: how far the farthest particle lies beyond the flank line's foot, over L0 (in brackets the thickest the deposit is there, in particle rows). Plateau: the top's half-width within one cell of H0, over L0. Top: H∞ within one cell of H0.\n\n{}\n### Change per halving of h\n\n{}",
+        "## Low columns on a rough floor at {} cells per H0, {} (a = 0.5, floor μ = {ROUGH_FLOOR})\n\nThe plane column a = 0.5 (L0 = 0.2 m, H0 = 0.1 m, collapsing both ways; E = 350 kPa, ν = 0.3, 2200 kg/m³), default numerics. Run-out (L − L0)/L0 where the deposit is one grain ({} mm) thick / at the farthest particle, against Lube et al. (2005)'s 1.2 a = {law:.2}: within −20 % / +25 %, the farthest at most 2a. Flank: least-squares slope of the surface between 20 % and 80 % of the deposit's height (mean of the two sides), in [φ_ps − 6°, φ_ps + 1°]. Toe: how far the farthest particle lies beyond the flank line's foot, over L0 (in brackets the thickest the deposit is there, in particle rows). Plateau: the top's half-width within one cell of H0, over L0. Top: H∞ within one cell of H0.\n\n{}\n{}",
         grids.named(40.0),
         grids.order(),
         1e3 * GRAIN,
@@ -90,7 +90,7 @@ pub fn lowcolumn_study(md: &mut String, path: &std::path::Path, grids: &crate::g
             ],
             &rows
         ),
-        table(
+        halving_table(
             &[
                 "φ (°)",
                 "cells per H0",
