@@ -22,8 +22,8 @@ const EVERY = 0.002;
 /// Milliseconds of stepping per display frame. The test steps on the page's thread and the
 /// browser's frame costs about as much again whatever the stepping (its compositing, the wait
 /// for the display), so a longer share per frame runs the test faster: at 14 ms the solver
-/// had 0.59–0.65 of the wall clock in headless Chromium, at 48 ms (about 20 plot updates a
-/// second) it has more (`www/bench/lab-page.mjs`, docs/validation.md's *Speed*).
+/// had 0.58–0.63 of the wall clock in headless Chromium, at 48 ms (about 20 plot updates a
+/// second) 0.71–0.74 (`www/bench/lab-page.mjs`, docs/validation.md's *Speed*).
 export const FRAME_BUDGET_MS = 48;
 
 /// The scene file of a test and material.
