@@ -347,7 +347,8 @@ fn bad_tractions_are_refused_naming_the_field() {
         env!("CARGO_MANIFEST_DIR")
     );
     let text = std::fs::read_to_string(path).unwrap();
-    let good = r#""traction": { "pressure": 20000, "faces": ["left", "right"] }"#;
+    let good =
+        r#""traction": { "pressure": 20000, "faces": ["left", "right"], "rise_time": 0.02 }"#;
     assert!(text.contains(good));
     for (bad, expected) in [
         (

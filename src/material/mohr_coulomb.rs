@@ -297,8 +297,12 @@ impl MohrCoulomb {
 
 /// The eigenvalues and eigenvectors (the columns of the second matrix) of a symmetric 3×3
 /// matrix, by cyclic Jacobi rotations. A matrix with no xz and yz coupling (plane strain) is
-/// only rotated in the xy plane, so that z stays a principal direction exactly.
+/// only rotated in the xy plane, so that z stays a principal direction exactly: one rotation
+/// by the angle that zeroes xy, taken in closed form (a_xx − t a_xy, a_yy + t a_xy).
 pub fn eigen_symmetric(mut a: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
+    if a[0][2] == 0.0 && a[1][2] == 0.0 {
+        return eigen_plane(a);
+    }
     let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     for _sweep in 0..50 {
         let off = a[0][1].abs() + a[0][2].abs() + a[1][2].abs();
@@ -333,6 +337,22 @@ pub fn eigen_symmetric(mut a: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
         }
     }
     ([a[0][0], a[1][1], a[2][2]], v)
+}
+
+/// [`eigen_symmetric`] of a matrix with no xz and yz coupling: the Jacobi rotation in the xy
+/// plane with t = tan θ the smaller root of t² + 2τt − 1 = 0, τ = (a_yy − a_xx)/(2 a_xy).
+fn eigen_plane(a: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
+    let axy = a[0][1];
+    if axy == 0.0 || !axy.is_finite() {
+        let v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        return ([a[0][0], a[1][1], a[2][2]], v);
+    }
+    let tau = (a[1][1] - a[0][0]) / (2.0 * axy);
+    let t = tau.signum() / (tau.abs() + (1.0 + tau * tau).sqrt());
+    let c = 1.0 / (1.0 + t * t).sqrt();
+    let s = t * c;
+    let v = [[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]];
+    ([a[0][0] - t * axy, a[1][1] + t * axy, a[2][2]], v)
 }
 
 /// Takes `value` as a `B` if `A` is `B` (a generic tensor as one of the concrete ones).
