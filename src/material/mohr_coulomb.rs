@@ -299,10 +299,15 @@ impl MohrCoulomb {
 /// matrix, by cyclic Jacobi rotations. A matrix with no xz and yz coupling (plane strain) is
 /// only rotated in the xy plane, so that z stays a principal direction exactly: one rotation
 /// by the angle that zeroes xy, taken in closed form (a_xx − t a_xy, a_yy + t a_xy).
-pub fn eigen_symmetric(mut a: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
+pub fn eigen_symmetric(a: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
     if a[0][2] == 0.0 && a[1][2] == 0.0 {
         return eigen_plane(a);
     }
+    eigen_jacobi(a)
+}
+
+/// The cyclic Jacobi sweeps behind [`eigen_symmetric`], for any symmetric matrix.
+fn eigen_jacobi(mut a: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
     let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     for _sweep in 0..50 {
         let off = a[0][1].abs() + a[0][2].abs() + a[1][2].abs();
@@ -339,8 +344,9 @@ pub fn eigen_symmetric(mut a: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
     ([a[0][0], a[1][1], a[2][2]], v)
 }
 
-/// [`eigen_symmetric`] of a matrix with no xz and yz coupling: the Jacobi rotation in the xy
-/// plane with t = tan θ the smaller root of t² + 2τt − 1 = 0, τ = (a_yy − a_xx)/(2 a_xy).
+/// [`eigen_symmetric`] of a matrix with no xz and yz coupling, a specialisation of
+/// [`eigen_jacobi`] tested against it: the one Jacobi rotation in the xy plane, with t = tan θ
+/// the smaller root of t² + 2τt − 1 = 0, τ = (a_yy − a_xx)/(2 a_xy).
 fn eigen_plane(a: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
     let axy = a[0][1];
     if axy == 0.0 || !axy.is_finite() {
@@ -610,6 +616,48 @@ mod tests {
     /// plastic strain increment C⁻¹(σ_tr − σ) is parallel to m = (1 + sin ψ, 0, −(1 − sin ψ))
     /// (no intermediate principal plastic strain, and the dilatancy Δε_v/Δε_1 = 2 sin ψ/(1 + sin ψ)),
     /// with f = 0 after it, also when the stress is given in rotated axes.
+    #[test]
+    fn the_plane_eigen_solve_matches_the_jacobi_sweeps() {
+        let mut seed = 5u64;
+        let mut next = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+        };
+        for case in 0..2000 {
+            // stresses of a few kPa, some with a vanishing or a dominant shear
+            let scale = 10f64.powi((case % 7) as i32 - 2) * 1e3;
+            let (xx, yy, zz) = (scale * next(), scale * next(), scale * next());
+            let xy = match case % 4 {
+                0 => scale * next() * 1e-9,
+                1 => scale * next() * 1e3,
+                _ => scale * next(),
+            };
+            let a = [[xx, xy, 0.0], [xy, yy, 0.0], [0.0, 0.0, zz]];
+            let (lp, vp) = eigen_plane(a);
+            let (lj, _) = eigen_jacobi(a);
+            let norm = xx.abs() + yy.abs() + zz.abs() + 2.0 * xy.abs();
+            let (mut sp, mut sj) = (lp, lj);
+            sp.sort_by(f64::total_cmp);
+            sj.sort_by(f64::total_cmp);
+            for k in 0..3 {
+                assert!(
+                    (sp[k] - sj[k]).abs() <= 1e-13 * norm,
+                    "{a:?}: {lp:?} vs {lj:?}"
+                );
+            }
+            // V diag(λ) Vᵀ = A, and z stays a principal direction exactly
+            for i in 0..3 {
+                for j in 0..3 {
+                    let r: f64 = (0..3).map(|k| vp[i][k] * lp[k] * vp[j][k]).sum();
+                    assert!((r - a[i][j]).abs() <= 1e-13 * norm, "{a:?}: entry {i}{j}");
+                }
+            }
+            assert_eq!(lp[2], zz);
+        }
+    }
+
     #[test]
     fn a_stress_past_a_face_returns_onto_it_along_the_potentials_normal() {
         for (phi, psi, c) in [(30.0, 0.0, 0.0), (35.0, 10.0, 200.0), (20.0, 20.0, 500.0)] {
