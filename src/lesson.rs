@@ -151,7 +151,12 @@ fn lab_sand(scene: &SceneConfig) -> Option<(&'static str, Vec<serde_json::Value>
     let kind = body.material.kind();
     let fields = serde_json::to_value(&body.material).ok()?;
     let fields = &fields[kind];
-    let read = ["friction_angle", "dilatancy_angle", "cohesion", "friction_match"];
+    let read = [
+        "friction_angle",
+        "dilatancy_angle",
+        "cohesion",
+        "friction_match",
+    ];
     Some((kind, read.iter().map(|f| fields[*f].clone()).collect()))
 }
 
@@ -995,7 +1000,14 @@ mod tests {
         assert_ne!(other_phi, biaxial);
         let cases: [(Edit, &str, &str); 6] = [
             (
-                &|v| v["lab"].as_object_mut().unwrap().remove("compare").map(|_| ()).unwrap(),
+                &|v| {
+                    v["lab"]
+                        .as_object_mut()
+                        .unwrap()
+                        .remove("compare")
+                        .map(|_| ())
+                        .unwrap()
+                },
                 biaxial,
                 "question.measure.quantity = angle_difference: compares the shear box with the \
                  biaxial test: the lesson needs lab.compare",
@@ -1032,7 +1044,10 @@ mod tests {
             assert!(e.starts_with(want), "{e}\n  want {want}");
         }
         // the difference of the two fitted envelopes: Davis's 26.57° less φ = 30°
-        let tan = crate::lab::davis(30.0, 0.0, 0.0).friction_angle.to_radians().tan();
+        let tan = crate::lab::davis(30.0, 0.0, 0.0)
+            .friction_angle
+            .to_radians()
+            .tan();
         let points = [(10e3, 10e3 * tan), (40e3, 40e3 * tan)];
         let kp = (1.0 + 0.5) / (1.0 - 0.5);
         let circles = [(10e3 * kp, 10e3), (40e3 * kp, 40e3)];
