@@ -199,7 +199,8 @@ pub fn lab_scene(scene: &SceneConfig, load: f64, field: &str) -> Result<SceneCon
 
 /// The quantities a lesson's question can be answered with: what the page measures of its
 /// sand bodies ([`crate::measure::deposits`]), then what the soil lab's shear box reads of a
-/// run ([`lab_value`]).
+/// run ([`lab_value`]), and how the envelopes fitted to the shear box and the biaxial test
+/// differ ([`angle_difference`]).
 pub const QUANTITIES: [&str; 6] = [
     "flank_angle",
     "runout",
@@ -209,8 +210,8 @@ pub const QUANTITIES: [&str; 6] = [
     "angle_difference",
 ];
 
-/// Whether `quantity` is read from a soil-lab run (the shear box's reader), not from the
-/// page's sand measures.
+/// Whether `quantity` is read from soil-lab runs (the shear box's reader, or the envelopes
+/// fitted to the runs), not from the page's sand measures.
 pub fn is_lab_quantity(quantity: &str) -> bool {
     QUANTITIES[3..].contains(&quantity)
 }
