@@ -61,9 +61,67 @@ pub struct LabRuns {
     /// `mohr_coulomb.dilatancy_angle`), before the load.
     #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
     pub set: std::collections::BTreeMap<String, f64>,
+    /// A second soil test run after the scene's, at the same loads with the same `set`: the
+    /// path of a scene file, relative to the lesson file, of the other kind (a biaxial test
+    /// beside a shear box) on the same sand. [`Lesson::load`] and [`Lesson::from_texts`] read
+    /// it into [`LabRuns::compared`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub compare: Option<String>,
+    /// The scene of `compare`, once read.
+    #[serde(skip)]
+    pub compared: Option<Box<SceneConfig>>,
 }
 
 impl LabRuns {
+    /// The compared test (`compare`, read into `compared`): the other soil test on the same
+    /// sand, valid at every load with `set`. Errors name `lab.compare`.
+    fn validate_compare(&self, path: &str, scene: &SceneConfig) -> Result<()> {
+        let Some(other) = self.compared.as_deref() else {
+            return Err(Error::invalid(
+                "lab.compare",
+                path,
+                "the scene file is not read (Lesson::load and Lesson::from_texts read it)",
+            ));
+        };
+        let kind = |s: &SceneConfig| {
+            if crate::lab::is_biaxial(s) {
+                "a biaxial test (a body under a traction)"
+            } else {
+                "a shear box"
+            }
+        };
+        if crate::lab::is_biaxial(other) == crate::lab::is_biaxial(scene) {
+            return Err(Error::invalid(
+                "lab.compare",
+                path,
+                format!(
+                    "must be the other soil test: the scene and it are both {}",
+                    kind(scene)
+                ),
+            ));
+        }
+        for i in 0..self.loads.len() {
+            let at = self.scene(other, i)?;
+            at.validate().map_err(|e| match e {
+                Error::Invalid {
+                    field,
+                    value,
+                    allowed,
+                } => Error::invalid(format!("lab.compare: {field}"), value, allowed),
+                e => e,
+            })?;
+            if lab_sand(&at) != lab_sand(&self.scene(scene, i)?) {
+                return Err(Error::invalid(
+                    "lab.compare",
+                    path,
+                    "must test the scene's sand: the same model, friction angle, dilatancy \
+                     angle and cohesion (after lab.set)",
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// The scene of run `i`: `scene` with the parameters of `set`, at the run's load.
     pub fn scene(&self, scene: &SceneConfig, i: usize) -> Result<SceneConfig> {
         let load = *self.loads.get(i).ok_or_else(|| {
@@ -81,6 +139,25 @@ impl LabRuns {
         }
         lab_scene(&scene, load, &format!("lab.loads[{i}]"))
     }
+}
+
+/// The soil sample's sand in a lab scene: its model and the parameters of its strength and
+/// flow (φ, ψ, c and the cone's match), as written; `None` without a granular body.
+fn lab_sand(scene: &SceneConfig) -> Option<(&'static str, Vec<serde_json::Value>)> {
+    let body = scene
+        .bodies
+        .iter()
+        .find(|b| !b.kinematic && b.material.behaviour().friction().is_some())?;
+    let kind = body.material.kind();
+    let fields = serde_json::to_value(&body.material).ok()?;
+    let fields = &fields[kind];
+    let read = [
+        "friction_angle",
+        "dilatancy_angle",
+        "cohesion",
+        "friction_match",
+    ];
+    Some((kind, read.iter().map(|f| fields[*f].clone()).collect()))
 }
 
 /// The highest load a lab lesson runs at (Pa).
@@ -122,17 +199,19 @@ pub fn lab_scene(scene: &SceneConfig, load: f64, field: &str) -> Result<SceneCon
 
 /// The quantities a lesson's question can be answered with: what the page measures of its
 /// sand bodies ([`crate::measure::deposits`]), then what the soil lab's shear box reads of a
-/// run ([`lab_value`]).
-pub const QUANTITIES: [&str; 5] = [
+/// run ([`lab_value`]), and how the envelopes fitted to the shear box and the biaxial test
+/// differ ([`angle_difference`]).
+pub const QUANTITIES: [&str; 6] = [
     "flank_angle",
     "runout",
     "runout_ratio",
     "shear_strength",
     "lid_rise",
+    "angle_difference",
 ];
 
-/// Whether `quantity` is read from a soil-lab run (the shear box's reader), not from the
-/// page's sand measures.
+/// Whether `quantity` is read from soil-lab runs (the shear box's reader, or the envelopes
+/// fitted to the runs), not from the page's sand measures.
 pub fn is_lab_quantity(quantity: &str) -> bool {
     QUANTITIES[3..].contains(&quantity)
 }
@@ -147,6 +226,17 @@ pub fn lab_value(quantity: &str, test: &crate::lab::ShearBox) -> Option<f64> {
         "lid_rise" => test.readings.last().map(|r| r.lid_rise),
         _ => None,
     }
+}
+
+/// `angle_difference`: the friction angle of the envelope fitted to a shear box's failure
+/// points (σ_n, τ) ([`crate::lab::fit_points`]) less that of the envelope fitted to a biaxial
+/// test's failure circles (σ1, σ3) ([`crate::lab::fit_circles`]), degrees; `None` until each
+/// test has failures at two different loads. The page takes the same difference of the
+/// envelopes it fitted (wasm `fitEnvelope`).
+pub fn angle_difference(points: &[(f64, f64)], circles: &[(f64, f64)]) -> Option<f64> {
+    let shear = crate::lab::fit_points(points)?;
+    let biaxial = crate::lab::fit_circles(circles)?;
+    Some(shear.friction_angle - biaxial.friction_angle)
 }
 
 /// The answer of a soil-lab question from its runs' values (in the order of `measure.runs`):
@@ -175,9 +265,10 @@ pub struct Question {
 /// What answers a question: `quantity` of body `bodies[0]`, less that of `bodies[1]` when
 /// two are named. `flank_angle` is the mean of the body's fitted flanks (degrees), `runout`
 /// its farthest run-out beyond its footprint (m; in 3D the mean over the sectors),
-/// `runout_ratio` that over the footprint's half-width L0 (or R0). A soil-lab quantity names
-/// `runs` instead (indices into `lab.loads`): run `runs[0]`'s value, over run `runs[1]`'s when
-/// two are named.
+/// `runout_ratio` that over the footprint's half-width L0 (or R0). A soil-lab quantity of the
+/// shear box names `runs` instead (indices into `lab.loads`): run `runs[0]`'s value, over run
+/// `runs[1]`'s when two are named; `angle_difference` ([`angle_difference`]) names neither:
+/// it compares the envelopes fitted to all the runs of the scene and of `lab.compare`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct QuestionMeasure {
@@ -226,7 +317,7 @@ impl Question {
             return Err(Error::invalid(
                 "question.measure.runs",
                 format!("{} runs", self.measure.runs.len()),
-                "only a soil-lab quantity (shear_strength, lid_rise) names runs",
+                "only a soil-lab quantity of the shear box (shear_strength, lid_rise) names runs",
             ));
         } else if !(1..=2).contains(&self.measure.bodies.len()) {
             return Err(Error::invalid(
@@ -302,18 +393,21 @@ impl Question {
                 "a soil-lab quantity needs the lesson's lab runs (lab.loads)",
             ));
         };
-        if crate::lab::is_biaxial(scene) {
-            return Err(Error::invalid(
-                "question.measure.quantity",
-                &self.measure.quantity,
-                "is read from a shear box: the scene is a biaxial test",
-            ));
-        }
         if !self.measure.bodies.is_empty() {
             return Err(Error::invalid(
                 "question.measure.bodies",
                 format!("{} bodies", self.measure.bodies.len()),
                 "a soil-lab quantity names runs, not bodies",
+            ));
+        }
+        if self.measure.quantity == "angle_difference" {
+            return self.validate_angles(lab);
+        }
+        if crate::lab::is_biaxial(scene) {
+            return Err(Error::invalid(
+                "question.measure.quantity",
+                &self.measure.quantity,
+                "is read from a shear box: the scene is a biaxial test",
             ));
         }
         if !(1..=2).contains(&self.measure.runs.len()) {
@@ -331,6 +425,34 @@ impl Question {
                     format!("must be a run of lab.loads, below {}", lab.loads.len()),
                 ));
             }
+        }
+        Ok(())
+    }
+
+    /// `angle_difference`: the lesson runs both tests (`lab.compare`, checked with the
+    /// lesson) at two or more different loads, so that each fits an envelope; no run named.
+    fn validate_angles(&self, lab: &LabRuns) -> Result<()> {
+        if lab.compare.is_none() {
+            return Err(Error::invalid(
+                "question.measure.quantity",
+                &self.measure.quantity,
+                "compares the shear box with the biaxial test: the lesson needs lab.compare",
+            ));
+        }
+        if !self.measure.runs.is_empty() {
+            return Err(Error::invalid(
+                "question.measure.runs",
+                format!("{} runs", self.measure.runs.len()),
+                "angle_difference compares the envelopes fitted to every run: name no runs",
+            ));
+        }
+        let first = lab.loads.first().copied().unwrap_or(0.0);
+        if lab.loads.iter().all(|&l| l == first) {
+            return Err(Error::invalid(
+                "lab.loads",
+                format!("{:?}", lab.loads),
+                "angle_difference fits each test's envelope: must hold two or more different loads",
+            ));
         }
         Ok(())
     }
@@ -484,6 +606,9 @@ impl Lesson {
             for i in 0..lab.loads.len() {
                 lab.scene(scene, i)?.validate()?;
             }
+            if let Some(path) = &lab.compare {
+                lab.validate_compare(path, scene)?;
+            }
         }
         if let Some(q) = &self.question {
             q.validate(scene, self.lab.as_ref())?;
@@ -528,7 +653,8 @@ impl Lesson {
 
     /// A lesson from texts, as a web page has them: the lesson's JSON, the text of the scene
     /// file it names (`None` for an inline scene) and the texts of the files the scene
-    /// references, keyed by their paths as written in it. Validates both; errors name the
+    /// references, keyed by their paths as written in it, with the compared soil test's scene
+    /// file keyed by `lab.compare` as written. Validates both; errors name the
     /// field (`view.params[0] = …`, `scene.cfl = …`) or the file missing.
     pub fn from_texts(
         text: &str,
@@ -554,6 +680,15 @@ impl Lesson {
             }
             None => lesson.inline_scene(read)?.expect("an inline scene"),
         };
+        let mut lesson = lesson;
+        if let Some(lab) = &mut lesson.lab
+            && let Some(p) = &lab.compare
+        {
+            let mut other = SceneConfig::from_json(&read(p)?)?;
+            other.resolve_assets(read)?;
+            other.validate()?;
+            lab.compared = Some(Box::new(other));
+        }
         lesson.validate(&scene)?;
         Ok((lesson, scene))
     }
@@ -577,6 +712,12 @@ impl Lesson {
                 })?
                 .expect("an inline scene"),
         };
+        let mut lesson = lesson;
+        if let Some(lab) = &mut lesson.lab
+            && let Some(p) = &lab.compare
+        {
+            lab.compared = Some(Box::new(SceneConfig::load(&dir.join(p))?));
+        }
         lesson.validate(&scene)?;
         Ok((lesson, scene))
     }
@@ -822,6 +963,99 @@ mod tests {
             (read / 20e3 - 1.0).abs() < 0.01,
             "the reader's lid load {read} Pa"
         );
+    }
+
+    /// `angle_difference` compares the shear box with the biaxial test of `lab.compare` (read
+    /// by `from_texts` from the texts given): the other test, on the same sand, at two or more
+    /// loads; errors name the field. The difference is that of the two fitted envelopes,
+    /// and none until each test has two failures.
+    #[test]
+    fn an_angle_question_compares_the_shear_box_with_the_biaxial_test() {
+        let shear = include_str!("../scenes/lab/shear_box_mc_2d.json");
+        let biaxial = include_str!("../scenes/lab/biaxial_mc_2d.json");
+        let check = |edit: &dyn Fn(&mut serde_json::Value), compare: &str| {
+            let mut v = serde_json::json!({
+                "title": "Two tests", "caption": "The same sand in both.", "scene": "box.json",
+                "duration": 0.1, "view": {"plot": "none", "params": ["mohr_coulomb.friction_angle"]},
+                "lab": {"loads": [10000, 40000], "compare": "biaxial.json"},
+                "question": {"ask": "The same angle?",
+                             "measure": {"quantity": "angle_difference"},
+                             "choices": [{"text": "lower", "range": [-90, -1]},
+                                         {"text": "the same", "range": [-1, 1]},
+                                         {"text": "higher", "range": [1, 90]}]}
+            });
+            edit(&mut v);
+            let assets = HashMap::from([("biaxial.json".to_string(), compare.to_string())]);
+            Lesson::from_texts(&v.to_string(), Some(shear), &assets).map(|(l, _)| l)
+        };
+        let lesson = check(&|_| (), biaxial).unwrap();
+        let lab = lesson.lab.unwrap();
+        assert!(crate::lab::is_biaxial(lab.compared.as_deref().unwrap()));
+        // each run of the compared test is its scene at the run's load: σ3
+        let scene = SceneConfig::from_json(biaxial).unwrap();
+        let at = lab.scene(lab.compared.as_deref().unwrap(), 1).unwrap();
+        assert_eq!(at.bodies[0].traction.as_ref().unwrap().pressure, 40e3);
+        assert_eq!(at.bodies.len(), scene.bodies.len());
+        type Edit<'a> = &'a dyn Fn(&mut serde_json::Value);
+        let other_phi = biaxial.replacen("\"friction_angle\": 30", "\"friction_angle\": 35", 1);
+        assert_ne!(other_phi, biaxial);
+        let cases: [(Edit, &str, &str); 6] = [
+            (
+                &|v| {
+                    v["lab"]
+                        .as_object_mut()
+                        .unwrap()
+                        .remove("compare")
+                        .map(|_| ())
+                        .unwrap()
+                },
+                biaxial,
+                "question.measure.quantity = angle_difference: compares the shear box with the \
+                 biaxial test: the lesson needs lab.compare",
+            ),
+            (
+                &|v| v["question"]["measure"]["runs"] = serde_json::json!([0, 1]),
+                biaxial,
+                "question.measure.runs = 2 runs: angle_difference compares the envelopes",
+            ),
+            (
+                &|v| v["lab"]["loads"] = serde_json::json!([20000, 20000]),
+                biaxial,
+                "lab.loads = [20000.0, 20000.0]: angle_difference fits each test's envelope",
+            ),
+            (
+                &|_| (),
+                shear,
+                "lab.compare = biaxial.json: must be the other soil test: the scene and it are \
+                 both a shear box",
+            ),
+            (
+                &|_| (),
+                &other_phi,
+                "lab.compare = biaxial.json: must test the scene's sand",
+            ),
+            (
+                &|v| v["lab"]["compare"] = "elsewhere.json".into(),
+                biaxial,
+                "elsewhere.json: not provided",
+            ),
+        ];
+        for (edit, compare, want) in cases {
+            let e = check(edit, compare).unwrap_err().to_string();
+            assert!(e.starts_with(want), "{e}\n  want {want}");
+        }
+        // the difference of the two fitted envelopes: Davis's 26.57° less φ = 30°
+        let tan = crate::lab::davis(30.0, 0.0, 0.0)
+            .friction_angle
+            .to_radians()
+            .tan();
+        let points = [(10e3, 10e3 * tan), (40e3, 40e3 * tan)];
+        let kp = (1.0 + 0.5) / (1.0 - 0.5);
+        let circles = [(10e3 * kp, 10e3), (40e3 * kp, 40e3)];
+        let d = angle_difference(&points, &circles).unwrap();
+        assert!((d - (26.565 - 30.0)).abs() < 0.01, "{d}");
+        assert_eq!(angle_difference(&points, &circles[..1]), None);
+        assert_eq!(angle_difference(&points[..1], &circles), None);
     }
 
     #[test]

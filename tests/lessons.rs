@@ -77,12 +77,20 @@ fn every_lesson_loads_validates_and_runs() {
     for name in &names {
         let (lesson, scene) = load(name);
         if let Some(lab) = &lesson.lab {
-            // a soil-lab lesson runs in the Lab panel: each run's scene builds and steps
-            for i in 0..lab.loads.len() {
-                let mut sim = mpm::Simulation::<mpm::D2>::new(lab.scene(&scene, i).unwrap())
-                    .unwrap_or_else(|e| panic!("{name}: run {i}: {e}"));
-                mpm::lab::ShearBox::new(&sim).unwrap_or_else(|e| panic!("{name}: {e}"));
-                sim.step().unwrap();
+            // a soil-lab lesson runs in the Lab panel: each run's scene (and the compared
+            // test's) builds, its reader finds its parts, and it steps
+            let tests = std::iter::once(&scene).chain(lab.compared.as_deref());
+            for test in tests {
+                for i in 0..lab.loads.len() {
+                    let mut sim = mpm::Simulation::<mpm::D2>::new(lab.scene(test, i).unwrap())
+                        .unwrap_or_else(|e| panic!("{name}: run {i}: {e}"));
+                    if mpm::lab::is_biaxial(test) {
+                        mpm::lab::Biaxial::new(&sim).unwrap_or_else(|e| panic!("{name}: {e}"));
+                    } else {
+                        mpm::lab::ShearBox::new(&sim).unwrap_or_else(|e| panic!("{name}: {e}"));
+                    }
+                    sim.step().unwrap();
+                }
             }
             continue;
         }
@@ -491,4 +499,69 @@ fn the_dilatancy_lesson_is_answered_from_its_run() {
     assert_eq!(rise, last);
     eprintln!("dilatancy: lid rise {:.3} mm: choice {choice}", rise * 1e3);
     assert_eq!(choice, 2, "ψ = 10°: the lid rises ({rise} m)");
+}
+
+/// The two-tests lesson: the shear box and the biaxial test of `lab.compare` on the same
+/// Mohr–Coulomb sand (φ = 30°, ψ = 0, c = 0), each run at the lesson's loads for its duration
+/// and read every 2 ms as the Lab panel reads them. The answer is `angle_difference` of the
+/// envelopes fitted to the failures (none before both tests have their runs); each fitted angle
+/// lies within the bands of `tests/lab.rs` (2° of Davis's 26.57° for the shear box, 2° of φ for
+/// the biaxial test), and the difference has the sign Davis gives (the shear box lower): the
+/// question's first choice.
+#[test]
+fn the_two_tests_lesson_is_answered_from_its_envelopes() {
+    let (lesson, scene) = load("two_tests.json");
+    let lab = lesson.lab.clone().expect("a soil-lab lesson");
+    let biaxial = lab.compared.as_deref().expect("the compared test is read");
+    assert!(!mpm::lab::is_biaxial(&scene) && mpm::lab::is_biaxial(biaxial));
+    let (mut points, mut circles) = (Vec::new(), Vec::new());
+    for i in 0..lab.loads.len() {
+        let mut sim = mpm::Simulation::<mpm::D2>::new(lab.scene(&scene, i).unwrap()).unwrap();
+        let mut t = mpm::lab::ShearBox::new(&sim).unwrap();
+        t.read(&sim);
+        t.run(&mut sim, lesson.duration, 0.002).unwrap();
+        points.push(t.failure().unwrap());
+    }
+    // the shear boxes alone answer nothing: the page judges after the biaxial runs
+    assert_eq!(mpm::lesson::angle_difference(&points, &circles), None);
+    for i in 0..lab.loads.len() {
+        let mut sim = mpm::Simulation::<mpm::D2>::new(lab.scene(biaxial, i).unwrap()).unwrap();
+        let mut t = mpm::lab::Biaxial::new(&sim).unwrap();
+        t.read(&sim);
+        t.run(&mut sim, lesson.duration, 0.002).unwrap();
+        let (s1, s3) = t.failure().unwrap();
+        assert_eq!(s3, lab.loads[i], "σ3 is the run's load");
+        circles.push((s1, s3));
+        if i == 0 {
+            assert_eq!(mpm::lesson::angle_difference(&points, &circles), None);
+        }
+    }
+    let shear = mpm::lab::fit_points(&points).unwrap();
+    let own = mpm::lab::fit_circles(&circles).unwrap();
+    let davis = mpm::lab::davis(30.0, 0.0, 0.0).friction_angle;
+    let diff = mpm::lesson::angle_difference(&points, &circles).unwrap();
+    eprintln!(
+        "two_tests: shear box {:.2}° (c {:.0} Pa; Davis {davis:.2}°) from {points:?}; biaxial \
+         {:.2}° (c {:.0} Pa; φ 30°) from {circles:?}; difference {diff:.2}°",
+        shear.friction_angle, shear.cohesion, own.friction_angle, own.cohesion
+    );
+    assert!(
+        (shear.friction_angle - davis).abs() < 2.0,
+        "the shear box reads {shear:?} against Davis's {davis}°"
+    );
+    assert!(
+        (own.friction_angle - 30.0).abs() < 2.0,
+        "the biaxial test reads {own:?} against φ = 30°"
+    );
+    assert_eq!(diff, shear.friction_angle - own.friction_angle);
+    let q = lesson.question.as_ref().unwrap();
+    let choice = q
+        .choices
+        .iter()
+        .position(|c| diff >= c.range[0] && diff < c.range[1]);
+    assert_eq!(
+        choice,
+        Some(0),
+        "Davis: the shear box reads lower ({diff:.2}°)"
+    );
 }

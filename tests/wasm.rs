@@ -572,14 +572,21 @@ fn every_lesson_checks_with_its_files_and_a_bad_one_names_the_field() {
             None => (None, "lessons".to_string()),
         };
         let scene_text = scene.clone().unwrap_or_else(|| lesson["scene"].to_string());
-        let files: serde_json::Map<String, serde_json::Value> = mpm::wasm::asset_paths(&scene_text)
-            .unwrap_or_else(|e| panic!("{path}: {}", message(e)))
-            .into_iter()
-            .map(|f| {
-                let t = read_file_sync(&format!("{ROOT}/{base}/{f}"), "utf8").unwrap();
-                (f, t.into())
-            })
-            .collect();
+        let mut files: serde_json::Map<String, serde_json::Value> =
+            mpm::wasm::asset_paths(&scene_text)
+                .unwrap_or_else(|e| panic!("{path}: {}", message(e)))
+                .into_iter()
+                .map(|f| {
+                    let t = read_file_sync(&format!("{ROOT}/{base}/{f}"), "utf8").unwrap();
+                    (f, t.into())
+                })
+                .collect();
+        // a soil-lab lesson's compared test: its scene file, relative to the lesson file,
+        // keyed as written (the page fetches it so)
+        if let Some(p) = lesson["lab"]["compare"].as_str() {
+            let t = read_file_sync(&format!("{ROOT}/lessons/{p}"), "utf8").unwrap();
+            files.insert(p.to_string(), t.into());
+        }
         let assets = serde_json::Value::Object(files).to_string();
         mpm::wasm::check_lesson(&text, scene.clone(), Some(assets.clone()))
             .unwrap_or_else(|e| panic!("{path}: {}", message(e)));

@@ -5,8 +5,10 @@
 // from two runs of a kind the page fits the envelope (`fitEnvelope`) and reads back φ and c
 // beside the sliders' values. Opened by the Lab button or a link (`#lab`). A soil-lab lesson
 // (`lab` in its file: docs/lessons.md) opens here: its caption and question, then, on Run, its
-// runs at their loads; once the last has run its duration the question is answered with the
-// quantity the solver's reader reports (`LabTest.quantity`, combined by `labAnswer`).
+// runs at their loads (then the compared test's, `lab.compare`, at the same loads); once the last
+// has run its duration the question is answered with the quantity the solver's reader reports
+// (`LabTest.quantity`, combined by `labAnswer`), or with the difference of the two tests'
+// envelopes the page fitted (`angle_difference`: `lessonValue`).
 
 import init, { LabTest, davisEnvelope, fitEnvelope, labAnswer, labSceneAt, lessonLabScene } from '../pkg/mpm.js';
 import { axes, setup } from './plots.js';
@@ -48,10 +50,26 @@ export function labScene(base, test, { model, phi, psi, c, load }) {
 }
 
 const KPA = (v) => `${+(v / 1e3).toPrecision(3)}`;
-/// A lab question's measured value in words: ratios of shear strengths as "1.93×", a rise in mm.
+/// A lab question's measured value in words: ratios of shear strengths as "1.93×", a rise in
+/// mm, the difference of the two tests' angles in degrees.
 export function labShown(quantity, value, runs) {
   if (quantity === 'lid_rise') return `the lid rose ${(value * 1e3).toFixed(2)} mm`;
+  if (quantity === 'angle_difference') {
+    return `the shear box's envelope ${Math.abs(value).toFixed(1)}° ${value < 0 ? 'lower' : 'higher'} than the biaxial test's`;
+  }
   return runs.length === 2 ? `shear strength τ ${value.toFixed(2)}× as large` : `shear strength τ ${KPA(value)} kPa`;
+}
+
+/// A soil-lab question's answer once its runs have ended: the runs' quantities it names
+/// (`values`, in the order of the runs) combined by `labAnswer`, or for `angle_difference` the
+/// angle of the shear box's fitted envelope less the biaxial test's (`fits`, as `fitEnvelope`
+/// read them; `mpm::lesson::angle_difference`); undefined when they fix none.
+export function lessonValue(q, values, fits) {
+  if (q.measure.quantity === 'angle_difference') {
+    return fits.shear_box && fits.biaxial ? fits.shear_box.friction_angle - fits.biaxial.friction_angle : undefined;
+  }
+  const named = q.measure.runs.map((r) => values[r] ?? null);
+  return named.includes(null) ? undefined : labAnswer(new Float64Array(named));
 }
 
 /// The sentence that says why the two tests read different angles, with the page's numbers.
@@ -135,11 +153,14 @@ export class Lab {
   /// Opens soil-lab lesson `lesson` (as the page fetched it, with its `id`) on its scene's
   /// text: its caption and question; Run runs its loads in turn.
   async openLesson(lesson, sceneText) {
-    const { id, ...file } = lesson;
+    const { id, compareScene, ...file } = lesson;
     const q = lesson.question ?? null;
-    this.lessonRun = { id, lesson, text: JSON.stringify(file), scene: sceneText, picked: -1, values: [], answer: null };
+    const kind = JSON.parse(sceneText).bodies.some((b) => b.traction) ? 'biaxial' : 'shear_box';
+    // the scene's runs, then the compared test's (the other kind) at the same loads
+    const tests = [[sceneText, kind], ...(compareScene ? [[compareScene, kind === 'biaxial' ? 'shear_box' : 'biaxial']] : [])];
+    this.lessonRun = { id, lesson, text: JSON.stringify(file), scene: sceneText, tests, picked: -1, values: [], answer: null };
     this.clearRuns();
-    $('lab-test').value = JSON.parse(sceneText).bodies.some((b) => b.traction) ? 'biaxial' : 'shear_box';
+    $('lab-test').value = kind;
     this.syncLoad();
     $('lab-lesson-title').textContent = lesson.title;
     $('lab-lesson-caption').textContent = lesson.caption;
@@ -171,7 +192,8 @@ export class Lab {
       .forEach(([id, v]) => { $(id).value = String(v); });
     this.showValues();
     const loads = lesson.lab.loads.map((l) => `${KPA(l)} kPa`).join(', ');
-    $('lab-status').textContent = `Run runs the lesson's ${lesson.lab.loads.length === 1 ? 'test' : 'tests'} at ${loads}.`;
+    const what = tests.length > 1 ? 'shear box and biaxial test each' : lesson.lab.loads.length === 1 ? 'test' : 'tests';
+    $('lab-status').textContent = `Run runs the lesson's ${what} at ${loads}.`;
     this.open();
   }
 
@@ -225,23 +247,28 @@ export class Lab {
 
   async lessonRuns(run) {
     const q = run.lesson.question;
-    const kind = $('lab-test').value;
-    for (let i = 0; i < run.lesson.lab.loads.length; i++) {
-      const scene = JSON.parse(lessonLabScene(run.text, run.scene, i));
-      const ended = await this.runScene(scene, kind, run.lesson.duration);
-      if (!ended || this.lessonRun !== run) return;
-      run.values.push(q ? this.test.quantity(q.measure.quantity) ?? null : null);
+    for (const [sceneText, kind] of run.tests) {
+      $('lab-test').value = kind;
+      this.syncLoad();
+      for (let i = 0; i < run.lesson.lab.loads.length; i++) {
+        const scene = JSON.parse(lessonLabScene(run.text, sceneText, i));
+        const ended = await this.runScene(scene, kind, run.lesson.duration);
+        if (!ended || this.lessonRun !== run) return;
+        if (sceneText === run.scene) run.values.push(q ? this.test.quantity(q.measure.quantity) ?? null : null);
+      }
     }
     if (!q) return;
-    const values = q.measure.runs.map((r) => run.values[r]);
-    const value = values.includes(null) ? undefined : labAnswer(new Float64Array(values));
+    const value = lessonValue(q, run.values, this.fits);
     if (value === undefined) return;
     const i = answerIndex(q, value);
-    run.answer = { value, index: i };
+    // the two angles: why they differ, with the figures just measured
+    const why = q.measure.quantity === 'angle_difference' ? ` ${whyDifferent(this.material(), this.fits)}` : '';
+    run.answer = { value, index: i, why: Boolean(why) };
     if (i >= 0) run.buttons[i].classList.add('answer');
     const mine = run.picked < 0 ? '' : run.picked === i ? ' Your prediction was right.' : ` You predicted “${q.choices[run.picked].text}”.`;
     run.verdict.textContent = `Measured by the page: ${labShown(q.measure.quantity, value, q.measure.runs)}`
-      + `${i >= 0 ? ` → “${q.choices[i].text}”.` : ' (outside every choice).'}${mine}`;
+      + `${i >= 0 ? ` → “${q.choices[i].text}”.` : ' (outside every choice).'}${mine}${why}`;
+    this.showFit();
   }
 
   /// Runs `scene` (a lab test of kind `test`) for `end` s of simulated time (the test's
@@ -387,6 +414,8 @@ export class Lab {
     };
     $('lab-fit').textContent = `Sliders: φ ${m.phi}°, ψ ${m.psi}°, c ${kPa(m.c)} kPa. `
       + `${row('shear_box', 'Shear box')}. ${row('biaxial', 'Biaxial test')}.`;
-    $('lab-why').textContent = this.fits.shear_box || this.fits.biaxial ? whyDifferent(m, this.fits) : '';
+    // once a lesson's verdict says why (angle_difference), it is said there only
+    const said = this.lessonRun?.answer?.why;
+    $('lab-why').textContent = !said && (this.fits.shear_box || this.fits.biaxial) ? whyDifferent(m, this.fits) : '';
   }
 }

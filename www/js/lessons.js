@@ -68,12 +68,17 @@ export async function fetchLesson(id, list, session) {
   }
   const texts = await Promise.all(paths.map((p) => fetchText(new URL(p, base).href)));
   const assets = paths.length ? JSON.stringify(Object.fromEntries(paths.map((p, i) => [p, texts[i]]))) : null;
+  // a soil-lab lesson's compared test (lab.compare): its scene file, relative to the lesson's,
+  // checked with it (keyed as written) and run by the Lab after the scene's runs
+  const compare = typeof lesson.lab?.compare === 'string' ? lesson.lab.compare : null;
+  const compareScene = compare ? await fetchText(new URL(compare, url).href) : null;
+  const checked = compare ? JSON.stringify({ ...JSON.parse(assets ?? '{}'), [compare]: compareScene }) : assets;
   try {
-    await session.checkLesson(text, sceneFile, assets);
+    await session.checkLesson(text, sceneFile, checked);
   } catch (e) {
     throw new Error(`${entry.path}: ${e.message}`);
   }
-  return { lesson: { id, ...lesson }, source: { text: sceneText, assets } };
+  return { lesson: { id, ...lesson, ...(compare ? { compareScene } : {}) }, source: { text: sceneText, assets } };
 }
 
 /// The lesson panel above the view: title, caption, the lesson's sliders; closing hides it.

@@ -8,10 +8,12 @@
 // 26.6° for φ = 30°, ψ = 0; with a third run at 40 kPa the fitted angle lies within 2° of
 // Davis's; a biaxial run plots q–ε_a and ε_v–ε_a and adds a failure circle. The soil-lab
 // lessons open in the Lab from their links, ask before they run (nothing judged, no choice
-// marked), and after their runs answer with the quantity the solver's reader reports (the
-// lid's last rise: it rises with ψ = 10°; the ratio of the two shear strengths: τ about
-// doubles with the load). Served by
-// `cargo xtask test` (MPM_URL).
+// marked), show no judgement before their last run has ended, and then answer with the
+// quantity the solver's reader reports (the lid's last rise: it rises with ψ = 10°; the ratio
+// of the two shear strengths: τ about doubles with the load) or, for the two-tests lesson,
+// with the difference of the envelopes the page fitted to its two shear boxes and two biaxial
+// tests (the shear box reads lower, and the verdict says why with Davis's formula and the
+// measured angles). Served by `cargo xtask test` (MPM_URL).
 //
 //   MPM_URL=http://127.0.0.1:8080/ node --test www/tests/lab.test.mjs
 import { test, before, after } from 'node:test';
@@ -96,8 +98,11 @@ test('the lab runs two shear boxes, fits their envelope and says why the tests d
 });
 
 /// Opens soil-lab lesson `id` from its link; checks it waits unjudged, picks `choice`, runs it
-/// and returns the lab's state once answered.
-const lesson = async (id, choice) => {
+/// and returns the lab's state once answered. Whenever the page shows a judgement (the verdict's
+/// "Measured", a choice marked, or the lesson's answer set; watched on every change and every
+/// frame) it records how many runs had ended and whether one was running: the first must come
+/// after the last of the lesson's `runs` runs ended.
+const lesson = async (id, choice, runs, more = async () => ({})) => {
   const { page, errors } = await openPage(browser.context, `${URL_ROOT}#lesson=${id}`);
   await page.waitForFunction((id) => mpmLab.lessonRun?.id === id, id, { timeout: 60_000 });
   assert.equal(await page.isVisible('#lab'), true, `${id}: the lesson opens the Lab`);
@@ -109,23 +114,39 @@ const lesson = async (id, choice) => {
   }));
   assert.deepEqual(unjudged, { answer: null, runs: 0, marked: 0, verdict: 'Predict first: pick an answer, then press Run.' }, id);
   await page.click(`#lab-lesson-question [data-choice="${choice}"]`);
+  await page.evaluate(() => {
+    window.judged = [];
+    const box = document.getElementById('lab-lesson-question');
+    const seen = () => {
+      const shown = /Measured/.test(document.getElementById('lab-lesson-verdict').textContent)
+        || box.querySelector('.answer') !== null || mpmLab.lessonRun?.answer != null;
+      if (shown && !judged.length) judged.push({ runs: mpmLab.runs.length, running: mpmLab.running });
+    };
+    new MutationObserver(seen).observe(box, { subtree: true, childList: true, characterData: true, attributes: true });
+    const frame = () => { seen(); if (!judged.length) requestAnimationFrame(frame); };
+    requestAnimationFrame(frame);
+  });
   await page.click('#lab-run');
   await page.waitForFunction(() => mpmLab.lessonRun.answer !== null, null, { timeout: 600_000 });
   const s = await page.evaluate(() => ({
-    answer: mpmLab.lessonRun.answer, values: mpmLab.lessonRun.values, runs: mpmLab.runs,
+    answer: mpmLab.lessonRun.answer, values: mpmLab.lessonRun.values, runs: mpmLab.runs, fits: mpmLab.fits,
     last: mpmLab.readings.at(-1), psi: document.getElementById('lab-psi').value, verdict: document.getElementById('lab-lesson-verdict').textContent,
     marked: [...document.querySelectorAll('#lab-lesson-question .answer')].map((b) => b.dataset.choice),
+    why: document.getElementById('lab-why').textContent, judged: window.judged,
   }));
   console.log(`${id}: ${s.verdict}`);
+  assert.equal(s.runs.length, runs, `${id}: every run ended`);
+  assert.deepEqual(s.judged, [{ runs, running: false }], `${id}: judged only once its ${runs} runs had ended`);
   assert.deepEqual(s.marked, [String(s.answer.index)], `${id}: the measured choice is marked`);
   await page.screenshot({ path: join(OUT, `lab-lesson-${id}.png`) });
+  Object.assign(s, await more(page, s));
   assert.deepEqual(errors, []);
   await page.close();
   return s;
 };
 
 test('the dilatancy lesson answers with the lid rise its run read', { timeout: 900_000 }, async () => {
-  const s = await lesson('dilatancy', 2);
+  const s = await lesson('dilatancy', 2, 1);
   assert.equal(s.runs.length, 1);
   assert.equal(s.psi, '10', 'the Lab shows the lesson\'s ψ');
   // the solver's reader: the lid's rise at the run's last reading
@@ -135,7 +156,7 @@ test('the dilatancy lesson answers with the lid rise its run read', { timeout: 9
 });
 
 test('the shear-box lesson answers with the ratio of its two runs\' shear strengths', { timeout: 900_000 }, async () => {
-  const s = await lesson('shear_box', 1);
+  const s = await lesson('shear_box', 1, 2);
   assert.equal(s.runs.length, 2);
   const [[sn1, t1], [sn2, t2]] = s.runs.map((r) => r.failure);
   assert.ok(sn2 > sn1 && t2 > t1, `τ ${t1} Pa at σ_n ${sn1} Pa, ${t2} Pa at ${sn2} Pa`);
@@ -144,4 +165,31 @@ test('the shear-box lesson answers with the ratio of its two runs\' shear streng
   assert.ok(Math.abs(s.answer.value - t2 / t1) < 1e-12, `${s.answer.value} against ${t2 / t1}`);
   assert.equal(s.answer.index, 1, `twice the load: τ about doubles (${s.verdict})`);
   assert.match(s.verdict, /Your prediction was right\./);
+});
+
+test('the two-tests lesson judges from the envelopes the page fitted to both tests', { timeout: 900_000 }, async () => {
+  // the envelopes of the runs' failures, fitted again by the solver's fitEnvelope
+  const s = await lesson('two_tests', 0, 4, async (page, { runs }) => ({
+    refit: await page.evaluate((runs) => import('./www/pkg/mpm.js').then((m) => {
+      const fit = (kind, test) => JSON.parse(m.fitEnvelope(kind, new Float64Array(runs.filter((r) => r.test === test).flatMap((r) => r.failure))));
+      return { shear_box: fit('points', 'shear_box'), biaxial: fit('circles', 'biaxial') };
+    }), runs),
+  }));
+  // two shear boxes, then two biaxial tests, at the lesson's loads
+  assert.deepEqual(s.runs.map((r) => r.test), ['shear_box', 'shear_box', 'biaxial', 'biaxial']);
+  assert.deepEqual(s.runs.slice(2).map((r) => r.failure[1]), [10e3, 40e3], 'σ3 of the biaxial runs');
+  // the answer is the difference of the two envelopes fitted to the runs' failures
+  const { refit } = s;
+  assert.deepEqual(s.fits, refit, 'the page\'s envelopes are those of its four runs');
+  const [sb, bx] = [refit.shear_box.friction_angle, refit.biaxial.friction_angle];
+  assert.equal(s.answer.value, sb - bx);
+  // each angle within the bands of tests/lab.rs: Davis's 26.57° and φ = 30°, within 2°
+  assert.ok(Math.abs(sb - 26.57) < 2 && Math.abs(bx - 30) < 2, `shear box ${sb}°, biaxial ${bx}°`);
+  assert.equal(s.answer.index, 0, `Davis: the shear box reads lower (${s.verdict})`);
+  assert.ok(s.verdict.startsWith(`Measured by the page: the shear box's envelope ${(bx - sb).toFixed(1)}° lower than the biaxial test's → “The shear box reads lower (by 1° or more)”. Your prediction was right.`), s.verdict);
+  // the why: Davis's formula and figure, with the two angles the page measured
+  for (const part of ['tan φ_ds = sin φ cos ψ / (1 − sin φ sin ψ)', '26.6° for φ = 30°, ψ = 0°', `The shear box read ${sb.toFixed(1)}°`, `the biaxial test reads ${bx.toFixed(1)}°`, 'φ = 30°']) {
+    assert.ok(s.verdict.includes(part), `the verdict says “${part}”: ${s.verdict}`);
+  }
+  assert.equal(s.why, '', 'said once, in the verdict');
 });
