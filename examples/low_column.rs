@@ -103,7 +103,8 @@ fn main() -> Result<(), String> {
             };
             let d = &r.deposit;
             println!(
-                "h={h} {case} {variant}: run-out {:.3} (edge {:.3}) flank {:.1}° ({}) vs φ_ps {:.1}° ({:+.1}) foot {:+.3} toe {:.3} L0 ({:.1} rows) plateau {:.2} L0 H∞ {:.3} rest {:.2} s {} steps {:.0} s {:?}",
+                "h={h} {case} {variant}: run-out one grain {:.3}, farthest {:.3} (edge {:.3}) flank {:.1}° ({}) vs φ_ps {:.1}° ({:+.1}) foot {:+.3} toe {:.3} L0 ({:.1} rows) plateau {:.2} L0 H∞ {:.3} rest {:.2} s {} steps {:.0} s {:?}",
+                d.runout_thin,
                 d.runout,
                 d.runout_edge,
                 d.flank(),
