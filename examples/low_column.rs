@@ -5,8 +5,10 @@
 //! rough floor".
 //!
 //! `nice cargo run --release --example low_column -- 0.01,0.005 20,30,40` (cell sizes in m,
-//! friction angles in degrees, or `bui` for Bui et al.'s set-up; a third argument names a
-//! variant of the numerics, or `floor<μ>` for another floor friction)
+//! friction angles in degrees, or `bui` for Bui et al.'s set-up, `a2` for the plane a = 2
+//! collapse, `slope` for a φ = 32° slope steepened to 40°; a third argument names a variant of
+//! the numerics, e.g. `thin` for the thin-layer friction with d = 2 mm, or `floor<μ>` for
+//! another floor friction)
 
 #[path = "../tests/support/validation.rs"]
 mod validation;
@@ -48,12 +50,43 @@ fn main() -> Result<(), String> {
                         .parse()
                         .map_err(|_| format!("variant `{v}`: mu_i<d in m>"))?,
                 ),
+                "thin" => n.thin_layer(mpm::measure::GRAIN),
                 "bspline" => Numerics {
                     kernel: KernelKind::QuadraticBspline,
                     ..n
                 },
                 v => return Err(format!("variant `{v}` unknown")),
             };
+            // two cases not used to choose a variant: the plane a = 2 collapse and a slope of
+            // φ = 32° steepened to 40° (it fails and comes to rest)
+            if case == "a2" {
+                let c = column_collapse("column_collapse_a2_2d.json", &n, 4.0);
+                println!(
+                    "h={h} a2 {variant}: run-out one grain {:.3} ({:+.1} % of Lube's {:.3}), farthest {:.3}, flank {:.1}°, H∞/H0 {:.3} ({:+.1} %), rest {:.2} s {:?}",
+                    c.runout_thin,
+                    100.0 * (c.runout_thin / lube_runout(2.0) - 1.0),
+                    lube_runout(2.0),
+                    c.runout,
+                    c.flank,
+                    c.height,
+                    100.0 * (c.height / lube_height(2.0) - 1.0),
+                    c.settled_at,
+                    c.failure
+                );
+                continue;
+            }
+            if case == "slope" {
+                let r = heap_slope(32.0, 40.0, 3.5e5, &n, 2.0);
+                println!(
+                    "h={h} slope φ=32 θ=40 {variant}: failed at {:?} s, rests at {:.1}° (φ_ps {:.1}°, {:+.1}°), final speed {:.1e} m/s",
+                    r.failed_at,
+                    r.angle,
+                    r.plane_strain_angle,
+                    r.angle - r.plane_strain_angle,
+                    r.final_speed
+                );
+                continue;
+            }
             let r = if case == "bui" {
                 plane_deposit(bui_scene(&n), true, 4.0)
             } else {
@@ -70,7 +103,8 @@ fn main() -> Result<(), String> {
             };
             let d = &r.deposit;
             println!(
-                "h={h} {case} {variant}: run-out {:.3} (edge {:.3}) flank {:.1}° ({}) vs φ_ps {:.1}° ({:+.1}) foot {:+.3} toe {:.3} L0 ({:.1} rows) plateau {:.2} L0 H∞ {:.3} rest {:.2} s {} steps {:.0} s {:?}",
+                "h={h} {case} {variant}: run-out one grain {:.3}, farthest {:.3} (edge {:.3}) flank {:.1}° ({}) vs φ_ps {:.1}° ({:+.1}) foot {:+.3} toe {:.3} L0 ({:.1} rows) plateau {:.2} L0 H∞ {:.3} rest {:.2} s {} steps {:.0} s {:?}",
+                d.runout_thin,
                 d.runout,
                 d.runout_edge,
                 d.flank(),
