@@ -7,8 +7,7 @@
 //! `nice cargo run --release --example low_column -- 0.01,0.005 20,30,40` (cell sizes in m,
 //! friction angles in degrees, or `bui` for Bui et al.'s set-up, `a2` for the plane a = 2
 //! collapse, `slope` for a φ = 32° slope steepened to 40°; a third argument names a variant of
-//! the numerics, e.g. `thin` for the thin-layer friction with d = 2 mm, or `floor<μ>` for
-//! another floor friction)
+//! the numerics, e.g. `floor<μ>` for another floor friction)
 
 #[path = "../tests/support/validation.rs"]
 mod validation;
@@ -50,7 +49,6 @@ fn main() -> Result<(), String> {
                         .parse()
                         .map_err(|_| format!("variant `{v}`: mu_i<d in m>"))?,
                 ),
-                "thin" => n.thin_layer(mpm::measure::GRAIN),
                 "bspline" => Numerics {
                     kernel: KernelKind::QuadraticBspline,
                     ..n

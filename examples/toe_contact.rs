@@ -13,7 +13,7 @@
 //! nodes' velocities and its weights sum to one).
 //!
 //! `nice taskset -c 1 cargo run --release --example toe_contact -- 30 0.0025` (φ in degrees
-//! or `bui`, h in m; optional variant `thin` for Pouliquen's thin-layer friction)
+//! or `bui`, h in m)
 
 #[path = "../tests/support/validation.rs"]
 mod validation;
@@ -48,13 +48,12 @@ fn main() -> Result<(), String> {
         .and_then(|a| a.parse().ok())
         .filter(|h| (0.001..=0.05).contains(h))
         .ok_or("h: give a cell size in [0.001, 0.05] m")?;
-    let variant = args.get(2).cloned().unwrap_or_default();
-    let mut n = Numerics::new(h, KernelKind::Gimp);
-    n = match variant.as_str() {
-        "" => n,
-        "thin" => n.thin_layer(GRAIN),
-        v => return Err(format!("variant `{v}` unknown (`thin`)")),
-    };
+    if let Some(v) = args.get(2) {
+        return Err(format!(
+            "`{v}`: toe_contact takes a case and a cell size only"
+        ));
+    }
+    let n = Numerics::new(h, KernelKind::Gimp);
     let bui = case == "bui";
     let scene = if bui {
         bui_scene(&n)
@@ -105,7 +104,7 @@ fn main() -> Result<(), String> {
     let d = measure_deposit(&right, s, h, l0, h0);
     let foot = l0 * (1.0 + d.foot);
     println!(
-        "{case}, h = {h} {variant}: rest at {:.2} s; flank {:.1}°, foot {:+.3}, run-out at one grain {:.3}, farthest {:.3} (L0 = {l0} m); floor μ = {mu}",
+        "{case}, h = {h}: rest at {:.2} s; flank {:.1}°, foot {:+.3}, run-out at one grain {:.3}, farthest {:.3} (L0 = {l0} m); floor μ = {mu}",
         sim.time(),
         d.flank(),
         d.foot,

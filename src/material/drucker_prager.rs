@@ -28,7 +28,6 @@
 //! and pressure, and equals the rate-independent one at rest.
 
 use super::mu_i::{MuI, MuIParams};
-use super::thin_layer::{ThinLayer, ThinLayerParams};
 use super::{Constitutive, Elastic, ElasticParams, StressUpdate};
 use crate::error::{Error, Result, check_non_negative, check_range};
 use crate::math::{Number, Real, SymTensor};
@@ -56,9 +55,6 @@ pub struct DruckerPragerParams {
     /// Rate-dependent friction μ(I) (off when absent).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mu_i: Option<MuIParams>,
-    /// Thin-layer friction after Pouliquen's h_stop (off when absent; [`super::thin_layer`]).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub thin_layer: Option<ThinLayerParams>,
     /// Which volumetric strain rate the stress update takes: each particle's own (the
     /// default) or its grid cell's average (against volumetric locking; [`VolumetricRate`]).
     #[serde(default, skip_serializing_if = "VolumetricRate::is_particle")]
@@ -305,9 +301,6 @@ impl DruckerPragerParams {
             ));
         }
         check_non_negative(format!("{path}.cohesion"), self.cohesion, "Pa")?;
-        if let Some(t) = &self.thin_layer {
-            t.validate(&format!("{path}.thin_layer"))?;
-        }
         match &self.mu_i {
             Some(m) => m.validate(&format!("{path}.mu_i")),
             None => Ok(()),
@@ -360,7 +353,6 @@ impl DruckerPragerParams {
             apex: apex as Real,
             inv_hardening: inv_hardening as Real,
             max_specific_volume: (LOOSEST / self.density) as Real,
-            thin_layer: self.thin_layer.map(|t| ThinLayer::new(self, t)),
         }
     }
 }
@@ -382,8 +374,6 @@ pub struct DruckerPrager {
     pub max_specific_volume: Real,
     /// The cone's widening with the plastic strain ([`FrictionMatch::StartStop`]).
     pub widening: Option<Widening>,
-    /// Thin-layer friction: the cone of each particle from its layer's thickness.
-    pub thin_layer: Option<ThinLayer>,
 }
 
 /// How [`FrictionMatch::StartStop`]'s cone widens: α_φ grows by
@@ -540,18 +530,6 @@ impl Constitutive for DruckerPrager {
     fn max_specific_volume(&self) -> Option<Real> {
         Some(self.max_specific_volume)
     }
-    fn depends_on_layer(&self) -> bool {
-        self.thin_layer.is_some()
-    }
-    fn in_layer(&self, thickness: Real) -> Self {
-        match &self.thin_layer {
-            Some(t) => t.model(thickness as f64),
-            None => *self,
-        }
-    }
-    fn density(&self) -> f64 {
-        self.thin_layer.map_or(0.0, |t| t.base.density)
-    }
 }
 
 impl super::Kind for DruckerPragerParams {
@@ -576,7 +554,6 @@ impl super::Kind for DruckerPragerParams {
             dilatancy_angle: 0.0,
             cohesion: 0.0,
             mu_i: None,
-            thin_layer: None,
             volumetric_rate: VolumetricRate::Particle,
             friction_match: FrictionMatch::default(),
         }
@@ -658,7 +635,6 @@ mod tests {
             dilatancy_angle: psi,
             cohesion: c,
             mu_i: None,
-            thin_layer: None,
             volumetric_rate: VolumetricRate::Particle,
             friction_match,
         }
@@ -1071,7 +1047,6 @@ mod tests {
             dilatancy_angle: 0.0,
             cohesion: 0.0,
             mu_i: None,
-            thin_layer: None,
             volumetric_rate: VolumetricRate::Particle,
             friction_match: FrictionMatch::PlaneStrain,
         };

@@ -12,7 +12,6 @@ pub mod drucker_prager;
 pub mod elastic;
 pub mod mohr_coulomb;
 pub mod mu_i;
-pub mod thin_layer;
 pub mod von_mises;
 
 pub use drucker_prager::{
@@ -80,21 +79,6 @@ pub trait Constitutive: Copy + Send + Sync + 'static {
     /// follows V̇ = V tr ε̇ without bound.
     fn max_specific_volume(&self) -> Option<Real> {
         None
-    }
-    /// Whether the model's friction depends on the thickness of the layer a particle lies in
-    /// ([`thin_layer`]); the stress pass then gives each particle [`Constitutive::in_layer`].
-    fn depends_on_layer(&self) -> bool {
-        false
-    }
-    /// The model for a particle in a layer `thickness` thick (m): itself unless
-    /// [`Constitutive::depends_on_layer`].
-    fn in_layer(&self, _thickness: Real) -> Self {
-        *self
-    }
-    /// The material's density (kg/m³) by which a layer's mass gives its thickness (used only
-    /// when [`Constitutive::depends_on_layer`]).
-    fn density(&self) -> f64 {
-        0.0
     }
 }
 
@@ -392,7 +376,6 @@ impl Material {
             dilatancy_angle,
             cohesion,
             mu_i: None,
-            thin_layer: None,
             volumetric_rate: VolumetricRate::Particle,
             friction_match: FrictionMatch::default(),
         })

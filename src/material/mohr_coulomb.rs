@@ -627,7 +627,7 @@ mod tests {
         };
         for case in 0..2000 {
             // stresses of a few kPa, some with a vanishing or a dominant shear
-            let scale = 10f64.powi((case % 7) as i32 - 2) * 1e3;
+            let scale = 10f64.powi(case % 7 - 2) * 1e3;
             let (xx, yy, zz) = (scale * next(), scale * next(), scale * next());
             let xy = match case % 4 {
                 0 => scale * next() * 1e-9,

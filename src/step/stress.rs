@@ -49,7 +49,6 @@ use super::volumetric::{sum_cell_dilatation, with_volumetric_rate};
 use super::walk::{self, At, CHUNK, Rates, Walker};
 use crate::grid::Grid;
 use crate::kernel::{Kernel, KernelKind, Stencil, with_kernel};
-use crate::material::thin_layer::column_thickness;
 use crate::material::{Constitutive, VolumetricRate, WithModel};
 use crate::math::{Dim, Number, Real, SymTensor, exp_small, max};
 use std::ops::Range;
@@ -122,17 +121,11 @@ impl<D: Dim> WithModel for First<'_, D> {
             lp,
             average,
         } = self;
-        // A friction of thin layers: each particle's layer thickness (the one hook;
-        // `crate::material::thin_layer`).
-        let layer = m
-            .depends_on_layer()
-            .then(|| column_thickness::<D>(x, state.mass, m.density(), 1.0 / inv_h as f64));
-        let layer = layer.as_deref();
         with_kernel!(kernel, K, S => if average {
             sum_cell_dilatation::<D, K, S>(grid, x, state.volume, inv_h, lp);
-            update_stress_first::<D, K, _, S, true>(grid, x, state, m, layer, dt, inv_h, lp)
+            update_stress_first::<D, K, _, S, true>(grid, x, state, m, dt, inv_h, lp)
         } else {
-            update_stress_first::<D, K, _, S, false>(grid, x, state, m, layer, dt, inv_h, lp)
+            update_stress_first::<D, K, _, S, false>(grid, x, state, m, dt, inv_h, lp)
         })
     }
 }
@@ -157,9 +150,6 @@ pub struct StressState<'a, D: Dim> {
 /// With `CELL_AVERAGE` each gradient's volumetric part is replaced by its cell's mean
 /// ([`with_volumetric_rate`]) from the sums [`sum_cell_dilatation`] left in the grid.
 ///
-/// With `layer` (each particle's layer thickness, for a model whose friction depends on it)
-/// each particle is updated on its own with [`Constitutive::in_layer`]'s model.
-///
 /// Never inlined: each (dimension, kernel, model) instance stays a function of its own (when
 /// such instances were inlined into their dispatch, V8 compiled the resulting WebAssembly
 /// function much worse; docs/performance.md).
@@ -176,7 +166,6 @@ pub fn update_stress_first<
     x: &[D::Vector],
     mut ps: StressState<'_, D>,
     model: &M,
-    layer: Option<&[Real]>,
     dt: Real,
     inv_h: Real,
     lp: Real,
@@ -208,32 +197,14 @@ pub fn update_stress_first<
             rates.set(i, grad);
         }
         let bad = report.bad;
-        match layer {
-            None => update_chunk(
-                model,
-                &mut rates,
-                ps.slice(chunk.clone()),
-                first,
-                dt,
-                &mut report,
-            ),
-            Some(thickness) => {
-                for (i, q) in chunk.clone().enumerate() {
-                    update_one::<D, M>(
-                        &model.in_layer(thickness[q]),
-                        rates.rate[i],
-                        rates.spin[i],
-                        &mut ps.stress[q],
-                        &mut ps.volume[q],
-                        ps.mass[q],
-                        &mut ps.plastic_strain[q],
-                        dt,
-                        q,
-                        &mut report,
-                    );
-                }
-            }
-        }
+        update_chunk(
+            model,
+            &mut rates,
+            ps.slice(chunk.clone()),
+            first,
+            dt,
+            &mut report,
+        );
         for (i, q) in chunk.enumerate() {
             let v = ps.volume[q];
             let viscous = (ps.bulk_length > 0.0).then(|| ps.viscous_pressure[q]);
@@ -574,7 +545,6 @@ mod tests {
             &c.x,
             state,
             &sand(),
-            None,
             dt,
             c.inv_h,
             c.lp,

@@ -37,9 +37,6 @@ pub struct Numerics {
     /// Grain diameter (m) of a rate-dependent friction μ(I) for the body under test when it
     /// is sand; `None` keeps the scene's (rate-independent unless the scene says).
     pub mu_i: Option<f64>,
-    /// Grain diameter (m) of a thin-layer friction (Pouliquen's h_stop) for the body under
-    /// test when it is sand; `None`: off.
-    pub thin_layer: Option<f64>,
     /// Sand under test takes its cells' averaged volumetric strain rate
     /// (`"volumetric_rate": "cell_average"`) instead of each particle's.
     pub cell_average: bool,
@@ -61,7 +58,6 @@ impl Numerics {
             apic: None,
             cfl: 0.4,
             mu_i: None,
-            thin_layer: None,
             cell_average: false,
             friction_match: None,
             stress_last: None,
@@ -96,11 +92,6 @@ impl Numerics {
     /// Sand with the μ(I) friction of grain diameter `d` (m).
     pub fn mu_i(mut self, d: f64) -> Self {
         self.mu_i = Some(d);
-        self
-    }
-    /// Sand with the thin-layer friction of grain diameter `d` (m).
-    pub fn thin_layer(mut self, d: f64) -> Self {
-        self.thin_layer = Some(d);
         self
     }
     pub fn apic(mut self) -> Self {
@@ -146,11 +137,6 @@ impl Numerics {
         if let (Some(d), Material::DruckerPrager(m)) = (self.mu_i, &mut scene.bodies[0].material) {
             m.mu_i = Some(mpm::material::mu_i::MuIParams { grain_diameter: d });
         }
-        if let (Some(d), Material::DruckerPrager(m)) =
-            (self.thin_layer, &mut scene.bodies[0].material)
-        {
-            m.thin_layer = Some(mpm::material::thin_layer::ThinLayerParams { grain_diameter: d });
-        }
         if let (true, Material::DruckerPrager(m)) =
             (self.cell_average, &mut scene.bodies[0].material)
         {
@@ -167,7 +153,7 @@ impl Numerics {
     pub fn label(&self) -> String {
         let alpha = self.flip.map_or("scene".to_string(), |a| format!("{a}"));
         format!(
-            "{} h={} ppc={} α={alpha} cfl={}{}{}{}{}{}{}",
+            "{} h={} ppc={} α={alpha} cfl={}{}{}{}{}{}",
             kernel_name(self.kernel),
             self.cell_size,
             self.ppc,
@@ -179,8 +165,6 @@ impl Numerics {
             },
             self.mu_i
                 .map_or(String::new(), |d| format!(" μ(I) d={}mm", 1e3 * d)),
-            self.thin_layer
-                .map_or(String::new(), |d| format!(" thin-layer d={}mm", 1e3 * d)),
             if self.cell_average { " cell-avg" } else { "" },
             match self.friction_match {
                 Some(FrictionMatch::SteadyFlow) => " steady-flow",
