@@ -88,11 +88,7 @@ fn main() -> Result<(), String> {
             let r = if case == "bui" {
                 plane_deposit(bui_scene(&n), true, 4.0)
             } else {
-                let phi: f64 = case
-                    .parse()
-                    .ok()
-                    .filter(|p| (0.0..60.0).contains(p))
-                    .ok_or(format!("φ: `{case}` is not `bui` or an angle in [0, 60)"))?;
+                let phi = case_friction_angle(case)?;
                 let mut scene = low_column_scene(phi, &n);
                 if let Some(mu) = floor {
                     scene.boundary.friction = mu;

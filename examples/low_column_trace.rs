@@ -142,12 +142,7 @@ fn main() -> Result<(), String> {
             break;
         }
     }
-    // the deposit, right side
-    let p = sim.particles();
-    let mut pos = vec![(0.0, 0.0); count];
-    for i in 0..p.len() {
-        pos[p.id[i] as usize] = (p.x[i][0] as f64 - xc, p.x[i][1] as f64);
-    }
+    let pos = positions_by_id(&sim, xc);
     let right: Vec<(f64, f64)> = pos.iter().copied().filter(|q| q.0 >= 0.0).collect();
     let d = measure_deposit(&right, s, h, l0, h0);
     let foot = l0 * (1.0 + d.foot);

@@ -58,11 +58,7 @@ fn main() -> Result<(), String> {
     let scene = if bui {
         bui_scene(&n)
     } else {
-        let phi: f64 = case
-            .parse()
-            .ok()
-            .filter(|p| (0.0..60.0).contains(p))
-            .ok_or(format!("φ: `{case}` is not `bui` or an angle in [0, 60)"))?;
+        let phi = case_friction_angle(&case)?;
         low_column_scene(phi, &n)
     };
     let mu = scene.boundary.friction;
@@ -95,11 +91,7 @@ fn main() -> Result<(), String> {
             break;
         }
     }
-    let p = sim.particles();
-    let mut pos = vec![(0.0, 0.0); count];
-    for i in 0..p.len() {
-        pos[p.id[i] as usize] = (p.x[i][0] as f64 - xc, p.x[i][1] as f64);
-    }
+    let pos = positions_by_id(&sim, xc);
     let right: Vec<(f64, f64)> = pos.iter().copied().filter(|q| q.0 >= 0.0).collect();
     let d = measure_deposit(&right, s, h, l0, h0);
     let foot = l0 * (1.0 + d.foot);

@@ -1533,6 +1533,25 @@ impl Deposit {
 /// Measures a plane deposit of particles at distances `d` ≥ 0 from the column's axis (or its
 /// back wall) and heights `y` (particle spacing `s`, cell size `h`), from a column of
 /// half-width (or width) `l0` and height `h0`. `d` and `y` are paired.
+/// A low-column driver's case argument as a friction angle in degrees (`bui` is handled by
+/// the caller).
+pub fn case_friction_angle(case: &str) -> Result<f64, String> {
+    case.parse()
+        .ok()
+        .filter(|p| (0.0..60.0).contains(p))
+        .ok_or(format!("φ: `{case}` is not `bui` or an angle in [0, 60)"))
+}
+
+/// Every particle's (x − xc, y) in seeding order (by id): a plane deposit about its axis `xc`.
+pub fn positions_by_id(sim: &mpm::Simulation<mpm::D2>, xc: f64) -> Vec<(f64, f64)> {
+    let p = sim.particles();
+    let mut pos = vec![(0.0, 0.0); p.len()];
+    for i in 0..p.len() {
+        pos[p.id[i] as usize] = (p.x[i][0] as f64 - xc, p.x[i][1] as f64);
+    }
+    pos
+}
+
 pub fn measure_deposit(pts: &[(f64, f64)], s: f64, h: f64, l0: f64, h0: f64) -> Deposit {
     let d: Vec<f64> = pts.iter().map(|p| p.0).collect();
     let front = deposit_front(d.clone(), s, 0.0);
