@@ -496,28 +496,34 @@ impl SceneConfig {
         Ok(scene)
     }
 
-    /// Reads a scene file: parses it, loads the meshes and vertex lists it references
-    /// (paths relative to the scene file's directory) and validates it. Errors name the file
-    /// or the field.
+    /// A scene from its JSON and the files it references: parses it, loads the meshes and
+    /// vertex lists through `read` ([`Self::resolve_assets`]) and validates it. Errors name the
+    /// field or the file.
+    pub fn from_json_and_files(
+        text: &str,
+        read: impl FnMut(&str) -> Result<String>,
+    ) -> Result<Self> {
+        let mut scene = Self::from_json(text)?;
+        scene.resolve_assets(read)?;
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// Reads a scene file: [`Self::from_json_and_files`] with the referenced files' paths
+    /// relative to the scene file's directory. Errors name the file or the field.
     pub fn load(path: &std::path::Path) -> Result<Self> {
         let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
             path: path.display().to_string(),
             message: e.to_string(),
         })?;
-        let mut scene = Self::from_json(&text)?;
-        let dir = path
-            .parent()
-            .unwrap_or(std::path::Path::new(""))
-            .to_path_buf();
-        scene.resolve_assets(|p| {
+        let dir = path.parent().unwrap_or(std::path::Path::new(""));
+        Self::from_json_and_files(&text, |p| {
             let full = dir.join(p);
             std::fs::read_to_string(&full).map_err(|e| Error::Io {
                 path: full.display().to_string(),
                 message: e.to_string(),
             })
-        })?;
-        scene.validate()?;
-        Ok(scene)
+        })
     }
 
     /// Every external file the scene references (meshes, vertex lists), as written in it

@@ -73,6 +73,15 @@ pub struct LabRuns {
 }
 
 impl LabRuns {
+    /// Reads the scene file `compare` names (if it names one) into `compared`, with `read`
+    /// (given the path as written).
+    fn read_compared(&mut self, read: impl FnOnce(&str) -> Result<SceneConfig>) -> Result<()> {
+        if let Some(p) = &self.compare {
+            self.compared = Some(Box::new(read(p)?));
+        }
+        Ok(())
+    }
+
     /// The compared test (`compare`, read into `compared`): the other soil test on the same
     /// sand, valid at every load with `set`. Errors name `lab.compare`.
     fn validate_compare(&self, path: &str, scene: &SceneConfig) -> Result<()> {
@@ -661,7 +670,7 @@ impl Lesson {
         scene_text: Option<&str>,
         assets: &HashMap<String, String>,
     ) -> Result<(Lesson, SceneConfig)> {
-        let lesson = Lesson::from_json(text)?;
+        let mut lesson = Lesson::from_json(text)?;
         let read = |p: &str| {
             assets.get(p).cloned().ok_or_else(|| Error::Io {
                 path: p.to_string(),
@@ -673,21 +682,12 @@ impl Lesson {
                 let text = scene_text.ok_or_else(|| {
                     Error::invalid("scene", p, "the text of this scene file is needed")
                 })?;
-                let mut scene = SceneConfig::from_json(text)?;
-                scene.resolve_assets(read)?;
-                scene.validate()?;
-                scene
+                SceneConfig::from_json_and_files(text, read)?
             }
             None => lesson.inline_scene(read)?.expect("an inline scene"),
         };
-        let mut lesson = lesson;
-        if let Some(lab) = &mut lesson.lab
-            && let Some(p) = &lab.compare
-        {
-            let mut other = SceneConfig::from_json(&read(p)?)?;
-            other.resolve_assets(read)?;
-            other.validate()?;
-            lab.compared = Some(Box::new(other));
+        if let Some(lab) = &mut lesson.lab {
+            lab.read_compared(|p| SceneConfig::from_json_and_files(&read(p)?, read))?;
         }
         lesson.validate(&scene)?;
         Ok((lesson, scene))
@@ -701,7 +701,7 @@ impl Lesson {
             message: e.to_string(),
         };
         let text = std::fs::read_to_string(path).map_err(|e| io(path, e))?;
-        let lesson = Lesson::from_json(&text)?;
+        let mut lesson = Lesson::from_json(&text)?;
         let dir = path.parent().unwrap_or(std::path::Path::new(""));
         let scene = match lesson.scene_path() {
             Some(p) => SceneConfig::load(&dir.join(p))?,
@@ -712,11 +712,8 @@ impl Lesson {
                 })?
                 .expect("an inline scene"),
         };
-        let mut lesson = lesson;
-        if let Some(lab) = &mut lesson.lab
-            && let Some(p) = &lab.compare
-        {
-            lab.compared = Some(Box::new(SceneConfig::load(&dir.join(p))?));
+        if let Some(lab) = &mut lesson.lab {
+            lab.read_compared(|p| SceneConfig::load(&dir.join(p)))?;
         }
         lesson.validate(&scene)?;
         Ok((lesson, scene))

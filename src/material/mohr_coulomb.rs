@@ -612,10 +612,6 @@ mod tests {
         assert!((a - b).abs() <= tol, "{what}: {a} vs {b}");
     }
 
-    /// A stress past one face returns onto it along the plastic potential's normal: the
-    /// plastic strain increment C⁻¹(σ_tr − σ) is parallel to m = (1 + sin ψ, 0, −(1 − sin ψ))
-    /// (no intermediate principal plastic strain, and the dilatancy Δε_v/Δε_1 = 2 sin ψ/(1 + sin ψ)),
-    /// with f = 0 after it, also when the stress is given in rotated axes.
     #[test]
     fn the_plane_eigen_solve_matches_the_jacobi_sweeps() {
         let mut seed = 5u64;
@@ -658,6 +654,10 @@ mod tests {
         }
     }
 
+    /// A stress past one face returns onto it along the plastic potential's normal: the
+    /// plastic strain increment C⁻¹(σ_tr − σ) is parallel to m = (1 + sin ψ, 0, −(1 − sin ψ))
+    /// (no intermediate principal plastic strain, and the dilatancy Δε_v/Δε_1 = 2 sin ψ/(1 + sin ψ)),
+    /// with f = 0 after it, also when the stress is given in rotated axes.
     #[test]
     fn a_stress_past_a_face_returns_onto_it_along_the_potentials_normal() {
         for (phi, psi, c) in [(30.0, 0.0, 0.0), (35.0, 10.0, 200.0), (20.0, 20.0, 500.0)] {

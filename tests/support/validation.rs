@@ -1530,9 +1530,6 @@ impl Deposit {
     }
 }
 
-/// Measures a plane deposit of particles at distances `d` ≥ 0 from the column's axis (or its
-/// back wall) and heights `y` (particle spacing `s`, cell size `h`), from a column of
-/// half-width (or width) `l0` and height `h0`. `d` and `y` are paired.
 /// A low-column driver's case argument as a friction angle in degrees (`bui` is handled by
 /// the caller).
 pub fn case_friction_angle(case: &str) -> Result<f64, String> {
@@ -1552,6 +1549,9 @@ pub fn positions_by_id(sim: &mpm::Simulation<mpm::D2>, xc: f64) -> Vec<(f64, f64
     pos
 }
 
+/// Measures a plane deposit of particles at distances `d` ≥ 0 from the column's axis (or its
+/// back wall) and heights `y` (particle spacing `s`, cell size `h`), from a column of
+/// half-width (or width) `l0` and height `h0`. `d` and `y` are paired.
 pub fn measure_deposit(pts: &[(f64, f64)], s: f64, h: f64, l0: f64, h0: f64) -> Deposit {
     let d: Vec<f64> = pts.iter().map(|p| p.0).collect();
     let front = deposit_front(d.clone(), s, 0.0);
