@@ -121,14 +121,22 @@ impl<D: Dim> Body<D> {
     pub fn recipe(&self) -> &Recipe {
         &self.recipe
     }
+
+    /// Whether its waves bound the time step: not when it is wholly asleep, since it then
+    /// updates no stress (a body without particles keeps its bound).
+    pub fn bounds_step(&self) -> bool {
+        self.asleep < self.range.len() || self.range.is_empty()
+    }
 }
 
-/// The largest signal speed of `bodies` (m/s), see [`Body::signal_speed`]: a body wholly
-/// asleep updates no stress, so its waves do not bound the step.
-pub(crate) fn max_signal_speed<D: Dim>(bodies: &[Body<D>]) -> f64 {
+/// The largest signal speed of `bodies` (m/s) whose waves bound the step, see
+/// [`Body::signal_speed`] and [`Body::bounds_step`].
+pub(crate) fn max_signal_speed<'a, D: Dim + 'a>(
+    bodies: impl IntoIterator<Item = &'a Body<D>>,
+) -> f64 {
     bodies
-        .iter()
-        .filter(|b| b.asleep < b.range.len() || b.range.is_empty())
+        .into_iter()
+        .filter(|b| b.bounds_step())
         .map(|b| b.signal_speed())
         .fold(0.0, f64::max)
 }

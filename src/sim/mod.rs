@@ -609,12 +609,7 @@ impl<D: Dim> Simulation<D> {
         if !self.solids_stuck() {
             return dt;
         }
-        let stuck = self
-            .bodies
-            .iter()
-            .filter(|b| b.stuck)
-            .map(|b| b.signal_speed())
-            .fold(0.0, f64::max);
+        let stuck = body::max_signal_speed(self.bodies.iter().filter(|b| b.stuck));
         dt.min(cfl_time_step(self.step_cfl(), h, stuck + v, g, max_dt))
     }
 

@@ -46,7 +46,7 @@ impl<D: Dim> Step<'_, D> {
         for (body, step) in self.bodies.iter_mut().zip(steps) {
             body.max_compression = step.stress.max_compression;
         }
-        let c = max_signal_speed(self.bodies);
+        let c = max_signal_speed(self.bodies.iter());
         let d = &mut *self.diagnostics;
         d.nonfinite = steps.iter().map(|s| s.stress.bad).sum::<usize>()
             + gathered.iter().map(|g| g.bad).sum::<usize>();

@@ -35,6 +35,9 @@ if (!settled) args.splice(noSettled, 1);
 const dropsAt = args.indexOf('--drops');
 const drops = dropsAt >= 0;
 if (drops) args.splice(dropsAt, 1);
+// `--sleep on|off`: the drop figures with sleeping on or off only (default both).
+const sl = args.indexOf('--sleep');
+const sleepModes = sl >= 0 ? [args.splice(sl, 2)[1] === 'on'] : [true, false];
 const q = args.indexOf('--quality');
 // The level named in the link: without one the page would pick its own by its probe of this
 // machine, and the Node half (`live-node.mjs`) measures the solver's default, Live.
@@ -86,8 +89,7 @@ async function dropFigure(scene, on) {
   await page.close();
 }
 for (const scene of drops ? args : []) {
-  await dropFigure(scene, true);
-  await dropFigure(scene, false);
+  for (const on of sleepModes) await dropFigure(scene, on);
 }
 for (const scene of drops ? [] : args) {
   const page = await browser.context.newPage();
