@@ -475,15 +475,18 @@ const WASM_OPT_FEATURES: [&str; 7] = [
 
 /// rustc's `wasm` optimised by binaryen's wasm-opt at [`WASM_OPT_LEVEL`], debug information
 /// stripped, as `opt/mpm.wasm` beside it (the name wasm-bindgen's output is named after); without
-/// wasm-opt on PATH (Debian: the `binaryen` package) it says so and returns `wasm` itself. It
+/// wasm-opt on PATH it installs Debian's `binaryen` when it runs as root, else says so and
+/// returns `wasm` itself. It
 /// runs before wasm-bindgen: Debian's binaryen 108 predates the externref table wasm-bindgen
 /// emits, and a module it optimised after wasm-bindgen no longer instantiates.
 fn wasm_opt(wasm: &Path) -> Result<PathBuf, String> {
     if output("wasm-opt", &["--version"]).is_none() {
-        eprintln!(
-            "xtask: wasm-opt not found (Debian: apt-get install binaryen): mpm_bg.wasm left unoptimised"
-        );
-        return Ok(wasm.to_path_buf());
+        // Installed as the browsers are (Debian's package, as root); elsewhere the page is
+        // served unoptimised, and says why.
+        if let Err(e) = install_debian_package("binaryen", "the page's optimised wasm") {
+            eprintln!("xtask: wasm-opt not found ({e}): mpm_bg.wasm left unoptimised");
+            return Ok(wasm.to_path_buf());
+        }
     }
     let dir = wasm.with_file_name("opt");
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
