@@ -410,7 +410,8 @@ impl<D: Dim> Simulation<D> {
     /// Changes parameters while running: `f` edits a copy of the scene; the copy is validated
     /// like a scene file and applied, or rejected with the state unchanged. World settings,
     /// materials and PIC/FLIP ratios may change (of the bodies to come too); dimension, domain
-    /// and the bodies' shapes, sampling, initial velocities and times of appearance may not.
+    /// and the bodies' shapes and pours, sampling, initial velocities and times of appearance
+    /// may not.
     pub fn configure(&mut self, f: impl FnOnce(&mut SceneConfig)) -> Result<()> {
         let mut next = self.scene.clone();
         f(&mut next);
@@ -450,7 +451,7 @@ impl<D: Dim> Simulation<D> {
             {
                 return Err(Error::invalid(
                     format!("bodies[{i}]"),
-                    "a new shape, pour, sampling, initial velocity or time of appearance",
+                    "a new shape, sampling, initial velocity or time of appearance",
                     "cannot change while running: add a new body instead",
                 ));
             }
