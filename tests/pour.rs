@@ -3,7 +3,7 @@
 //! particle keeps its mass; a stream clear of the floor falls freely, its momentum that of the
 //! inflow plus gravity's impulse and its energy brought in that of the particles at the exit;
 //! the energy account of a heap being poured closes; pouring leaves every other body's
-//! particles, and every sleeping particle, as they were.
+//! particles, and every sleeping particle, as they were; a spout opens as its body enters.
 
 // Real is f32 by default, f64 with the `f64` feature: the casts to f64 are no-ops there.
 #![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
@@ -450,4 +450,26 @@ fn a_pour_scene_reads_back_as_written() {
         let again = SceneConfig::from_json(&json.to_string()).unwrap();
         assert_eq!(again, s);
     }
+}
+
+/// A poured body with an `appear_at` is one to come until then, with none of its particles;
+/// its spout opens as it enters (its first layer at that time, at the exit) and runs its
+/// duration from there.
+#[test]
+fn a_pour_that_enters_later_opens_at_its_appear_at() {
+    let mut s = stream_scene(2, 0.5, 0.1);
+    s.bodies[0].appear_at = Some(0.2);
+    let mut sim = Simulation::<D2>::new(s).unwrap();
+    assert_eq!((sim.bodies().len(), sim.next_appearance()), (0, Some(0.2)));
+    sim.advance_until(0.2 - 1e-3, |_| true).unwrap();
+    assert_eq!((sim.bodies().len(), sim.particles().len()), (0, 0));
+    sim.advance_until(0.2, |_| true).unwrap();
+    let spout = spout(&sim, 0);
+    assert_eq!(spout.exit_time(0), sim.time());
+    let p = sim.particles();
+    assert_eq!(p.len(), spout.per_layer(), "the first layer, at the exit");
+    assert!(p.x.iter().all(|x| (x[1] as f64 - 0.5).abs() < 1e-6));
+    sim.advance_until(0.2 + 0.1 - 1e-6, |_| true).unwrap();
+    assert_eq!(sim.particles().len() as u64, spout.particles());
+    assert!(!sim.pouring());
 }
