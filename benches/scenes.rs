@@ -15,12 +15,13 @@ use report::*;
 use std::time::Instant;
 
 /// The scenes (file stem without `_2d`/`_3d`) and the span of simulated time each is shown for.
-const SPANS: [(&str, f64); 5] = [
+const SPANS: [(&str, f64); 6] = [
     ("elastic_bunny", 2.0),
     ("plastic_bunny", 2.0),
     ("notched_sand_block", 2.0),
     ("bunny_on_sand_ball", 1.5),
     ("column_collapse", 1.5),
+    ("pour", 5.0),
 ];
 
 const BEGIN: &str = "<!-- run times: written by `cargo xtask scene-times` (benches/scenes.rs) -->";

@@ -69,12 +69,16 @@ pub struct ContactConfig {
     pub friction: Option<f64>,
 }
 
-/// One body: a shape filled with particles of one material.
+/// One body: a shape filled with particles of one material, or a stream poured from a spout
+/// (`pour`, then without a shape).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BodyConfig {
     #[serde(default)]
     pub name: String,
+    /// The region the particles fill; absent in the file ([`Shape::absent`]) for a poured
+    /// body.
+    #[serde(default = "Shape::absent", skip_serializing_if = "Shape::is_absent")]
     pub shape: Shape,
     pub material: Material,
     /// Initial velocity (m/s), default zero.
@@ -122,7 +126,36 @@ pub struct BodyConfig {
     /// [`TractionConfig`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub traction: Option<TractionConfig>,
+    /// A spout that pours the body's particles, instead of a shape: see [`PourConfig`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pour: Option<PourConfig>,
 }
+
+/// A spout pouring the body's material (the funnel of an angle-of-repose test, ISO 4324): a
+/// stream leaves the exit, a section about the vertical axis through `spout` (a disc of
+/// `radius` in 3D, a segment of half-width `radius` in 2D), downwards at `rate` over `duration`
+/// from the body's `appear_at`. How the stream is made of particles: [`crate::sim::pour`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PourConfig {
+    /// The centre of the exit (m), with the section at least one cell from every wall.
+    pub spout: Vec<f64>,
+    /// The exit's radius (m; in 2D its half-width), from one cell to a quarter of the smallest
+    /// side of the domain.
+    pub radius: f64,
+    /// The volume leaving the exit per second Q (m³/s; m²/s per metre of depth in 2D), at most
+    /// what leaves at [`MAX_EXIT_SPEED`].
+    pub rate: f64,
+    /// How long the spout runs T (s), in (0, [`MAX_POUR_DURATION`]].
+    pub duration: f64,
+}
+
+/// The fastest exit speed of a spout accepted (m/s): ten times the speed of a funnel's stream
+/// in an angle-of-repose test, far below the sand's wave speed.
+pub const MAX_EXIT_SPEED: f64 = 10.0;
+
+/// The longest a spout may run (s).
+pub const MAX_POUR_DURATION: f64 = 1e3;
 
 /// A traction boundary: a pressure (Pa, compression positive) on faces of the body's
 /// bounding box. The particles in the outermost lattice layer of each face are its surface
@@ -313,6 +346,14 @@ impl BodyConfig {
             stress_last: None,
             appear_at: None,
             traction: None,
+            pour: None,
+        }
+    }
+    /// A body poured from a spout (no shape): `pour` says where, how fast and how long.
+    pub fn poured(name: &str, pour: PourConfig, material: Material) -> Self {
+        BodyConfig {
+            pour: Some(pour),
+            ..Self::new(name, Shape::absent(), material)
         }
     }
     /// Puts a pressure `pressure` (Pa) on the body's `faces`.
@@ -375,7 +416,17 @@ impl BodyConfig {
     /// Checks the body against a world of dimension `dim` and extent `domain`; `path` names
     /// it (e.g. `bodies[2]`).
     pub fn validate(&self, path: &str, dim: usize, domain: &[f64]) -> Result<()> {
-        self.shape.validate(&format!("{path}.shape"), dim)?;
+        if self.pour.is_some() {
+            self.check_poured(path)?;
+        } else if self.shape.is_absent() {
+            return Err(Error::invalid(
+                format!("{path}.shape"),
+                "absent, and no pour",
+                "a body needs a shape, or a pour (a stream poured from a spout) instead",
+            ));
+        } else {
+            self.shape.validate(&format!("{path}.shape"), dim)?;
+        }
         Self::check_material(path, &self.material, self.flip)?;
         if let Some(v) = &self.velocity {
             check_vector(&format!("{path}.velocity"), v, dim, "m/s")?;
@@ -408,6 +459,9 @@ impl BodyConfig {
             true,
             "of the particle spacing",
         )?;
+        if self.pour.is_some() {
+            return Ok(()); // the spout is checked with the grid: SceneConfig::check_pour
+        }
         let b = self.shape.bounds(dim);
         for a in 0..dim {
             let tol = 1e-9 * domain[a];
@@ -418,6 +472,45 @@ impl BodyConfig {
                     format!("must lie inside the domain [0, {}]", domain[a]),
                 ));
             }
+        }
+        Ok(())
+    }
+
+    /// What a poured body (named `path`) may not have: a shape (its particles come from the
+    /// spout), a kinematic motion or a traction (a stream moves under forces, and has no faces
+    /// of a box to load), an initial velocity (the stream leaves at the exit speed).
+    fn check_poured(&self, path: &str) -> Result<()> {
+        if !self.shape.is_absent() {
+            return Err(Error::invalid(
+                format!("{path}.shape"),
+                format!("a {} and a pour", self.shape.kind()),
+                "a body has a shape or a pour (a stream poured from a spout), not both",
+            ));
+        }
+        if self.kinematic {
+            return Err(Error::invalid(
+                format!("{path}.kinematic"),
+                true,
+                "must be false for a poured body (a stream moves under forces)",
+            ));
+        }
+        if self.traction.is_some() {
+            return Err(Error::invalid(
+                format!("{path}.traction"),
+                "a traction on a poured body",
+                "must be absent for a poured body (a stream has no faces of a box to load)",
+            ));
+        }
+        if let Some(v) = self
+            .velocity
+            .as_ref()
+            .filter(|v| v.iter().any(|&c| c != 0.0))
+        {
+            return Err(Error::invalid(
+                format!("{path}.velocity"),
+                format!("{v:?}"),
+                "must be absent or zero for a poured body (the stream leaves the spout at rate / exit area, downwards)",
+            ));
         }
         Ok(())
     }
@@ -648,6 +741,86 @@ impl SceneConfig {
         for (i, b) in self.bodies.iter().enumerate() {
             b.validate(&format!("bodies[{i}]"), self.dim, &self.domain.size)?;
             self.check_transfer(b, &format!("bodies[{i}]"))?;
+            self.check_pour(b, &format!("bodies[{i}]"))?;
+        }
+        Ok(())
+    }
+
+    /// A poured body's spout (`path` names the body) against the grid and the domain: the
+    /// exit's radius from one cell (the stream is resolved) to a quarter of the smallest side;
+    /// the section at least one cell from every wall; the rate positive and at most what
+    /// leaves the section at [`MAX_EXIT_SPEED`]; the duration in (0, [`MAX_POUR_DURATION`]].
+    pub fn check_pour(&self, body: &BodyConfig, path: &str) -> Result<()> {
+        let Some(pour) = &body.pour else {
+            return Ok(());
+        };
+        let (dim, h, size) = (self.dim, self.cell_size, &self.domain.size);
+        let path = format!("{path}.pour");
+        check_vector(&format!("{path}.spout"), &pour.spout, dim, "m")?;
+        let smallest = size.iter().cloned().fold(f64::INFINITY, f64::min);
+        check_range(
+            format!("{path}.radius"),
+            pour.radius,
+            h,
+            0.25 * smallest,
+            false,
+            "m: from one cell_size to a quarter of the smallest domain side",
+        )?;
+        // the section's reach along each axis: the radius across, nothing along the axis
+        let reach = |a: usize| if a == 1 { 0.0 } else { pour.radius };
+        if (0..dim).any(|a| {
+            let x = pour.spout[a];
+            x - reach(a) < h - 1e-9 * h || x + reach(a) > size[a] - h + 1e-9 * h
+        }) {
+            let names = ["x", "y", "z"];
+            let ranges: Vec<String> = (0..dim)
+                .map(|a| {
+                    let tidy = |x: f64| (x * 1e9).round() / 1e9;
+                    let lo = tidy(h + reach(a));
+                    let hi = tidy(size[a] - h - reach(a));
+                    format!("{} in [{lo}, {hi}]", names[a])
+                })
+                .collect();
+            return Err(Error::invalid(
+                format!("{path}.spout"),
+                format!("{:?}", pour.spout),
+                format!(
+                    "must lie inside the domain with the stream's section at least one cell from every wall: {} (m)",
+                    ranges.join(", ")
+                ),
+            ));
+        }
+        let unit = if dim == 2 {
+            "m²/s per metre of depth"
+        } else {
+            "m³/s"
+        };
+        check_positive(format!("{path}.rate"), pour.rate, unit)?;
+        let spacing = h / body.particles_per_cell.max(1) as f64;
+        let area = pour.exit_area(dim, spacing);
+        let most = MAX_EXIT_SPEED * area;
+        if pour.rate > most {
+            // six significant digits
+            let tidy = |x: f64| format!("{x:.5e}").parse::<f64>().unwrap_or(x);
+            return Err(Error::invalid(
+                format!("{path}.rate"),
+                pour.rate,
+                format!(
+                    "must be in (0, {}] ({unit}): at most {MAX_EXIT_SPEED} m/s through the exit, whose {} particles a layer stand for an area A = {} {}",
+                    tidy(most),
+                    pour.section(dim, spacing).len(),
+                    tidy(area),
+                    if dim == 2 { "m" } else { "m²" }
+                ),
+            ));
+        }
+        let d = pour.duration;
+        if !(d.is_finite() && d > 0.0 && d <= MAX_POUR_DURATION) {
+            return Err(Error::invalid(
+                format!("{path}.duration"),
+                pour.duration,
+                format!("must be in (0, {MAX_POUR_DURATION}] (s)"),
+            ));
         }
         Ok(())
     }

@@ -47,7 +47,9 @@ pub mod step;
 #[cfg(target_arch = "wasm32")]
 pub mod wasm;
 
-pub use config::{BodyConfig, BoundaryConfig, ContactConfig, DomainConfig, SceneConfig};
+pub use config::{
+    BodyConfig, BoundaryConfig, ContactConfig, DomainConfig, PourConfig, SceneConfig,
+};
 pub use error::{Error, Result};
 pub use geometry::Shape;
 pub use kernel::KernelKind;

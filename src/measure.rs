@@ -489,7 +489,7 @@ pub struct Deposit {
     /// centroid); `[0, 0]` in 2D.
     pub axis: [f64; 2],
     pub heap: Heap,
-    /// `None` for a body whose start was not recorded.
+    /// `None` for a body whose start was not recorded, and for a poured body.
     pub runout: Option<Runout>,
     /// The material model's scene-file name.
     pub model: String,
@@ -644,7 +644,9 @@ pub fn column_markers(c: Column, dim: usize) -> ColumnMarkers {
 }
 
 /// The measures of every granular body present in `sim` (a material with a friction angle,
-/// [`crate::material::Behaviour::Granular`]): the surface columns
+/// [`crate::material::Behaviour::Granular`]) that holds particles (a poured body has no
+/// run-out: it enters as a stream, with no footprint; while its stream falls, the stream is
+/// the surface's highest column): the surface columns
 /// (rings in 3D) are a cell wide and tile the domain's width (out to the farthest particle
 /// in 3D); a body's particle spacing is the cell size over its particles per cell.
 pub fn deposits<D: Dim>(sim: &Simulation<D>, footprints: &Footprints) -> Vec<Deposit> {
@@ -664,7 +666,8 @@ pub fn deposits<D: Dim>(sim: &Simulation<D>, footprints: &Footprints) -> Vec<Dep
         let s = h / config.particles_per_cell.max(1) as f64;
         let now: Vec<[f64; 3]> = range.clone().map(|i| point::<D>(&p.x[i])).collect();
         let start: Option<Vec<[f64; 3]>> = range.map(|i| footprints.start(p.id[i])).collect();
-        let start = start.filter(|v| !v.is_empty());
+        // a poured body enters as a stream, layer by layer: it has no footprint to run out of
+        let start = start.filter(|v| !v.is_empty() && config.pour.is_none());
         let mut centre = [0.0; 2];
         let (heap, runout) = if D::DIM == 2 {
             let profile: Vec<(f64, f64)> = now.iter().map(|x| (x[0], x[1])).collect();

@@ -409,6 +409,132 @@ fn every_bad_scene_gives_the_expected_error() {
         ),
     ];
     let mut cases = cases;
+    // a body poured from a spout 0.8 m up: 8 particles a layer (s = 0.025 m) standing for
+    // 0.2 m of exit, 0.5 m/s
+    let poured = |edit: fn(&mut serde_json::Value)| {
+        scene2(|v| {
+            let b = v["bodies"][0].as_object_mut().unwrap();
+            b.remove("shape");
+            b.insert(
+                "pour".into(),
+                serde_json::json!({"spout": [0.5, 0.8], "radius": 0.1, "rate": 0.1, "duration": 1.0}),
+            );
+            edit(v);
+        })
+    };
+    assert_eq!(error_of(dir.path(), &poured(|_| {})), "(no error)");
+    cases.extend([
+        (
+            "a shape and a pour",
+            poured(|v| {
+                v["bodies"][0]["shape"] =
+                    serde_json::json!({"box": {"min": [0.2, 0.0], "max": [0.6, 0.4]}})
+            }),
+            "bodies[0].shape = a box and a pour: a body has a shape or a pour (a stream poured from a spout), not both",
+        ),
+        (
+            "neither a shape nor a pour",
+            scene2(|v| {
+                v["bodies"][0].as_object_mut().unwrap().remove("shape");
+            }),
+            "bodies[0].shape = absent, and no pour: a body needs a shape, or a pour (a stream poured from a spout) instead",
+        ),
+        (
+            "a spout outside the domain",
+            poured(|v| v["bodies"][0]["pour"]["spout"] = serde_json::json!([1.2, 0.8])),
+            "bodies[0].pour.spout = [1.2, 0.8]: must lie inside the domain with the stream's section at least one cell from every wall: x in [0.15, 0.85], y in [0.05, 0.95] (m)",
+        ),
+        (
+            "a spout whose stream touches a wall",
+            poured(|v| v["bodies"][0]["pour"]["spout"] = serde_json::json!([0.1, 0.8])),
+            "bodies[0].pour.spout = [0.1, 0.8]: must lie inside the domain with the stream's section",
+        ),
+        (
+            "a spout with three components in 2D",
+            poured(|v| v["bodies"][0]["pour"]["spout"] = serde_json::json!([0.5, 0.8, 0.5])),
+            "bodies[0].pour.spout = [0.5, 0.8, 0.5]: must have 2 components",
+        ),
+        (
+            "a spout narrower than a cell",
+            poured(|v| v["bodies"][0]["pour"]["radius"] = 0.02.into()),
+            "bodies[0].pour.radius = 0.02: must be in [0.05, 0.25] (m: from one cell_size to a quarter of the smallest domain side)",
+        ),
+        (
+            "a spout wider than a quarter of the domain",
+            poured(|v| v["bodies"][0]["pour"]["radius"] = 0.3.into()),
+            "bodies[0].pour.radius = 0.3: must be in [0.05, 0.25]",
+        ),
+        (
+            "no rate",
+            poured(|v| v["bodies"][0]["pour"]["rate"] = 0.into()),
+            "bodies[0].pour.rate = 0: must be a finite number > 0 (m²/s per metre of depth)",
+        ),
+        (
+            "a negative rate",
+            poured(|v| v["bodies"][0]["pour"]["rate"] = (-0.1).into()),
+            "bodies[0].pour.rate = -0.1: must be a finite number > 0",
+        ),
+        (
+            "a rate faster than 10 m/s through the exit",
+            poured(|v| v["bodies"][0]["pour"]["rate"] = 5.into()),
+            "bodies[0].pour.rate = 5: must be in (0, 2] (m²/s per metre of depth): at most 10 m/s through the exit, whose 8 particles a layer stand for an area A = 0.2 m",
+        ),
+        (
+            "no duration",
+            poured(|v| v["bodies"][0]["pour"]["duration"] = 0.into()),
+            "bodies[0].pour.duration = 0: must be in (0, 1000] (s)",
+        ),
+        (
+            "a negative duration",
+            poured(|v| v["bodies"][0]["pour"]["duration"] = (-1.0).into()),
+            "bodies[0].pour.duration = -1: must be in (0, 1000] (s)",
+        ),
+        (
+            "a pour longer than 1000 s",
+            poured(|v| v["bodies"][0]["pour"]["duration"] = 2000.into()),
+            "bodies[0].pour.duration = 2000: must be in (0, 1000] (s)",
+        ),
+        (
+            "a pour with a misspelt field",
+            poured(|v| v["bodies"][0]["pour"]["speed"] = 1.into()),
+            "bodies[0].pour.speed: unknown field `speed`",
+        ),
+        (
+            "a pour without a rate",
+            poured(|v| {
+                v["bodies"][0]["pour"].as_object_mut().unwrap().remove("rate");
+            }),
+            "bodies[0].pour: missing field `rate`",
+        ),
+        (
+            "a kinematic poured body",
+            poured(|v| v["bodies"][0]["kinematic"] = true.into()),
+            "bodies[0].kinematic = true: must be false for a poured body (a stream moves under forces)",
+        ),
+        (
+            "a poured body under a traction",
+            poured(|v| {
+                v["bodies"][0]["traction"] = serde_json::json!({"pressure": 1e3, "faces": ["left"]})
+            }),
+            "bodies[0].traction = a traction on a poured body: must be absent for a poured body",
+        ),
+        (
+            "a poured body thrown",
+            poured(|v| v["bodies"][0]["velocity"] = serde_json::json!([0.0, -1.0])),
+            "bodies[0].velocity = [0.0, -1.0]: must be absent or zero for a poured body",
+        ),
+        (
+            "a pour of more particles than a simulation holds",
+            poured(|v| {
+                let b = &mut v["bodies"][0];
+                b["particles_per_cell"] = 8.into();
+                b["pour"]["radius"] = 0.25.into();
+                b["pour"]["rate"] = 5.into();
+                b["pour"]["duration"] = 1000.into();
+            }),
+            "bodies[0].pour = 128000000 more particles: the simulation holds at most 20000000 particles",
+        ),
+    ]);
     cases.push((
         "a material naming two models",
         scene2(|v| {

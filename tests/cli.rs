@@ -654,3 +654,95 @@ fn run_sleep_lets_a_resting_column_sleep_where_it_would_rest() {
         );
     }
 }
+
+/// `check` of a poured body prints its rate, exit speed, particles per second and particles
+/// in all; `run` pours them: the summary counts every layer once the spout has run.
+#[test]
+fn a_pour_checks_and_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::write(
+        dir.path().join("pour.json"),
+        r#"{"name": "pour", "dim": 2, "domain": {"size": [0.6, 0.4]}, "cell_size": 0.02,
+            "boundary": {"friction": 0.8},
+            "bodies": [{"name": "sand",
+              "pour": {"spout": [0.3, 0.3], "radius": 0.04, "rate": 0.008, "duration": 0.25},
+              "material": {"drucker_prager": {"youngs_modulus": 3.5e5, "poisson_ratio": 0.3,
+                "density": 2200, "friction_angle": 35, "dilatancy_angle": 0, "cohesion": 0}}}]}"#,
+    )
+    .unwrap();
+    let out = mpm(&["check", "pour.json"], dir.path());
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let shown = text(&out.stdout);
+    // s = 0.01 m, 8 particles a layer standing for 0.08 m: 0.1 m/s, a layer every 0.1 s
+    for part in [
+        "body 0 \"sand\": drucker_prager, 0 particles",
+        "poured from a spout at [0.3, 0.3] m, radius 0.04 m, for 0.25 s from t = 0 s",
+        "rate 0.008 m²/s per metre of depth",
+        "(8 particles a layer)",
+        "exit speed 0.100 m/s",
+        "80 particles/s",
+        "24 particles in all",
+        "particles: 0, 24 to be poured",
+    ] {
+        assert!(shown.contains(part), "{part:?} in {shown}");
+    }
+    let out = mpm(
+        &["run", "pour.json", "-t", "0.4", "-q", "--summary", "-"],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let s: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(s["particles"], 24);
+    assert_eq!(s["energy"]["account_closes"], true, "{s}");
+    assert!(s["deposits"][0]["runout"].is_null(), "{s}");
+}
+
+/// `--quality` samples the scene as the page's level does: `run` steps the particles the
+/// playground at that level holds, and `check` says how the scene was sampled.
+#[test]
+fn quality_samples_as_the_page_does() {
+    use mpm::playground::{Playground, Quality};
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let file = scenes.join("column_collapse_2d.json");
+    let path = file.to_str().unwrap();
+    let scene = mpm::SceneConfig::load(&file).unwrap();
+    for q in ["live", "balanced", "fine"] {
+        let pg = Playground::with_quality(scene.clone(), Quality::find(q).unwrap()).unwrap();
+        let out = mpm(
+            &[
+                "run",
+                path,
+                "-t",
+                "0.002",
+                "-q",
+                "--quality",
+                q,
+                "--summary",
+                "-",
+            ],
+            &scenes,
+        );
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let s: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(s["particles"], pg.particle_count(), "{q}");
+        let out = mpm(&["check", path, "--quality", q], &scenes);
+        let shown = text(&out.stdout);
+        let r = pg.quality();
+        let line = format!(
+            "sampled at quality {q}: cell {} m (the file's 0.01 m), {} particles per cell per axis",
+            r.cell_size, r.particles_per_cell
+        );
+        assert_eq!(shown.contains(&line), q != "fine", "{q}: {shown}");
+        assert!(
+            shown.contains(&format!("cell {} m", r.cell_size)),
+            "{q}: {shown}"
+        );
+    }
+    let out = mpm(&["check", path, "--quality", "coarse"], &scenes);
+    assert!(!out.status.success());
+    assert!(
+        text(&out.stderr).contains("possible values: live, balanced, fine"),
+        "{}",
+        text(&out.stderr)
+    );
+}

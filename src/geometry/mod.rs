@@ -337,6 +337,18 @@ impl<'a> AssetLoader<'a> {
 }
 
 impl Shape {
+    /// The shape of a body written without one (a poured body, whose particles come from its
+    /// spout): an empty list of points, which holds no particle.
+    pub fn absent() -> Shape {
+        Shape::Points {
+            positions: Vec::new(),
+            particle_volume: None,
+        }
+    }
+    /// Whether this is [`Shape::absent`] (an empty list of points reads the same).
+    pub fn is_absent(&self) -> bool {
+        matches!(self, Shape::Points { positions, particle_volume: None } if positions.is_empty())
+    }
     /// An axis-aligned box.
     pub fn cuboid(min: &[f64], max: &[f64]) -> Shape {
         Shape::Box {

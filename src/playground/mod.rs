@@ -28,7 +28,7 @@ pub use drops::{DroppedBody, Refused, Replay};
 pub use objects::{BunnyAssets, OBJECTS, ObjectInfo, ball_bunny, object_shape};
 pub use quality::{
     ACCURACY, Accuracy, DEFAULT_QUALITY, MAX_PPC, QUALITIES, Quality, Resolution, SandCost,
-    accuracy, body_ppc, resample,
+    accuracy, body_ppc, resample, sample_at,
 };
 
 use crate::config::{BodyConfig, SceneConfig};
@@ -223,11 +223,7 @@ impl Playground {
 
     /// A playground over a scene sampled at quality level `q`.
     pub fn with_quality(scene: SceneConfig, q: &'static Quality) -> Result<Self> {
-        let (sampled, resolution) = resample(&scene, q, |i, h, ppc| {
-            let mut b = scene.bodies[i].clone();
-            b.particles_per_cell = ppc;
-            Ok(b.sample(&format!("bodies[{i}]"), scene.dim, h)?.0.len())
-        })?;
+        let (sampled, resolution) = sample_at(&scene, q)?;
         let sim = AnySimulation::new(sampled)?;
         let mut pg = Playground {
             presets: Presets::from_scene(&scene),
@@ -702,9 +698,10 @@ impl Playground {
         self.sim.time() - self.drops.origin
     }
 
-    /// Whether the box is empty with nothing to come: then its time stands still.
+    /// Whether the box is empty with nothing to come (no body, no spout's layer): then its
+    /// time stands still.
     fn idle(&self) -> bool {
-        self.particle_count() == 0 && self.sim.next_appearance().is_none()
+        self.particle_count() == 0 && self.sim.next_appearance().is_none() && !self.sim.pouring()
     }
 
     /// Lands the drops whose time has come (all of them in an idle box, where time does not

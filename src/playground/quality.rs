@@ -261,9 +261,11 @@ pub fn resample(
         .unwrap_or(2);
     let mut ppc = own;
     // The bodies there from the start set the resolution; those that enter later (`appear_at`)
-    // are sampled at it like bodies dropped. An empty scene keeps its cells: there is nothing
-    // to make cheaper, and what is dropped keeps its shape by the level's least per body.
-    let present = |b: &crate::config::BodyConfig| b.appear_time() == 0.0;
+    // are sampled at it like bodies dropped, and so are poured bodies (whose particles all
+    // come later, from the spout: they count none here). An empty scene keeps its cells:
+    // there is nothing to make cheaper, and what is dropped keeps its shape by the level's
+    // least per body.
+    let present = |b: &crate::config::BodyConfig| b.appear_time() == 0.0 && b.pour.is_none();
     if q.cell_factor > 1.0 && scene.bodies.iter().any(present) {
         let floor = q.min_particles[if dim == 2 { 0 } else { 1 }] as f64;
         let least = q.min_body_particles[if dim == 2 { 0 } else { 1 }] as f64;
@@ -303,9 +305,17 @@ pub fn resample(
         let whole = |x: f64| (x - x.round()).abs() <= 1e-6 * x.max(1.0);
         let n_file = (side / h0).round() as i64;
         let n_least = ((side / (h0 * q.cell_factor)) * (1.0 - 1e-9)).ceil() as i64;
+        // A spout must stay resolved on the cells (its radius at least one, a cell from the
+        // walls).
+        let spouts_fit = |h: f64| {
+            let mut at = scene.world();
+            at.cell_size = h;
+            (scene.bodies.iter().enumerate())
+                .all(|(i, b)| at.check_pour(b, &format!("bodies[{i}]")).is_ok())
+        };
         let cells: Vec<f64> = (n_least.max(1)..=n_file)
             .map(|n| side / n as f64)
-            .filter(|&h| scene.domain.size.iter().all(|&l| whole(l / h)))
+            .filter(|&h| scene.domain.size.iter().all(|&l| whole(l / h)) && spouts_fit(h))
             .collect();
         // For each particles per cell, the largest cells that keep the floor (or the file's);
         // of those, the cheapest.
@@ -337,6 +347,16 @@ pub fn resample(
         sand: q.sand[if dim == 2 { 0 } else { 1 }],
     };
     Ok((out, resolution))
+}
+
+/// `scene` sampled at level `q` as a front end samples it: [`resample`], each body counted by
+/// sampling it. What [`super::Playground::with_quality`] simulates, and `mpm run --quality`.
+pub fn sample_at(scene: &SceneConfig, q: &Quality) -> Result<(SceneConfig, Resolution)> {
+    resample(scene, q, |i, h, ppc| {
+        let mut b = scene.bodies[i].clone();
+        b.particles_per_cell = ppc;
+        Ok(b.sample(&format!("bodies[{i}]"), scene.dim, h)?.0.len())
+    })
 }
 
 #[cfg(test)]

@@ -1,5 +1,6 @@
 //! A body of the simulation, and the world settings every body sees.
 
+use super::pour::Spout;
 use super::stats::BodyStats;
 use crate::boundary::{ContactRule, WallRule, Walls};
 use crate::config::SceneConfig;
@@ -75,6 +76,9 @@ pub struct Body<D: Dim> {
     /// The pressure on its traction faces (Pa; zero without a traction): the force on a
     /// surface particle is −p n da ([`crate::step::traction`]).
     pub(crate) traction: Real,
+    /// The spout that pours its particles, for a poured body ([`super::pour`]): the
+    /// simulation adds its layers between steps; the step never reads it.
+    pub(crate) spout: Option<Spout>,
 }
 
 impl<D: Dim> Body<D> {
@@ -126,6 +130,11 @@ impl<D: Dim> Body<D> {
     /// updates no stress (a body without particles keeps its bound).
     pub fn bounds_step(&self) -> bool {
         self.asleep < self.range.len() || self.range.is_empty()
+    }
+
+    /// The spout that pours it, for a poured body.
+    pub fn spout(&self) -> Option<&Spout> {
+        self.spout.as_ref()
     }
 }
 

@@ -2,12 +2,14 @@
 
 pub(crate) mod body;
 pub(crate) mod particles;
+pub mod pour;
 pub(crate) mod stats;
 mod warnings;
 
 pub use body::Body;
 pub(crate) use body::World;
 pub use particles::Particles;
+pub use pour::Spout;
 pub use stats::{ACCOUNT_TOLERANCE, BodyStats, Diagnostics, Measure, PassTimings};
 
 use crate::boundary::STICKING_CFL;
@@ -34,7 +36,8 @@ pub(crate) struct Sampled {
 /// Its scene holds the bodies in the simulation, then those still to come (bodies whose
 /// `appear_at` lies ahead), in order of appearance: `scene().bodies[i]` is `bodies()[i]` for
 /// every body present. [`Simulation::step`] and [`Simulation::advance_until`] stop at the time
-/// a body is due and add it; [`Simulation::step_at_most`] steps only.
+/// a body is due and add it, and add the layers a spout has poured before each step
+/// ([`pour`]); [`Simulation::step_at_most`] steps only.
 #[derive(Clone, Debug)]
 pub struct Simulation<D: Dim> {
     pub(crate) scene: SceneConfig,
@@ -129,18 +132,38 @@ impl<D: Dim> Simulation<D> {
     fn sample_body(&self, config: &BodyConfig, path: &str, existing: usize) -> Result<Sampled> {
         config.validate(path, D::DIM, &self.scene.domain.size)?;
         self.scene.check_transfer(config, path)?;
+        self.scene.check_pour(config, path)?;
         let (points, volume) = config.sample(path, D::DIM, self.scene.cell_size)?;
-        if points.is_empty() {
+        // a poured body starts empty: its particles are those its spout will pour
+        let (field, count) = match &config.pour {
+            Some(pour) => {
+                let spout = Spout::new(
+                    pour,
+                    D::DIM,
+                    self.scene.cell_size,
+                    config.particles_per_cell,
+                    0.0,
+                    0,
+                    0.0,
+                );
+                (
+                    format!("{path}.pour"),
+                    usize::try_from(spout.particles()).unwrap_or(usize::MAX),
+                )
+            }
+            None => (format!("{path}.shape"), points.len()),
+        };
+        if config.pour.is_none() && points.is_empty() {
             return Err(Error::invalid(
-                format!("{path}.shape"),
+                field,
                 "a shape with no particle",
                 "must hold at least one particle at this cell_size and particles_per_cell",
             ));
         }
-        if existing + points.len() > MAX_PARTICLES {
+        if existing.saturating_add(count) > MAX_PARTICLES {
             return Err(Error::invalid(
-                format!("{path}.shape"),
-                format!("{} more particles", points.len()),
+                field,
+                format!("{count} more particles"),
                 format!("the simulation holds at most {MAX_PARTICLES} particles"),
             ));
         }
@@ -154,7 +177,7 @@ impl<D: Dim> Simulation<D> {
 
     /// Whether simulated time `t` has been reached (to rounding).
     fn reached(&self, t: f64) -> bool {
-        t <= self.time + 1e-12 * self.time.abs().max(1.0)
+        reached(self.time, t)
     }
 
     /// Adds a sampled body now, or among those to come when its time lies ahead; returns its
@@ -220,6 +243,17 @@ impl<D: Dim> Simulation<D> {
             stuck: false,
             asleep: 0,
             traction,
+            spout: config.pour.as_ref().map(|pour| {
+                Spout::new(
+                    pour,
+                    D::DIM,
+                    self.scene.cell_size,
+                    config.particles_per_cell,
+                    config.jitter,
+                    config.seed,
+                    self.time,
+                )
+            }),
         });
         if let Some(areas) = areas {
             for (a, n) in self.particles.area[start..].iter_mut().zip(areas) {
@@ -238,6 +272,79 @@ impl<D: Dim> Simulation<D> {
             n += 1;
         }
         n
+    }
+
+    /// Adds the layers the spouts have poured by now ([`pour`]): each where it has fallen to
+    /// since it left the exit, just before its body's sleeping particles; books their kinetic
+    /// and gravitational energy as energy brought in. Returns how many particles entered.
+    pub fn pour_due_layers(&mut self) -> usize {
+        let gravity: [f64; 3] = std::array::from_fn(|a| {
+            if a < D::DIM {
+                self.world.gravity[a] as f64
+            } else {
+                0.0
+            }
+        });
+        let (time, mut added) = (self.time, 0);
+        let mut inflow = Measure::<D>::empty();
+        for b in 0..self.bodies.len() {
+            let Some(spout) = &mut self.bodies[b].spout else {
+                continue;
+            };
+            let (mut x, mut v) = (Vec::new(), Vec::new());
+            while spout.next_layer().is_some_and(|t| reached(time, t)) {
+                spout.pour_layer(time, gravity, &mut x, &mut v);
+            }
+            if x.is_empty() {
+                continue;
+            }
+            let body = &self.bodies[b];
+            let volume =
+                (body.spout.as_ref().expect("a spout").spacing() as Real).powi(D::DIM as i32);
+            let mass = volume * self.scene.bodies[b].material.density() as Real;
+            let x: Vec<D::Vector> = x
+                .iter()
+                .map(|p| {
+                    self.world
+                        .walls
+                        .clamp(D::vector(p.map(|c| c as Real)), body.radius)
+                })
+                .collect();
+            let v: Vec<D::Vector> = v.iter().map(|c| D::vector(c.map(|c| c as Real))).collect();
+            for (&x, &v) in x.iter().zip(&v) {
+                inflow.record(mass, x, v);
+            }
+            let at = body.range.end - body.asleep;
+            self.particles
+                .insert(at, &x, &v, volume, mass, self.next_id);
+            let n = x.len();
+            self.next_id += n as u32;
+            self.bodies[b].range.end += n;
+            for later in &mut self.bodies[b + 1..] {
+                later.range = later.range.start + n..later.range.end + n;
+            }
+            added += n;
+        }
+        if added > 0 {
+            inflow.finish(self.world.gravity);
+            self.measure_state();
+            self.diagnostics.energy_in += inflow.kinetic + inflow.gravitational;
+        }
+        added
+    }
+
+    /// Whether a spout present has layers left to pour.
+    pub fn pouring(&self) -> bool {
+        self.bodies
+            .iter()
+            .any(|b| b.spout.as_ref().is_some_and(|s| s.next_layer().is_some()))
+    }
+
+    /// Adds the bodies due and the layers the spouts have poured by now: what enters before
+    /// a step.
+    fn enter_due(&mut self) {
+        self.land_due_bodies();
+        self.pour_due_layers();
     }
 
     /// Records `t` as the `appear_at` of body `i`, which is present: the time it entered on a
@@ -303,7 +410,8 @@ impl<D: Dim> Simulation<D> {
     /// Changes parameters while running: `f` edits a copy of the scene; the copy is validated
     /// like a scene file and applied, or rejected with the state unchanged. World settings,
     /// materials and PIC/FLIP ratios may change (of the bodies to come too); dimension, domain
-    /// and the bodies' shapes, sampling, initial velocities and times of appearance may not.
+    /// and the bodies' shapes and pours, sampling, initial velocities and times of appearance
+    /// may not.
     pub fn configure(&mut self, f: impl FnOnce(&mut SceneConfig)) -> Result<()> {
         let mut next = self.scene.clone();
         f(&mut next);
@@ -333,6 +441,7 @@ impl<D: Dim> Simulation<D> {
         }
         for (i, (a, b)) in next.bodies.iter().zip(&self.scene.bodies).enumerate() {
             if a.shape != b.shape
+                || a.pour != b.pour
                 || a.particles_per_cell != b.particles_per_cell
                 || a.velocity != b.velocity
                 || a.jitter != b.jitter
@@ -729,25 +838,26 @@ impl<D: Dim> Simulation<D> {
         mut go_on: impl FnMut(&Diagnostics) -> bool,
     ) -> Result<usize> {
         let mut n = 0;
-        self.land_due_bodies();
+        self.enter_due();
         while self.time < end - 1e-12 * end.abs().max(1.0) && go_on(&self.diagnostics) {
             let stop = self.next_appearance().map_or(end, |t| t.min(end));
             self.step_at_most(stop - self.time)?;
-            self.land_due_bodies();
+            self.enter_due();
             n += 1;
         }
         Ok(n)
     }
 
     /// One time step of the adaptive size, ending at the time the next body is due if that
-    /// comes sooner (then it enters).
+    /// comes sooner (then it enters); the layers the spouts have poured enter before it and
+    /// after it.
     pub fn step(&mut self) -> Result<&Diagnostics> {
-        self.land_due_bodies();
+        self.enter_due();
         let limit = self
             .next_appearance()
             .map_or(f64::INFINITY, |t| t - self.time);
         self.step_at_most(limit)?;
-        self.land_due_bodies();
+        self.enter_due();
         Ok(&self.diagnostics)
     }
 
@@ -797,6 +907,15 @@ impl<D: Dim> Simulation<D> {
     /// is booked as energy brought in ([`Diagnostics::energy_in`]).
     pub fn refresh_diagnostics(&mut self) {
         let before = self.diagnostics.total_energy();
+        self.measure_state();
+        self.diagnostics.energy_in += self.diagnostics.total_energy() - before;
+    }
+
+    /// Sets the diagnostics and per-body figures from the particle state as it stands
+    /// ([`Simulation::refresh_diagnostics`] without booking the change of energy). A body
+    /// without particles keeps the largest volume and smallest mass its sampling gives (its
+    /// wave speed).
+    fn measure_state(&mut self) {
         let gravity = self.world.gravity;
         let p = &self.particles;
         let mut measures = Vec::with_capacity(self.bodies.len());
@@ -805,6 +924,8 @@ impl<D: Dim> Simulation<D> {
             let law = *body.model.elastic();
             let mut m = Measure::<D>::empty();
             let (mut stored, mut max_volume): (f64, Real) = (0.0, 0.0);
+            let empty = body.range.is_empty();
+            let kept = (body.max_volume, body.min_mass);
             body.min_mass = Real::INFINITY;
             for i in body.range.clone() {
                 stored += (law.energy_density(p.stress[i]) * p.volume[i]) as f64;
@@ -815,13 +936,15 @@ impl<D: Dim> Simulation<D> {
             m = m.with_plastic_strain(&p.plastic_strain[body.range.clone()]);
             m.finish(gravity);
             body.max_volume = max_volume;
+            if empty {
+                (body.max_volume, body.min_mass) = kept;
+            }
             measures.push(m);
             elastic.push(stored);
         }
         let c = self.max_wave_speed();
         self.record_measures(self.diagnostics.dt, c, &measures, &elastic);
         self.diagnostics.nonfinite = 0;
-        self.diagnostics.energy_in += self.diagnostics.total_energy() - before;
     }
 }
 
@@ -879,6 +1002,11 @@ impl<D: Dim> SimulationBuilder<D> {
     }
 }
 
+/// Whether simulated time `t` has been reached at time `now` (to rounding).
+fn reached(now: f64, t: f64) -> bool {
+    t <= now + 1e-12 * now.abs().max(1.0)
+}
+
 /// A simulation whose dimension is chosen at run time (by the scene's `dim`).
 #[derive(Clone, Debug)]
 pub enum AnySimulation {
@@ -914,10 +1042,11 @@ pub const MIN_DT: f64 = 1e-8;
 pub const MAX_STEPS: f64 = 1e8;
 
 /// How far the live energy (kinetic + gravitational + elastic) may rise above the energy
-/// brought in ([`Diagnostics::energy_in`]: the bodies' at entry, the work of the kinematic
-/// bodies) before the run stops as unstable ([`crate::Error::EnergyGrew`]): 10 % of the
-/// energy in play, the energy brought in plus that of lifting every particle by one cell
-/// against gravity. Walls and contacts only remove energy, so a stable run stays below.
+/// brought in ([`Diagnostics::energy_in`]: the bodies' and the poured particles' at entry,
+/// the work of the kinematic bodies and of tractions) before the run stops as unstable
+/// ([`crate::Error::EnergyGrew`]): 10 % of the energy in play, the energy brought in plus
+/// that of lifting every particle by one cell against gravity. Walls and contacts only remove
+/// energy, so a stable run stays below.
 pub const ENERGY_GUARD: f64 = 0.1;
 
 macro_rules! delegate {
@@ -996,6 +1125,10 @@ impl AnySimulation {
     }
     pub fn clear(&mut self) {
         delegate!(self, s => s.clear())
+    }
+    /// See [`Simulation::pouring`].
+    pub fn pouring(&self) -> bool {
+        delegate!(self, s => s.pouring())
     }
     /// Sleeping on with the rule for the scene's grid, or off (see
     /// [`Simulation::sleep_when_at_rest`]).

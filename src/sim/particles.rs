@@ -85,6 +85,40 @@ impl<D: Dim> Particles<D> {
         }
     }
 
+    /// Inserts particles before index `at` (the particles from `at` on move up by their
+    /// number): at positions `x` with velocities `v`, each of `volume` and `mass`, with zero
+    /// stress, plastic strain, viscous pressure, affine velocity and area, and the ids from
+    /// `first_id` on.
+    pub fn insert(
+        &mut self,
+        at: usize,
+        x: &[D::Vector],
+        v: &[D::Vector],
+        volume: Real,
+        mass: Real,
+        first_id: u32,
+    ) {
+        let n = x.len();
+        assert_eq!(v.len(), n, "one velocity per position");
+        fn put<T: Clone>(field: &mut Vec<T>, at: usize, values: impl IntoIterator<Item = T>) {
+            field.splice(at..at, values);
+        }
+        put(&mut self.x, at, x.iter().copied());
+        put(&mut self.v, at, v.iter().copied());
+        put(&mut self.stress, at, std::iter::repeat_n(D::Sym::ZERO, n));
+        put(&mut self.volume, at, std::iter::repeat_n(volume, n));
+        put(&mut self.mass, at, std::iter::repeat_n(mass, n));
+        put(&mut self.plastic_strain, at, std::iter::repeat_n(0.0, n));
+        put(&mut self.viscous_pressure, at, std::iter::repeat_n(0.0, n));
+        put(&mut self.id, at, first_id..first_id + n as u32);
+        if self.with_affine {
+            put(&mut self.affine, at, std::iter::repeat_n(D::GRAD_ZERO, n));
+        }
+        if self.with_area {
+            put(&mut self.area, at, std::iter::repeat_n(D::Vector::ZERO, n));
+        }
+    }
+
     /// Keeps area vectors (zero to begin with) for every particle, for bodies under a
     /// traction.
     pub fn enable_area(&mut self) {
@@ -176,5 +210,55 @@ impl<D: Dim> Particles<D> {
     /// Speed |v_p| (m/s).
     pub fn speed(&self, p: usize) -> Real {
         self.v[p].length()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::{D2, Mat2, Vec2};
+
+    /// Inserted particles land at the index given, with zero stress, strain, affine velocity
+    /// and area and the ids asked for; every field of the others moves up with them.
+    #[test]
+    fn insert_moves_every_field_of_the_particles_after() {
+        let mut p = Particles::<D2>::default();
+        p.enable_affine();
+        p.enable_area();
+        for i in 0..3 {
+            let x = D2::vector([i as Real, 0.0, 0.0]);
+            p.push(x, x, 1.0, 2.0, i);
+        }
+        for i in 0..3 {
+            p.stress[i] = SymTensor::iso(i as Real + 1.0);
+            p.plastic_strain[i] = i as Real;
+            p.viscous_pressure[i] = i as Real;
+            p.affine[i] = Mat2::from_diagonal(Vec2::splat(i as Real));
+            p.area[i] = D2::vector([i as Real; 3]);
+        }
+        let before = p.clone();
+        let new = [D2::vector([9.0, 9.0, 0.0]); 2];
+        p.insert(1, &new, &new, 0.5, 0.25, 7);
+        assert_eq!(p.len(), 5);
+        assert_eq!(p.id, [0, 7, 8, 1, 2]);
+        for (old, now) in [(0, 0), (1, 3), (2, 4)] {
+            assert_eq!(p.x[now], before.x[old]);
+            assert_eq!(p.v[now], before.v[old]);
+            assert_eq!(p.stress[now], before.stress[old]);
+            assert_eq!(p.volume[now], before.volume[old]);
+            assert_eq!(p.mass[now], before.mass[old]);
+            assert_eq!(p.plastic_strain[now], before.plastic_strain[old]);
+            assert_eq!(p.viscous_pressure[now], before.viscous_pressure[old]);
+            assert_eq!(p.affine[now], before.affine[old]);
+            assert_eq!(p.area[now], before.area[old]);
+        }
+        for i in 1..3 {
+            assert_eq!((p.x[i], p.v[i]), (new[0], new[0]));
+            assert_eq!((p.volume[i], p.mass[i]), (0.5, 0.25));
+            assert_eq!(p.stress[i], <D2 as Dim>::Sym::ZERO);
+            assert_eq!((p.plastic_strain[i], p.viscous_pressure[i]), (0.0, 0.0));
+            assert_eq!(p.affine[i], D2::GRAD_ZERO);
+            assert_eq!(p.area[i], D2::vector([0.0; 3]));
+        }
     }
 }

@@ -46,7 +46,9 @@ pub struct Diagnostics {
     /// plastic and viscous work it removed.
     pub dissipated_integration: f64,
     /// The energy the bodies brought as they entered (kinetic, gravitational and elastic at
-    /// their entry), less what removed bodies took with them: what the account must close on.
+    /// their entry) and the particles a spout poured as they entered (kinetic and
+    /// gravitational, [`crate::sim::pour`]), less what removed bodies took with them: what the
+    /// account must close on.
     pub energy_in: f64,
     pub momentum: [f64; 3],
     pub max_speed: f64,

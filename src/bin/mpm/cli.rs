@@ -44,6 +44,15 @@ pub struct SceneArgs {
     /// (repeatable; --help lists the names).
     #[arg(long = "set", value_name = "NAME=VALUE", allow_hyphen_values = true, long_help = set_help())]
     pub set: Vec<String>,
+    /// Sample the scene as the page's quality level does (coarser cells, more particles per
+    /// cell), after --cell-size: live, balanced, or fine (the file as written).
+    #[arg(long, value_name = "LEVEL", default_value = "fine", value_parser = quality_names())]
+    pub quality: String,
+}
+
+/// The page's quality levels, coarsest first.
+fn quality_names() -> clap::builder::PossibleValuesParser {
+    clap::builder::PossibleValuesParser::new(mpm::playground::QUALITIES.iter().map(|q| q.id))
 }
 
 #[derive(Args, Debug)]
@@ -240,6 +249,30 @@ pub fn load_scene(args: &SceneArgs) -> Result<SceneConfig, Failure> {
     Ok(scene)
 }
 
+/// The scene sampled at the `--quality` level as the page samples it
+/// ([`mpm::playground::sample_at`]), and what that sampling is (`None` at `fine`: the file as
+/// written).
+pub fn at_quality(
+    scene: SceneConfig,
+    args: &SceneArgs,
+) -> Result<(SceneConfig, Option<mpm::playground::Resolution>), Failure> {
+    let q = mpm::playground::Quality::find(&args.quality)?;
+    if q.id == mpm::playground::Quality::fine().id {
+        return Ok((scene, None));
+    }
+    let (sampled, resolution) = mpm::playground::sample_at(&scene, q)
+        .map_err(|e| Failure(format!("--quality {}: {e}", q.id)))?;
+    Ok((sampled, Some(resolution)))
+}
+
+/// What a quality level sampled: its cell and particles per cell against the file's.
+fn sampling(r: &mpm::playground::Resolution) -> String {
+    format!(
+        "sampled at quality {}: cell {} m (the file's {} m), {} particles per cell per axis",
+        r.quality, r.cell_size, r.scene_cell_size, r.particles_per_cell
+    )
+}
+
 /// Builds the simulation (samples the shapes); errors name the file.
 pub fn build(scene: SceneConfig, path: &Path) -> Result<AnySimulation, Failure> {
     AnySimulation::new(scene).map_err(|e| Failure(format!("{}: {e}", path.display())))
@@ -266,6 +299,10 @@ fn run(a: RunArgs) -> Result<(), Failure> {
             .map_err(|e| Failure(format!("cannot create {}: {e}", out.display())))?;
     }
     let scene = load_scene(&a.scene)?;
+    let (scene, resolution) = at_quality(scene, &a.scene)?;
+    if let (Some(r), false) = (&resolution, a.quiet) {
+        note!("{}", sampling(r));
+    }
     let mut sim = build(scene, &a.scene.scene)?;
     sim.set_sleeping_at_rest(a.sleep);
     for w in sim.warnings(Some(a.time)) {
@@ -446,17 +483,21 @@ fn write_frame(
 
 fn check(a: CheckArgs) -> Result<(), Failure> {
     let scene = load_scene(&a.scene)?;
+    let (scene, resolution) = at_quality(scene, &a.scene)?;
     let path = &a.scene.scene;
-    let sampling = Instant::now();
+    let started = Instant::now();
     let sim = build(scene, path)?;
-    let sampling = sampling.elapsed().as_secs_f64();
+    let sampled_in = started.elapsed().as_secs_f64();
     out!("{}: valid", path.display());
+    if let Some(r) = &resolution {
+        out!("{}", sampling(r));
+    }
     for w in sim.warnings(None) {
         note!("warning: {w}");
     }
     match &sim {
-        AnySimulation::D2(s) => report(s, sampling),
-        AnySimulation::D3(s) => report(s, sampling),
+        AnySimulation::D2(s) => report(s, sampled_in),
+        AnySimulation::D3(s) => report(s, sampled_in),
     }
 }
 
@@ -480,6 +521,7 @@ fn report<D: Dim>(sim: &Simulation<D>, sampling: f64) -> Result<(), Failure> {
         scene.kernel
     );
     let per_depth = if D::DIM == 2 { "/m" } else { "" };
+    let mut poured = 0;
     for (i, (b, cfg)) in sim.bodies().iter().zip(&scene.bodies).enumerate() {
         out!(
             "  body {i} {:?}: {}, {} particles, mass {:.4} kg{per_depth}, wave speed {:.2} m/s, flip {}",
@@ -490,6 +532,7 @@ fn report<D: Dim>(sim: &Simulation<D>, sampling: f64) -> Result<(), Failure> {
             b.wave_speed(),
             b.recipe().flip
         );
+        poured += pour_report::<D>(cfg, scene.cell_size)?;
     }
     let present = sim.bodies().len();
     let mut later = 0;
@@ -502,12 +545,18 @@ fn report<D: Dim>(sim: &Simulation<D>, sampling: f64) -> Result<(), Failure> {
             cfg.appear_time()
         );
         later += n;
+        poured += pour_report::<D>(cfg, scene.cell_size)?;
     }
     let n = sim.particles().len();
-    if later > 0 {
-        out!("particles: {n} at the start, {later} to come (sampled in {sampling:.3} s)");
+    let poured = if poured > 0 {
+        format!(", {poured} to be poured")
     } else {
-        out!("particles: {n} (sampled in {:.3} s)", sampling);
+        String::new()
+    };
+    if later > 0 {
+        out!("particles: {n} at the start, {later} to come{poured} (sampled in {sampling:.3} s)");
+    } else {
+        out!("particles: {n}{poured} (sampled in {:.3} s)", sampling);
     }
     // one step on a copy allocates the grids: the memory that the run will need at first
     let mut probe = sim.clone();
@@ -534,6 +583,43 @@ fn report<D: Dim>(sim: &Simulation<D>, sampling: f64) -> Result<(), Failure> {
         n as f64 / step_wall.max(1e-9) / 1e6
     );
     stepped.map_err(|e| Failure(format!("the first step failed: {e}")))
+}
+
+/// Prints what a poured body's spout pours on a grid of `cell_size` (nothing for another
+/// body); returns how many particles it pours in all.
+fn pour_report<D: Dim>(cfg: &mpm::BodyConfig, cell_size: f64) -> Result<u64, Failure> {
+    let Some(pour) = &cfg.pour else {
+        return Ok(0);
+    };
+    let spout = mpm::sim::Spout::new(
+        pour,
+        D::DIM,
+        cell_size,
+        cfg.particles_per_cell,
+        cfg.jitter,
+        cfg.seed,
+        cfg.appear_time(),
+    );
+    let (rate, area) = if D::DIM == 2 {
+        ("m²/s per metre of depth", "m")
+    } else {
+        ("m³/s", "m²")
+    };
+    let spout_at: Vec<String> = pour.spout.iter().map(|x| format!("{x}")).collect();
+    out!(
+        "    poured from a spout at [{}] m, radius {} m, for {} s from t = {} s: rate {} {rate}, exit area {:.4e} {area} ({} particles a layer), exit speed {:.3} m/s, {:.0} particles/s, {} particles in all",
+        spout_at.join(", "),
+        pour.radius,
+        pour.duration,
+        cfg.appear_time(),
+        pour.rate,
+        pour.exit_area(D::DIM, spout.spacing()),
+        spout.per_layer(),
+        spout.exit_speed(),
+        spout.particles_per_second(),
+        spout.particles()
+    );
+    Ok(spout.particles())
 }
 
 /// A byte count in kB, MB or GB.

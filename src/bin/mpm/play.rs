@@ -21,8 +21,9 @@ use std::time::{Duration, Instant};
 pub fn play(a: PlayArgs) -> Result<(), Failure> {
     mpm::error::check_range("--speed", a.speed, 1e-4, 100.0, false, "")?;
     let scene = load_scene(&a.scene)?;
-    let pg =
-        Playground::new(scene).map_err(|e| Failure(format!("{}: {e}", a.scene.scene.display())))?;
+    let quality = mpm::playground::Quality::find(&a.scene.quality)?;
+    let pg = Playground::with_quality(scene, quality)
+        .map_err(|e| Failure(format!("{}: {e}", a.scene.scene.display())))?;
     if !std::io::stdout().is_terminal() || !std::io::stdin().is_terminal() {
         return Err(Failure(
             "play needs an interactive terminal (use `mpm run` to write frames instead)".into(),
