@@ -237,11 +237,12 @@ export class App {
   }
 
   /// The level a visit opens at when its link names none: the one the user chose last
-  /// (remembered in localStorage), else the finest that runs live here by a short probe in the
-  /// worker: the default scene of the view's dimension stepped from its start (its bodies
-  /// falling and landing) at Balanced for half a second after 0.2 s of warm-up; Balanced when
-  /// that keeps up with real time in 2D or half of it in 3D, else Live. Resolves to {id, why}, `why` the HUD's words for it. A test forces the probe's
-  /// answer with `window.mpmProbe = 'live'` or `'balanced'` set before the page loads.
+  /// (remembered in localStorage), else the finest that runs live here by a probe in the
+  /// worker: what a time step of the default scene of the view's dimension costs at Balanced,
+  /// stepped from its start for a second (the session's `levelProbe`); Balanced when the rate
+  /// that cost steps keeps up with real time in 2D or half of it in 3D, else Live. Resolves to
+  /// {id, why}, `why` the HUD's words for it. A test forces the probe's answer with
+  /// `window.mpmProbe = 'live'` or `'balanced'` set before the page loads.
   async pickLevel() {
     const levels = this.session.qualities.levels;
     const label = (id) => this.qualityLabel(id);
@@ -255,11 +256,12 @@ export class App {
     const need = this.view.dim === '2' ? 1 : 0.5;
     try {
       const source = await sceneSource(this.defaultScene, this.view.dim, this.scenes, this.session);
-      const { ratio } = await this.session.levelProbe(source, 'balanced', 500);
+      const { ratio, msPerStep } = await this.session.levelProbe(source, 'balanced', 1000);
       const r = ratio >= 10 ? ratio.toFixed(0) : ratio.toPrecision(2);
+      const cost = `a Balanced step costs ${msPerStep.toPrecision(2)} ms here, ${r}× real time`;
       return ratio >= need
-        ? { id: 'balanced', why: `picked here: Balanced runs ${r}× real time` }
-        : { id: 'live', why: `picked here: Balanced runs ${r}× real time, too slow` };
+        ? { id: 'balanced', why: `picked here: ${cost}` }
+        : { id: 'live', why: `picked here: ${cost}, too slow for Balanced` };
     } catch (e) {
       console.warn(`the level probe failed (${e.message}); opening at Live`);
       return { id: 'live', why: 'the level probe failed' };

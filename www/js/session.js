@@ -173,8 +173,9 @@ export class Session {
   /// Restarts the scene with the current parameters ('' or the message), paused when
   /// `playing` is false.
   reset(playing = undefined) { return this.message('reset', { playing }); }
-  /// Steps scene `source` at level `quality` for `ms` of wall time, apart from the simulation
-  /// shown; resolves to {ratio, particles} (the host's `cmd_levelProbe`).
+  /// What a time step of scene `source` at level `quality` costs here, stepped for `ms` of
+  /// wall time apart from the simulation shown; resolves to {ratio, msPerStep, steps,
+  /// particles} (the host's `cmd_levelProbe`).
   levelProbe(source, quality, ms) { return this.request('levelProbe', { source, quality, ms }); }
   /// Samples the scene again at quality level `quality`; resolves to the drops refused.
   setQuality(quality) { return this.request('setQuality', { quality }); }

@@ -470,15 +470,15 @@ test('the page opens at the level the probe picks, says why, and the user\'s cho
     assert.deepEqual(errors, []);
     await page.close();
   }
-  // The probe itself: its answer follows from the rate it measured (Balanced at 1× real time in
-  // 2D), said in the HUD's quality line.
+  // The probe itself: its answer follows from the step cost it measured and the rate that
+  // cost steps at (Balanced at 1× real time in 2D), said in the HUD's quality line.
   {
     const { page, errors } = await openPage(browser.context, `${URL_ROOT}#dim=2`, undefined, () => localStorage.removeItem('mpm.quality'));
     await shown(page);
     const s = await stats(page);
     const text = await line(page);
     console.log(text);
-    const m = text.match(/\(picked here: Balanced runs ([\d.]+)× real time(, too slow)?\)$/);
+    const m = text.match(/\(picked here: a Balanced step costs [\d.]+ ms here, ([\d.]+)× real time(, too slow for Balanced)?\)$/);
     assert.ok(m, text);
     assert.equal(s.quality.quality, Number(m[1]) >= 1 ? 'balanced' : 'live', text);
     assert.equal(!!m[2], s.quality.quality === 'live', text);
