@@ -117,6 +117,13 @@ pub struct BodyConfig {
     /// `gimp` or `quadratic_bspline` kernel.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stress_last: Option<bool>,
+    /// Close parted grains again (granular materials): sand whose grains have parted (no
+    /// compression, a volume beyond its packed m/ρ) regains its density when pressed together
+    /// before it carries stress ([`crate::step::stress`]). Absent: on for a poured body, whose
+    /// stream parts tenfold, off otherwise ([`crate::recipe::Recipe`]). `true` needs a granular
+    /// material.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub close_grains: Option<bool>,
     /// When the body enters (s of simulated time): it is sampled when the scene is built and
     /// added, with its shape and `velocity`, once the simulation reaches this time. Absent or
     /// 0: from the start. A playground's saved scene gives each dropped body its drop time.
@@ -344,6 +351,7 @@ impl BodyConfig {
             kinematic: false,
             apic: None,
             stress_last: None,
+            close_grains: None,
             appear_at: None,
             traction: None,
             pour: None,
@@ -382,6 +390,11 @@ impl BodyConfig {
     /// Updates this body's stress at the end of the step (`true`) or first (`false`).
     pub fn with_stress_last(mut self, last: bool) -> Self {
         self.stress_last = Some(last);
+        self
+    }
+    /// Closes this body's parted grains again (`true`) or lets them stay loose (`false`).
+    pub fn with_close_grains(mut self, close: bool) -> Self {
+        self.close_grains = Some(close);
         self
     }
     /// Transfers this body's velocities with the paper's PIC/FLIP blend only (no APIC).
@@ -841,6 +854,18 @@ impl SceneConfig {
                 format!("{path}.stress_last"),
                 true,
                 "needs the \"gimp\" or \"quadratic_bspline\" kernel (the scene's kernel is \"linear\")",
+            ));
+        }
+        if body.close_grains == Some(true)
+            && !matches!(
+                body.material.behaviour(),
+                crate::material::Behaviour::Granular(_)
+            )
+        {
+            return Err(Error::invalid(
+                format!("{path}.close_grains"),
+                true,
+                "needs a granular material (\"drucker_prager\" or \"mohr_coulomb\"): a solid's grains do not part",
             ));
         }
         Ok(())

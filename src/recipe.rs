@@ -1,4 +1,4 @@
-//! A body's numerical recipe: how the step treats it besides its constitutive law. Five
+//! A body's numerical recipe: how the step treats it besides its constitutive law. Six
 //! choices, made here and nowhere else ([`Recipe::new`], from the material, the body's own
 //! settings and the scene's kernel and cell size), and read by every pass:
 //!
@@ -9,8 +9,10 @@
 //! | where the stress update sits ([`StressOrder`]) | first (Sec. 4.2's order) | last with the C¹ kernels, first with the linear one |
 //! | volumetric rate ([`VolumetricRate`]) | the material's option | the particle's own |
 //! | artificial bulk viscosity ([`Recipe::bulk_length`]) | none | C h |
+//! | parted grains close again ([`Recipe::closing`]) | a poured body | never |
 //!
-//! A body's `flip`, `apic` and `stress_last` settings override the first three; a kinematic body carries no
+//! A body's `flip`, `apic` and `stress_last` settings override the first three and
+//! `close_grains` the last; a kinematic body carries no
 //! stress and so no bulk viscosity. Which column a material takes is its own statement
 //! ([`Material::behaviour`]).
 //!
@@ -23,7 +25,10 @@
 //! particle sits on a node, and the multilinear form that avoids it was unstable for stiff
 //! bodies. The stress order is explained in [`StressOrder`]; the bulk viscosity in
 //! [`BULK_VISCOSITY`]: sand has none (its flows are dissipative already, and a viscosity is
-//! what docs/validation.md finds too much of).
+//! what docs/validation.md finds too much of). Parted grains close again in a poured body,
+//! whose stream parts tenfold and would otherwise heap at half its density
+//! (`src/step/stress.rs`); the validated collapses and slopes keep the paper's volume, which
+//! their reports were measured with (docs/decisions.md).
 
 use crate::config::BodyConfig;
 use crate::kernel::KernelKind;
@@ -57,6 +62,8 @@ pub struct Recipe {
     pub volumetric_rate: VolumetricRate,
     /// The length C h of the artificial bulk viscosity ([`BULK_VISCOSITY`]); zero for none.
     pub bulk_length: Real,
+    /// Whether a granular body's parted grains close again before they carry stress.
+    pub closing: bool,
 }
 
 impl Recipe {
@@ -80,6 +87,7 @@ impl Recipe {
             } else {
                 BULK_VISCOSITY * cell_size as Real
             },
+            closing: granular && body.close_grains.unwrap_or(body.pour.is_some()),
         }
     }
 
@@ -134,6 +142,20 @@ mod tests {
         assert_eq!(r.stress_order, StressOrder::Last);
         let r = Recipe::new(&solid.clone().with_stress_last(false), KernelKind::Gimp, h);
         assert_eq!(r.stress_order, StressOrder::First);
-        assert!(Recipe::new(&solid.with_apic(), KernelKind::Gimp, h).apic);
+        assert!(Recipe::new(&solid.clone().with_apic(), KernelKind::Gimp, h).apic);
+        assert!(!Recipe::new(&sand, KernelKind::Gimp, h).closing);
+        let spout = crate::config::PourConfig {
+            spout: vec![0.5, 0.9],
+            radius: 0.05,
+            rate: 0.01,
+            duration: 1.0,
+        };
+        let poured = BodyConfig::poured("p", spout, sand.material.clone());
+        assert!(Recipe::new(&poured, KernelKind::Gimp, h).closing);
+        let closed = sand.clone().with_close_grains(true);
+        assert!(Recipe::new(&closed, KernelKind::Gimp, h).closing);
+        let open = poured.with_close_grains(false);
+        assert!(!Recipe::new(&open, KernelKind::Gimp, h).closing);
+        assert!(!Recipe::new(&solid, KernelKind::Gimp, h).closing);
     }
 }

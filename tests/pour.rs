@@ -320,17 +320,18 @@ fn pouring_keeps_the_others<D: Dim>() {
     };
     let mut exit = vec![0.3; D::DIM];
     (exit[0], exit[1]) = (0.6, 0.4);
-    // a layer every 0.8 s: the heap comes to rest, and partly sleeps, between layers
+    // a layer every 1.2 s: the heap comes to rest, and partly sleeps, between layers (its
+    // grains closing as they settle)
     let radius = h;
-    let rate = if D::DIM == 2 { 0.0005 } else { 1.2e-4 };
-    let poured = BodyConfig::poured("heap", pour(&exit, radius, rate, 8.0), sand());
+    let rate = if D::DIM == 2 { 0.0005 } else { 1.2e-4 } / 1.5;
+    let poured = BodyConfig::poured("heap", pour(&exit, radius, rate, 12.0), sand());
     let s = scene(&size, h, vec![block(0.08), poured, block(1.0)]);
     let mut sim = Simulation::<D>::new(s).unwrap();
-    assert!((spout(&sim, 1).exit_time(1) - 0.8).abs() < 1e-9);
+    assert!((spout(&sim, 1).exit_time(1) - 1.2).abs() < 1e-9);
     sim.sleep_when_at_rest();
     let (mut emissions, mut blocks_asleep, mut heap_asleep) = (0, 0, 0);
     let mut asleep_once = [false; 3];
-    while sim.time() < 8.0 {
+    while sim.time() < 12.0 {
         sim.step_at_most(f64::INFINITY).unwrap();
         let before: Vec<_> = (0..3).map(|b| body_state(&sim, b)).collect();
         let ids = sim.ids_issued();

@@ -15,13 +15,9 @@
 //! shifted back to the apex, and a remaining f > 0 is removed by scaling the deviatoric stress
 //! back onto the cone. Cohesionless sand (c = 0) therefore carries no tension.
 //!
-//! Past the apex nothing resists an expansion, so a particle's volume may grow at most to
-//! [`LOOSEST`] times its volume at the material's density (`max_specific_volume`): a lone grain
-//! whose APIC affine velocity stretches (nothing acts on it there) would otherwise inflate
-//! exponentially, and with it the wave speed at the body's lowest density that sets everyone's
-//! time step (docs/validation.md, *the sand model behind the figures*). A granular packing
-//! loosens by a few percent before its grains part; twice the volume is far beyond that, so
-//! the bound touches only grains that have left the flow.
+//! Past the apex nothing resists an expansion: the grains part. The stress pass closes them
+//! again before it stresses them, and bounds their volume, from the packed volume per unit
+//! mass this model gives ([`Constitutive::packed_specific_volume`], 1/ρ; `src/step/stress.rs`).
 //!
 //! Optionally the friction rises with the inertial number of the flow, μ(I) of Jop et al.
 //! (2006) ([`super::mu_i`]): the cone's α_φ is then formed per particle from its strain rate
@@ -34,9 +30,6 @@ use crate::math::{Number, Real, SymTensor};
 
 const SQRT_3: Real = 1.732_050_8;
 
-/// The largest volume of a sand particle, as a multiple of its volume at the material's
-/// density (the module's documentation says why).
-pub const LOOSEST: f64 = 2.0;
 use serde::{Deserialize, Serialize};
 
 /// Parameters: E (Pa), ν, density (kg/m³), friction angle φ ∈ [0°, 90°), dilatancy angle
@@ -352,7 +345,7 @@ impl DruckerPragerParams {
             k_c: k_c as Real,
             apex: apex as Real,
             inv_hardening: inv_hardening as Real,
-            max_specific_volume: (LOOSEST / self.density) as Real,
+            packed_specific_volume: (1.0 / self.density) as Real,
         }
     }
 }
@@ -370,8 +363,8 @@ pub struct DruckerPrager {
     pub inv_hardening: Real,
     /// Rate-dependent friction: α_φ, the denominator and the apex per particle.
     pub mu_i: Option<MuI>,
-    /// [`LOOSEST`] / density (m³/kg): the largest volume per unit mass.
-    pub max_specific_volume: Real,
+    /// 1/ρ (m³/kg): the packed volume per unit mass.
+    pub packed_specific_volume: Real,
     /// The cone's widening with the plastic strain ([`FrictionMatch::StartStop`]).
     pub widening: Option<Widening>,
 }
@@ -527,8 +520,8 @@ impl Constitutive for DruckerPrager {
     fn elastic(&self) -> &Elastic {
         &self.elastic
     }
-    fn max_specific_volume(&self) -> Option<Real> {
-        Some(self.max_specific_volume)
+    fn packed_specific_volume(&self) -> Option<Real> {
+        Some(self.packed_specific_volume)
     }
 }
 

@@ -25,6 +25,20 @@ use crate::error::Result;
 use crate::math::{Number, Real, SymTensor};
 use serde::{Deserialize, Serialize};
 
+/// The largest volume of a stressed granular particle, as a multiple of its packed volume
+/// m/ρ: past its apex nothing resists an expansion, and a lone grain whose APIC affine velocity
+/// stretches would otherwise inflate exponentially, and with it the wave speed at the body's
+/// lowest density that sets everyone's time step. A packing loosens by a few per cent before
+/// its grains part; twice the volume is far beyond that. It is also the density floor of a
+/// granular body's wave speed ([`crate::sim::Body::wave_speed`]).
+pub const LOOSEST: f64 = 2.0;
+
+/// The largest volume of a parted granular particle (no compression, more than its packed
+/// volume), as a multiple of its packed volume: it carries no stress, so its volume follows the
+/// grains' spacing (a falling stream stretches tenfold) until it closes again; bounded only to
+/// stay finite.
+pub const PARTED_LOOSEST: f64 = 1000.0;
+
 /// What a stress update did besides changing the stress (`T`: [`Real`], or [`crate::math::Real4`] for
 /// four particles at once).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -74,10 +88,11 @@ pub trait Constitutive: Copy + Send + Sync + 'static {
     ) -> StressUpdate<S::Scalar>;
     /// The elastic part of the model (moduli and stored energy).
     fn elastic(&self) -> &Elastic;
-    /// The largest volume per unit mass (m³/kg) a particle's volume may grow to, for a model
-    /// whose stress does not resist every expansion (sand past its apex); `None`: the volume
-    /// follows V̇ = V tr ε̇ without bound.
-    fn max_specific_volume(&self) -> Option<Real> {
+    /// The volume per unit mass (m³/kg) of the material packed, 1/ρ, for a granular model
+    /// whose grains part past its apex (sand); `None` for a solid, whose volume follows
+    /// V̇ = V tr ε̇ without bound. The stress pass closes parted grains and bounds their
+    /// volume with it ([`crate::step::stress`], [`LOOSEST`], [`PARTED_LOOSEST`]).
+    fn packed_specific_volume(&self) -> Option<Real> {
         None
     }
 }
@@ -323,6 +338,10 @@ macro_rules! materials {
             }
             pub fn elastic(&self) -> &Elastic {
                 match self { $(Model::$variant(m) => Constitutive::elastic(m),)* }
+            }
+            /// See [`Constitutive::packed_specific_volume`].
+            pub fn packed_specific_volume(&self) -> Option<Real> {
+                match self { $(Model::$variant(m) => Constitutive::packed_specific_volume(m),)* }
             }
         }
     };

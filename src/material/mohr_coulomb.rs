@@ -33,10 +33,9 @@
 //! **Lanes.** Unlike the other models, the return branches per particle (the order of the
 //! principal stresses, face, edge or apex) and needs the principal directions: each particle
 //! in a group of lanes is returned on its own, with the same scalar arithmetic, so the lanes
-//! give exactly the scalar results. Past the apex nothing resists an expansion: a particle's
-//! volume is bounded as the Drucker–Prager sand's is ([`LOOSEST`]).
+//! give exactly the scalar results. Past the apex nothing resists an expansion: its grains part
+//! and close again as the Drucker–Prager sand's do ([`Constitutive::packed_specific_volume`]).
 
-use super::drucker_prager::LOOSEST;
 use super::{Constitutive, Elastic, ElasticParams, PqSurface, StressUpdate};
 use crate::error::{Error, Result, check_non_negative, check_range};
 use crate::math::{Batch, LANES, Real, Real4, Real4x2, Sym2, Sym3, SymTensor};
@@ -130,7 +129,7 @@ impl MohrCoulombParams {
             } else {
                 f64::INFINITY
             },
-            max_specific_volume: (LOOSEST / self.density) as Real,
+            packed_specific_volume: (1.0 / self.density) as Real,
         }
     }
 }
@@ -149,8 +148,8 @@ pub struct MohrCoulomb {
     pub two_c_cos_phi: f64,
     /// The apex's principal stress c cot φ (Pa; infinite for φ = 0).
     pub apex: f64,
-    /// [`LOOSEST`] / density (m³/kg): the largest volume per unit mass.
-    pub max_specific_volume: Real,
+    /// 1/ρ (m³/kg): the packed volume per unit mass.
+    pub packed_specific_volume: Real,
 }
 
 /// The planes of the pyramid near the largest and smallest principal stress, as the indices
@@ -462,8 +461,8 @@ impl Constitutive for MohrCoulomb {
     fn elastic(&self) -> &Elastic {
         &self.elastic
     }
-    fn max_specific_volume(&self) -> Option<Real> {
-        Some(self.max_specific_volume)
+    fn packed_specific_volume(&self) -> Option<Real> {
+        Some(self.packed_specific_volume)
     }
 }
 

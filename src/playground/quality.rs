@@ -260,12 +260,11 @@ pub fn resample(
         .min()
         .unwrap_or(2);
     let mut ppc = own;
-    // The bodies there from the start set the resolution; those that enter later (`appear_at`)
-    // are sampled at it like bodies dropped, and so are poured bodies (whose particles all
-    // come later, from the spout: they count none here). An empty scene keeps its cells:
-    // there is nothing to make cheaper, and what is dropped keeps its shape by the level's
-    // least per body.
-    let present = |b: &crate::config::BodyConfig| b.appear_time() == 0.0 && b.pour.is_none();
+    // The bodies there from the start set the resolution, a poured one by all it pours
+    // (`count` says how many); those that enter later (`appear_at`) are sampled at it like
+    // bodies dropped. An empty scene keeps its cells: there is nothing to make cheaper, and
+    // what is dropped keeps its shape by the level's least per body.
+    let present = |b: &crate::config::BodyConfig| b.appear_time() == 0.0;
     if q.cell_factor > 1.0 && scene.bodies.iter().any(present) {
         let floor = q.min_particles[if dim == 2 { 0 } else { 1 }] as f64;
         let least = q.min_body_particles[if dim == 2 { 0 } else { 1 }] as f64;
@@ -350,11 +349,16 @@ pub fn resample(
 }
 
 /// `scene` sampled at level `q` as a front end samples it: [`resample`], each body counted by
-/// sampling it. What [`super::Playground::with_quality`] simulates, and `mpm run --quality`.
+/// sampling it, a poured one by the particles it pours in all (its volume over a particle's).
+/// What [`super::Playground::with_quality`] simulates, and `mpm run --quality`.
 pub fn sample_at(scene: &SceneConfig, q: &Quality) -> Result<(SceneConfig, Resolution)> {
     resample(scene, q, |i, h, ppc| {
         let mut b = scene.bodies[i].clone();
         b.particles_per_cell = ppc;
+        if let Some(p) = &b.pour {
+            let spacing = h / ppc as f64;
+            return Ok((p.rate * p.duration / spacing.powi(scene.dim as i32)).round() as usize);
+        }
         Ok(b.sample(&format!("bodies[{i}]"), scene.dim, h)?.0.len())
     })
 }

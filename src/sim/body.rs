@@ -6,7 +6,7 @@ use crate::boundary::{ContactRule, WallRule, Walls};
 use crate::config::SceneConfig;
 use crate::grid::Grid;
 use crate::kernel::KernelKind;
-use crate::material::Model;
+use crate::material::{LOOSEST, Model};
 use crate::math::{Dim, Real, VectorOps};
 use crate::recipe::{BULK_VISCOSITY, Recipe};
 use std::ops::Range;
@@ -100,12 +100,17 @@ impl<D: Dim> Body<D> {
         &self.grid
     }
     /// The dilatational wave speed √((K + 4G/3)/ρ) at the body's lowest density (m/s); zero for
-    /// a kinematic body, which carries no stress.
+    /// a kinematic body, which carries no stress. When its parted grains close again
+    /// ([`Recipe::closing`]) a granular body's density counts down to ρ/[`LOOSEST`]: looser
+    /// grains have parted and carry no stress, and so no waves.
     pub fn wave_speed(&self) -> f64 {
         if self.kinematic {
             return 0.0;
         }
-        let lowest_density = self.min_mass as f64 / self.max_volume as f64;
+        let mut lowest_density = self.min_mass as f64 / self.max_volume as f64;
+        if let (Some(packed), true) = (self.model.packed_specific_volume(), self.recipe.closing) {
+            lowest_density = lowest_density.max(1.0 / (LOOSEST * packed as f64));
+        }
         self.model.elastic().wave_speed(lowest_density)
     }
 

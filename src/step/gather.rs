@@ -55,6 +55,7 @@ impl<D: Dim> Step<'_, D> {
                 plastic_strain: &mut p.plastic_strain[r.clone()],
                 viscous_pressure: &mut p.viscous_pressure[r],
                 bulk_length: body.recipe.bulk_length,
+                closing: body.recipe.closing,
             };
             if body.kinematic {
                 let g = advect_kinematic(state, dt, &w.walls, body.radius, w.gravity);

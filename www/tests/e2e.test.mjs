@@ -279,11 +279,10 @@ test('2D: sleeping is on by default, the settled sand falls asleep and shows in 
   assert.equal(await page.evaluate(() => mpm.sim.sleeping), true);
   assert.equal(await page.$eval('#sleeping', (c) => c.checked), true);
   // At rest the sand falls asleep: the frame counts it and the colour scalars mark it (< 0).
-  await page.waitForFunction(() => (mpm.session.frame?.asleep ?? 0) > 0, null, { timeout: 90_000 });
-  const marked = await page.evaluate(() => {
+  const marked = await (await page.waitForFunction(() => {
     const f = mpm.session.frame;
-    return { asleep: f.asleep, negative: Array.from(f.values.subarray(0, f.count)).filter((v) => v < 0).length };
-  });
+    return (f?.asleep ?? 0) > 0 ? { asleep: f.asleep, negative: Array.from(f.values.subarray(0, f.count)).filter((v) => v < 0).length } : null;
+  }, null, { timeout: 90_000 })).jsonValue();
   assert.equal(marked.negative, marked.asleep, 'the colour scalars mark the particles asleep');
   await page.screenshot({ path: join(OUT, 'playground-sleeping.png') });
   await page.evaluate(() => {
@@ -294,8 +293,13 @@ test('2D: sleeping is on by default, the settled sand falls asleep and shows in 
   await page.waitForFunction(() => mpm.sim.sleeping === false && mpm.session.frame?.asleep === 0, null, { timeout: 10_000 });
   // Reset keeps the choice.
   await page.click('#reset');
-  await page.waitForFunction(() => mpm.sim.sleeping === false && mpm.simTime > 0.3 && mpm.session.frame, null, { timeout: 60_000 });
-  assert.equal(await page.evaluate(() => mpm.session.frame.asleep), 0);
+  // The frame is read where it is waited for: a restart drops the frames before it, so a
+  // frame seen in one evaluation may be gone in the next.
+  const afterReset = await page.waitForFunction(() => {
+    const f = mpm.session.frame;
+    return mpm.sim.sleeping === false && mpm.simTime > 0.3 && f && f.generation === mpm.session.generation ? { asleep: f.asleep } : null;
+  }, null, { timeout: 60_000 });
+  assert.equal((await afterReset.jsonValue()).asleep, 0);
   // The link keeps the choice, and opens with it.
   const hash = await page.evaluate(() => location.hash);
   assert.match(hash, /[#&]sleep=0(&|$)/);

@@ -27,11 +27,12 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
         plastic_strain,
         viscous_pressure,
         bulk_length: length,
+        closing,
     } = ps;
-    let largest = model.max_specific_volume();
-    // The masses: for the volume bound m_p times the model's largest specific volume, and the
-    // bulk viscosity's m_p (C h)².
-    let with_mass = length > 0.0 || largest.is_some();
+    let packed = model.packed_specific_volume();
+    // The masses: for a granular model's packed volume m_p/ρ, and the bulk viscosity's
+    // m_p (C h)².
+    let with_mass = length > 0.0 || packed.is_some();
     let lanes = Chunk {
         stress: &mut *stress,
         volume: &mut *volume,
@@ -41,7 +42,8 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
     };
     let update = Update {
         model,
-        largest,
+        packed,
+        closing,
         length,
         dt,
     };
@@ -62,10 +64,11 @@ pub fn update_chunk<D: Dim, M: Constitutive>(
     }
 }
 
-/// `update_group` on one chunk in lanes, with the chunk's volume bound and bulk viscosity.
+/// `update_group` on one chunk in lanes, with the chunk's packed volumes and bulk viscosity.
 struct Update<'m, M> {
     model: &'m M,
-    largest: Option<Real>,
+    packed: Option<Real>,
+    closing: bool,
     length: Real,
     dt: Real,
 }
@@ -76,18 +79,19 @@ impl<D: Dim, M: Constitutive> walk::LaneUpdate<D> for Update<'_, M> {
     fn update(self, l: walk::InLanes<'_, D>) -> (Real4x2, Group) {
         let Update {
             model,
-            largest,
+            packed,
+            closing,
             length,
             dt,
         } = self;
-        let cap = largest.zip(l.mass).map(|(s, m)| m * s);
+        let packed = packed.zip(l.mass).map(|(s, m)| m * s);
         let bulk = l
             .mass
             .filter(|_| length > 0.0)
             .map(|m| m * (length * length));
         let q = bulk.map(|b| (b, l.viscous_pressure));
         update_group(
-            model, l.stress, l.rate, l.spin, l.history, l.volume, cap, q, dt,
+            model, l.stress, l.rate, l.spin, l.history, l.volume, packed, closing, q, dt,
         )
     }
 }
