@@ -1225,8 +1225,12 @@ mod tests {
 
     /// The rotation of a body at rest (a tiny spin, small stresses) runs without producing a
     /// subnormal number: x86 takes a slow path for each one (docs/performance.md). The MXCSR
-    /// underflow flag is cleared before and read after a call. (In 3D a spin
-    /// component below 1e-19 still underflows in |a|²: see `SECOND_ORDER`.)
+    /// underflow flag is cleared before and read after a call. The rotation is the stress
+    /// update's own, eight particles in lanes (`Real4x2`), every lane holding the same state:
+    /// a lane's every product is then one the formula forms. (The scalar form is compiled
+    /// into packed instructions whose unused lanes hold products the formula never forms, and
+    /// those differ from one build profile to another.) In 3D a spin component below 1e-19
+    /// still underflows in |a|²: see `SECOND_ORDER`.
     #[cfg(all(target_arch = "x86_64", not(feature = "f64")))]
     #[test]
     fn rotations_at_rest_do_not_underflow() {
@@ -1245,14 +1249,29 @@ mod tests {
             // written back unchanged.
             unsafe { std::arch::asm!("ldmxcsr [{}]", in(reg) &v, options(nostack)) };
         }
+        type L = Real4x2;
         #[inline(never)]
-        fn rotate2(s: Sym2, w: Real, dt: Real) -> Sym2 {
+        fn rotate2(s: Sym2<L>, w: L, dt: Real) -> Sym2<L> {
             s.rotate(w, dt)
         }
         #[inline(never)]
-        fn rotate3(s: Sym3, w: Vec3, dt: Real) -> Sym3 {
-            s.rotate(w.into(), dt)
+        fn rotate3(s: Sym3<L>, w: [L; 3], dt: Real) -> Sym3<L> {
+            s.rotate(w, dt)
         }
+        let lanes2 = |s: Sym2| Sym2 {
+            xx: L::splat(s.xx),
+            yy: L::splat(s.yy),
+            zz: L::splat(s.zz),
+            xy: L::splat(s.xy),
+        };
+        let lanes3 = |s: Sym3| Sym3 {
+            xx: L::splat(s.xx),
+            yy: L::splat(s.yy),
+            zz: L::splat(s.zz),
+            xy: L::splat(s.xy),
+            xz: L::splat(s.xz),
+            yz: L::splat(s.yz),
+        };
         const UNDERFLOW: u32 = 0x10;
         // the state of a sand particle near the free surface, found by probing a settling run
         let s3 = Sym3 {
@@ -1272,12 +1291,24 @@ mod tests {
         };
         for w in [9.4e-13, 3e-9, 1.5e-8] {
             clear_flags();
-            black_box(rotate2(black_box(s2), black_box(w), black_box(7e-5)));
+            black_box(rotate2(
+                black_box(lanes2(s2)),
+                black_box(L::splat(w)),
+                black_box(7e-5),
+            ));
             assert_eq!(mxcsr() & UNDERFLOW, 0, "2D rotation by w = {w} underflowed");
             clear_flags();
-            let spin = Vec3::new(w, 0.3 * w, -0.5 * w);
-            black_box(rotate3(black_box(s3), black_box(spin), black_box(4e-4)));
-            assert_eq!(mxcsr() & UNDERFLOW, 0, "3D rotation by {spin} underflowed");
+            let spin = [w, 0.3 * w, -0.5 * w];
+            black_box(rotate3(
+                black_box(lanes3(s3)),
+                black_box(spin.map(L::splat)),
+                black_box(4e-4),
+            ));
+            assert_eq!(
+                mxcsr() & UNDERFLOW,
+                0,
+                "3D rotation by {spin:?} underflowed"
+            );
         }
     }
 
