@@ -319,8 +319,9 @@ export class App {
 
   /// A frame brought a new state: the link follows it. While a pour runs every layer it pours
   /// changes the state (the pour's duration so far), so the link follows at most every
-  /// HASH_POURING_MS: browsers refuse a page that rewrites its address much faster (Firefox
-  /// throws after 200 in 10 s). Its start and its stop are written at once.
+  /// HASH_POURING_MS: browsers limit how often a page may rewrite its address (a few hundred
+  /// times in ten seconds), and a pour changes it with every frame. Its start and its stop are
+  /// written at once.
   stateChanged() {
     const now = performance.now();
     if (this.session.state.pouring && now - this.hashAt < HASH_POURING_MS) return;
