@@ -284,6 +284,41 @@ impl WebPlayground {
             .drop_at(object, model, point, speed, size)
             .map_err(js_err)
     }
+    /// Starts pouring the preset sand `material` (`drucker_prager` or `mohr_coulomb`) at `rate`
+    /// (m³/s; m²/s in 2D) over `point` on the floor (3D: x and z count; 2D: x), from a spout
+    /// held above it, until `stopPour`; records it in the session. Returns the poured body's
+    /// index; throws naming the field (`rate`, `point`, `material`) and what is allowed.
+    #[wasm_bindgen(js_name = startPour)]
+    pub fn start_pour(
+        &mut self,
+        point: &[f64],
+        material: &str,
+        rate: f64,
+    ) -> Result<usize, JsError> {
+        self.core.start_pour(point, material, rate).map_err(js_err)
+    }
+    /// Stops the pour running now (no layer leaves after the current time); returns how long
+    /// it ran (s), or undefined when none runs.
+    #[wasm_bindgen(js_name = stopPour)]
+    pub fn stop_pour(&mut self) -> Option<f64> {
+        self.core.stop_pour()
+    }
+    /// Whether a pour started by `startPour` runs.
+    pub fn pouring(&self) -> bool {
+        self.core.pouring()
+    }
+    /// The rates a pour may have in this scene, as JSON: `unit`, the spout's `radius` and
+    /// `height` (m), `exit_area`, `allowed` [lo, hi], `offered` [lo, hi] for a slider, a
+    /// `default`, and the exit `speeds` they leave at.
+    #[wasm_bindgen(js_name = pourRates)]
+    pub fn pour_rates(&self) -> String {
+        json(&self.core.pour_rates())
+    }
+    /// Throws unless `rate` is a rate a pour may have.
+    #[wasm_bindgen(js_name = checkRate)]
+    pub fn check_rate(&self, rate: f64) -> Result<(), JsError> {
+        self.core.check_rate(rate).map_err(js_err)
+    }
     /// The sizes a dropped object may have, as JSON: `allowed` [lo, hi], `offered` [lo, hi]
     /// for a slider, and a `default` (m).
     #[wasm_bindgen(js_name = sizeRange)]
@@ -301,12 +336,15 @@ impl WebPlayground {
         self.core.drop_clock()
     }
     /// The session so far, as JSON `{params: [[name, value], …], cleared, drops: [{t, object,
-    /// material, size, centre, velocity, applied_at}, …]}`.
+    /// material, size, centre, velocity, applied_at}, …], pours: [{t, material, rate, spout,
+    /// duration, applied_at}, …]}` (`pours` absent when there is none; the pour running with
+    /// the time it has run so far).
     pub fn session(&self) -> String {
         json(&self.core.session())
     }
     /// Repeats a session given as JSON (the form `session` returns; `applied_at` is ignored):
-    /// returns JSON `{rejected: [message, …], refused: [{drop, error}, …]}`, what did not apply.
+    /// returns JSON `{rejected: [message, …], refused: [{drop or pour, error}, …]}`, what did
+    /// not apply.
     pub fn replay(&mut self, session_json: &str) -> Result<String, JsError> {
         let replay: crate::playground::Replay =
             serde_json::from_str(session_json).map_err(|e| js_err(format!("session: {e}")))?;
@@ -328,7 +366,8 @@ impl WebPlayground {
     pub fn save_scene(&self) -> Result<String, JsError> {
         self.core.saved_scene_json().map_err(js_err)
     }
-    /// Removes every body (recorded in the session; the drops so far are forgotten).
+    /// Removes every body (recorded in the session; the drops and pours so far are forgotten,
+    /// a pour running ends).
     pub fn clear(&mut self) {
         self.core.clear();
     }

@@ -474,3 +474,83 @@ fn a_pour_that_enters_later_opens_at_its_appear_at() {
     assert_eq!(sim.particles().len() as u64, spout.particles());
     assert!(!sim.pouring());
 }
+
+/// A pour stopped at a time t, in 2D and 3D: no layer enters after it whatever the steps
+/// (stopped between layers, and at the instant a layer leaves, which it keeps); the
+/// scene's duration becomes the one that pours the layers kept (a scene built with it pours
+/// the same particles), close to t less the opening time; a spout that ended keeps its
+/// duration; a time before a layer poured, or a body that is not poured, is an error.
+fn stops_exactly<D: Dim>() {
+    let mut s = stream_scene(D::DIM, 0.5, 2.0);
+    s.bodies[0].appear_at = Some(0.05);
+    let mut sim = Simulation::<D>::new(s.clone()).unwrap();
+    sim.advance(0.2).unwrap();
+    let sp = spout(&sim, 0);
+    let (n, period) = (sp.per_layer(), sp.spacing() / sp.exit_speed());
+    // between two layers: those left by now stay, no other comes
+    let t = sim.time();
+    let poured = sim.particles().len();
+    assert_eq!(poured as u64, sp.poured() * n as u64);
+    let d = sim.stop_pour(0, t).unwrap();
+    assert!((d - (t - 0.05)).abs() <= 0.5 * period, "{d} for {t}");
+    assert_eq!(sim.scene().bodies[0].pour.as_ref().unwrap().duration, d);
+    assert!(!sim.pouring());
+    sim.advance(0.3).unwrap();
+    assert_eq!(
+        sim.particles().len(),
+        poured,
+        "{}D: no layer after the stop",
+        D::DIM
+    );
+    // the scene as it stands pours the same particles
+    let mut again = Simulation::<D>::new(sim.scene().clone()).unwrap();
+    again.advance(1.0).unwrap();
+    assert_eq!(again.particles().len(), poured);
+    assert_eq!(spout(&again, 0).layers(), sp.poured());
+
+    // stopped at the instant a layer leaves: it is kept
+    let mut sim = Simulation::<D>::new(s.clone()).unwrap();
+    sim.advance(0.05 + 7.0 * period).unwrap();
+    let t = sim.time();
+    let d = sim.stop_pour(0, t).unwrap();
+    sim.advance(0.2).unwrap();
+    assert_eq!(sim.particles().len(), 8 * n, "{}D: layers 0 to 7", D::DIM);
+    let mut again = Simulation::<D>::new(sim.scene().clone()).unwrap();
+    again.advance(1.0).unwrap();
+    assert_eq!(
+        again.particles().len(),
+        8 * n,
+        "{}D: {d} s pours 8 layers",
+        D::DIM
+    );
+
+    // a spout that ended keeps its duration; stopping it again changes nothing
+    let mut short = s.clone();
+    short.bodies[0].pour.as_mut().unwrap().duration = 0.1;
+    let mut sim = Simulation::<D>::new(short).unwrap();
+    sim.advance(0.5).unwrap();
+    let all = sim.particles().len();
+    assert_eq!(sim.stop_pour(0, sim.time()).unwrap(), 0.1);
+    assert_eq!(sim.particles().len(), all);
+
+    // errors: a time before a layer poured, a body that is not poured (or not present)
+    let mut sim = Simulation::<D>::new(s.clone()).unwrap();
+    sim.advance(0.3).unwrap();
+    let e = sim.stop_pour(0, 0.1).unwrap_err().to_string();
+    assert!(
+        e.starts_with("t = 0.1: must be finite and at or after the last layer poured"),
+        "{e}"
+    );
+    let e = sim.stop_pour(3, 0.3).unwrap_err().to_string();
+    assert!(
+        e.starts_with("body = 3: must be a poured body present"),
+        "{e}"
+    );
+    assert!(sim.pouring(), "unchanged by the errors");
+}
+
+#[test]
+fn a_pour_stopped_at_a_time_pours_no_layer_after_it() {
+    stops_exactly::<D2>();
+    stops_exactly::<D3>();
+}

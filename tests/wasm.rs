@@ -644,3 +644,49 @@ fn the_measures_cross_as_json() {
     let e = message(mpm::wasm::hand_measure(&[0.0], &[1.0]).unwrap_err());
     assert!(e.starts_with("points: "), "{e}");
 }
+
+/// A pour crosses the boundary: `pourRates` as JSON, `startPour` and `stopPour` (a no-op with
+/// none running), the session's `pours` replayed by another playground to the same particles,
+/// the saved scene's poured body with the time it ran, and errors naming the field.
+#[wasm_bindgen_test]
+fn a_pour_starts_stops_and_replays() {
+    let mut pg = WebPlayground::new(&mpm::wasm::sandbox_scene(2), None, None).unwrap();
+    let rates: serde_json::Value = serde_json::from_str(&pg.pour_rates()).unwrap();
+    assert_eq!(rates["unit"], "m²/s");
+    let q = rates["default"].as_f64().unwrap();
+    let e = message(
+        pg.start_pour(&[1.0, 0.5], "drucker_prager", 0.0)
+            .unwrap_err(),
+    );
+    assert!(e.starts_with("rate = 0: must be in ["), "{e}");
+    let e = message(pg.start_pour(&[1.0, 0.5], "elastic", q).unwrap_err());
+    assert!(
+        e.starts_with("material = elastic: must be a granular model"),
+        "{e}"
+    );
+    assert!(message(pg.check_rate(-1.0).unwrap_err()).starts_with("rate = -1"));
+    assert_eq!(pg.stop_pour(), None);
+    pg.start_pour(&[1.0, 0.5], "drucker_prager", q).unwrap();
+    assert!(pg.pouring());
+    while pg.time() < 0.3 {
+        pg.frame(0.05, 1e9).unwrap();
+    }
+    let held = pg.stop_pour().unwrap();
+    assert!((held - 0.3).abs() < 0.05, "{held}");
+    assert!(!pg.pouring());
+    pg.frame(0.1, 1e9).unwrap();
+    let n = pg.particle_count();
+    assert!(n > 0);
+    let session = pg.session();
+    let s: serde_json::Value = serde_json::from_str(&session).unwrap();
+    assert_eq!(s["pours"][0]["duration"].as_f64(), Some(held));
+    let saved: serde_json::Value = serde_json::from_str(&pg.save_scene().unwrap()).unwrap();
+    assert_eq!(saved["bodies"][0]["pour"]["duration"].as_f64(), Some(held));
+    let mut again = WebPlayground::new(&mpm::wasm::sandbox_scene(2), None, None).unwrap();
+    let out: serde_json::Value = serde_json::from_str(&again.replay(&session).unwrap()).unwrap();
+    assert_eq!(out, serde_json::json!({"rejected": [], "refused": []}));
+    while again.time() < pg.time() {
+        again.frame(0.05, 1e9).unwrap();
+    }
+    assert_eq!(again.particle_count(), n);
+}

@@ -7,8 +7,8 @@
 //!   [`AnySimulation::configure`], so it is validated exactly like a scene file and a rejected
 //!   value leaves the state unchanged. A material parameter applies to every body of that
 //!   model and to the preset that new bodies of that model are made of.
-//! - The session is recorded as a [`Replay`] (parameters set, Clear, bodies dropped with their
-//!   simulated times), which a front end keeps and gives back to repeat it.
+//! - The session is recorded as a [`Replay`] (parameters set, Clear, bodies dropped and sand
+//!   poured with their simulated times), which a front end keeps and gives back to repeat it.
 //! - The scene is sampled at a quality level ([`QUALITIES`]): the scene file as written
 //!   (`fine`, what [`Playground::new`] gives) or coarser cells with enough particles to stay
 //!   recognisable; bodies dropped take the level's particles per cell.
@@ -20,12 +20,17 @@ mod drops;
 #[cfg(test)]
 mod figures;
 mod objects;
+mod pours;
 mod quality;
 mod save;
 
 pub use colours::ColourMode;
-pub use drops::{DroppedBody, Refused, Replay};
+pub use drops::{DroppedBody, PouredBody, Refused, Replay};
 pub use objects::{BunnyAssets, OBJECTS, ObjectInfo, ball_bunny, object_shape};
+pub use pours::{
+    POUR_CLEARANCE_CELLS, POUR_FILL_SHARE, POUR_HEIGHT, POUR_HEIGHT_SHARE, POUR_RADIUS_CELLS,
+    POUR_SPEEDS, PourRates, PourSpeeds,
+};
 pub use quality::{
     ACCURACY, Accuracy, DEFAULT_QUALITY, MAX_PPC, QUALITIES, Quality, Resolution, SandCost,
     accuracy, body_ppc, resample, sample_at,
@@ -704,14 +709,35 @@ impl Playground {
         self.particle_count() == 0 && self.sim.next_appearance().is_none() && !self.sim.pouring()
     }
 
-    /// Lands the drops whose time has come (all of them in an idle box, where time does not
-    /// run). One the solver refuses is left out of the session and returned with its message.
+    /// Lands the drops and starts the pours whose time has come (all of them in an idle box,
+    /// where time does not run). One the solver refuses is left out of the session and returned
+    /// with its message.
     fn land_due_drops(&mut self) -> Vec<Refused> {
         let mut refused = Vec::new();
-        while let Some(d) = self.drops.list.get(self.drops.next).cloned() {
-            if d.t > self.drop_clock() + 1e-9 && !self.idle() {
+        while let Some(t) = self.drops.next_time() {
+            if t > self.drop_clock() + 1e-9 && !self.idle() {
                 break;
             }
+            if self.drops.pour_next() {
+                let p = self.drops.pours[self.drops.next_pour].clone();
+                let body = self.scheduled_pour_body(&p);
+                match body.and_then(|b| self.add_now(b, p.t)) {
+                    Ok(_) => {
+                        self.drops.pours[self.drops.next_pour].applied_at = Some(self.drop_clock());
+                        self.drops.next_pour += 1;
+                    }
+                    Err(e) => {
+                        self.drops.pours.remove(self.drops.next_pour);
+                        refused.push(Refused {
+                            drop: None,
+                            pour: Some(p),
+                            error: e.to_string(),
+                        });
+                    }
+                }
+                continue;
+            }
+            let d = self.drops.list[self.drops.next].clone();
             let body = self.object_body(&d.object, &d.material, &d.centre, &d.velocity, d.size);
             match body.and_then(|b| self.add_now(b, d.t)) {
                 Ok(_) => {
@@ -721,7 +747,8 @@ impl Playground {
                 Err(e) => {
                     self.drops.list.remove(self.drops.next);
                     refused.push(Refused {
-                        drop: d,
+                        drop: Some(d),
+                        pour: None,
                         error: e.to_string(),
                     });
                 }
@@ -731,10 +758,12 @@ impl Playground {
     }
 
     /// Repeats a session on this playground: sets its parameters in order, clears the scene if
-    /// it was cleared, and schedules its drops (those due now land at once, the others when the
-    /// simulation reaches their times). Returns the parameters refused (with their messages)
-    /// and the drops refused so far; everything else applies.
+    /// it was cleared, and schedules its drops and pours (those due now land or start at once,
+    /// the others when the simulation reaches their times; a pour running here stops first).
+    /// Returns the parameters refused (with their messages) and the drops and pours refused so
+    /// far; everything else applies.
     pub fn replay(&mut self, replay: Replay) -> (Vec<String>, Vec<Refused>) {
+        self.stop_pour();
         let mut rejected = Vec::new();
         if let Some(q) = replay.quality.as_deref().filter(|&q| q != self.quality.id) {
             match Quality::find(q).and_then(|q| Self::with_quality(self.initial.clone(), q)) {
@@ -756,7 +785,7 @@ impl Playground {
         if replay.cleared {
             self.clear();
         }
-        self.drops.schedule(replay.drops);
+        self.drops.schedule(replay.drops, replay.pours);
         (rejected, self.land_due_drops())
     }
 
@@ -767,10 +796,12 @@ impl Playground {
             params: self.overrides.clone(),
             cleared: self.drops.cleared,
             drops: self.drops.list.clone(),
+            pours: self.session_pours(),
         }
     }
 
-    /// Removes every body; the drops are forgotten and their clock starts again.
+    /// Removes every body; the drops and pours are forgotten (a pour running ends) and their
+    /// clock starts again.
     pub fn clear(&mut self) {
         self.sim.clear();
         self.footprints.clear();
@@ -779,8 +810,8 @@ impl Playground {
         self.drops.cleared = true;
     }
 
-    /// Reloads the scene and applies the parameter overrides again; the drops and a Clear are
-    /// forgotten.
+    /// Reloads the scene and applies the parameter overrides again; the drops, the pours and a
+    /// Clear are forgotten.
     pub fn reset(&mut self) -> Result<()> {
         let mut next = Playground::with_quality(self.initial.clone(), self.quality)?;
         for (name, value) in &self.overrides {
@@ -823,8 +854,9 @@ impl Playground {
     }
 
     /// Samples the scene again at quality level `quality` and starts it again with the session
-    /// so far: the parameters set, the Clear, and the drops at their times (those the new
-    /// resolution refuses are returned). An unknown level is an error, the state unchanged.
+    /// so far: the parameters set, the Clear, and the drops and pours at their times (those the
+    /// new resolution refuses are returned; a pour running is replayed as far as it ran, and
+    /// runs no more). An unknown level is an error, the state unchanged.
     pub fn set_quality(&mut self, quality: &str) -> Result<Vec<Refused>> {
         let q = Quality::find(quality)?;
         let mut session = self.session();

@@ -1,6 +1,7 @@
 //! A session saved as a scene file: what a front end's "Save scene" writes and the CLI runs
-//! unchanged. Each body dropped during the session becomes a body of the file that enters at
-//! its drop time (`appear_at`), so running the file replays the demo.
+//! unchanged. Each body dropped or poured during the session becomes a body of the file that
+//! enters at its time (`appear_at`), a pour with how long it ran (`pour.duration`), so running
+//! the file replays the demo.
 
 use super::Playground;
 use crate::config::SceneConfig;
@@ -11,17 +12,31 @@ impl Playground {
     /// level it is sampled at: opened at a level, the file samples as the session did): the
     /// world with every parameter as set now; the scene's bodies
     /// (none after a Clear) and each body dropped since, with its materials as set now and its
-    /// drop time as `appear_at`, counted from the start of the scene or from the Clear; the
-    /// drops of a replay still to come, as the bodies they will be. A parameter changed during
+    /// drop time as `appear_at`, counted from the start of the scene or from the Clear; each
+    /// pour, a poured body entering at its start with its duration (the pour running, with the
+    /// time it has run so far); the drops and pours of a replay still to come, as the bodies
+    /// they will be. A parameter changed during
     /// the session holds its last value from the start in the file. Meshes and outlines keep
     /// their paths, relative to the scene file ([`SceneConfig::asset_paths`] lists the files
     /// that must lie beside it; a dropped bunny is `bunny.obj` in 3D, `bunny2d.txt` in 2D).
     pub fn saved_scene(&self) -> Result<SceneConfig> {
         let mut scene = self.sim.scene().clone();
+        // the pour running: as far as it has poured
+        if let Some(run) = self.drops.running
+            && let Some((_, d)) = self.sim.pour_held(run.body, self.sim.time())
+            && let Some(pour) = scene.bodies[run.body].pour.as_mut()
+        {
+            pour.duration = d;
+        }
         for d in &self.drops.list[self.drops.next..] {
             let mut body =
                 self.object_body(&d.object, &d.material, &d.centre, &d.velocity, d.size)?;
             body.appear_at = (d.t > 0.0).then_some(d.t);
+            scene.bodies.push(body);
+        }
+        for p in &self.drops.pours[self.drops.next_pour..] {
+            let mut body = self.scheduled_pour_body(p)?;
+            body.appear_at = (p.t > 0.0).then_some(p.t);
             scene.bodies.push(body);
         }
         self.as_written(&mut scene);

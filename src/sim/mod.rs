@@ -333,6 +333,36 @@ impl<D: Dim> Simulation<D> {
         added
     }
 
+    /// Ends the pour of body `i`, which is present and poured, at simulated time `t` (s): its
+    /// spout pours no layer that leaves after `t`, and its `pour.duration` in the scene becomes
+    /// the duration that pours the layers kept ([`Spout::held`]: about `t` less its opening
+    /// time), so that the scene as it stands pours the same layers. A spout that has ended keeps
+    /// its duration. Returns the new duration (s). `t` must not lie before a layer poured.
+    pub fn stop_pour(&mut self, i: usize, t: f64) -> Result<f64> {
+        let present = self.bodies.len();
+        let Some(spout) = self.bodies.get_mut(i).and_then(|b| b.spout.as_mut()) else {
+            return Err(Error::invalid(
+                "body",
+                i,
+                format!("must be a poured body present, below {present}"),
+            ));
+        };
+        let last = spout.poured().checked_sub(1).map(|k| spout.exit_time(k));
+        if !t.is_finite() || last.is_some_and(|l| !reached(t, l)) {
+            return Err(Error::invalid(
+                "t",
+                t,
+                format!(
+                    "must be finite and at or after the last layer poured (at {} s)",
+                    last.unwrap_or(spout.start())
+                ),
+            ));
+        }
+        let pour = self.scene.bodies[i].pour.as_mut().expect("a poured body");
+        pour.duration = spout.stop_at(t, pour.duration);
+        Ok(pour.duration)
+    }
+
     /// Whether a spout present has layers left to pour.
     pub fn pouring(&self) -> bool {
         self.bodies
@@ -1129,6 +1159,19 @@ impl AnySimulation {
     /// See [`Simulation::pouring`].
     pub fn pouring(&self) -> bool {
         delegate!(self, s => s.pouring())
+    }
+    /// See [`Simulation::stop_pour`].
+    pub fn stop_pour(&mut self, i: usize, t: f64) -> Result<f64> {
+        delegate!(self, s => s.stop_pour(i, t))
+    }
+    /// See [`Spout::held`]: the layers body `i`'s spout has poured by time `t` and the duration
+    /// that pours them, if body `i` is present and poured.
+    pub fn pour_held(&self, i: usize, t: f64) -> Option<(u64, f64)> {
+        delegate!(self, s => {
+            let spout = s.bodies().get(i)?.spout()?;
+            let duration = s.scene().bodies[i].pour.as_ref()?.duration;
+            Some(spout.held(t, duration))
+        })
     }
     /// Sleeping on with the rule for the scene's grid, or off (see
     /// [`Simulation::sleep_when_at_rest`]).

@@ -25,6 +25,10 @@
 //! their speed is in the diagnostics before that step's time step is chosen. Their kinetic and
 //! gravitational energy, Σ ½ m |v|² − m g·x, is energy brought in
 //! ([`crate::Diagnostics::energy_in`]), booked once, as each layer enters.
+//!
+//! **Stopping.** A spout may be stopped early at a time t ([`Spout::stop_at`],
+//! [`crate::Simulation::stop_pour`]): no layer leaves after t, and its duration becomes what
+//! pours the layers left by t, so that a scene file with that duration pours the same layers.
 
 use crate::config::PourConfig;
 use crate::geometry::Lattice;
@@ -112,8 +116,7 @@ impl Spout {
         let spacing = cell_size / particles_per_cell.max(1) as f64;
         let section = pour.section(dim, spacing);
         let exit_speed = pour.rate / (section.len() as f64 * spacing.powi(dim as i32 - 1));
-        // every k with k s / v0 < T
-        let layers = (pour.duration * exit_speed / spacing).ceil().max(1.0) as u64;
+        let layers = layers_in(pour.duration, exit_speed, spacing);
         Spout {
             dim,
             section,
@@ -164,6 +167,47 @@ impl Spout {
         (self.next < self.layers).then(|| self.exit_time(self.next))
     }
 
+    /// When the spout opens (s).
+    pub fn start(&self) -> f64 {
+        self.start
+    }
+
+    /// The duration (s) a spout of this exit speed and spacing runs to pour the layers that
+    /// have left by time `t` (s): those whose exit time has come, at least those poured and
+    /// the first, at most all. With `t` before the end, `t` − start when that pours exactly
+    /// those layers (a whole number of 0.1 ms, or 1 µs, nearest it when one does, for a short
+    /// record), else the middle of the span of durations that do; from the end on, `duration`,
+    /// the spout's own. Returns the layers and the duration.
+    pub fn held(&self, t: f64, duration: f64) -> (u64, f64) {
+        let left = (0..self.layers)
+            .take_while(|&k| super::reached(t, self.exit_time(k)))
+            .count() as u64;
+        let kept = left.max(self.next).clamp(1, self.layers);
+        if kept == self.layers && super::reached(t, self.start + duration) {
+            return (kept, duration);
+        }
+        let pours = |d: f64| d > 0.0 && layers_in(d, self.exit_speed, self.spacing) == kept;
+        let held = t - self.start;
+        for per in [1e4, 1e6] {
+            let d = (held * per).round() / per;
+            if pours(d) {
+                return (kept, d);
+            }
+        }
+        if pours(held) {
+            return (kept, held);
+        }
+        (kept, (kept as f64 - 0.5) * self.spacing / self.exit_speed)
+    }
+
+    /// Stops the spout at time `t` (s): no layer leaves after it (see [`Self::held`]); returns
+    /// the duration that pours the layers kept.
+    pub fn stop_at(&mut self, t: f64, duration: f64) -> f64 {
+        let (kept, d) = self.held(t, duration);
+        self.layers = kept;
+        d
+    }
+
     /// Appends the next layer's particles to `x` and `v` (3 components, unused ones zero) as
     /// they stand at time `t` (s), not before its exit time, after falling freely under
     /// `gravity` since then; and counts it poured.
@@ -199,4 +243,10 @@ impl Spout {
         }
         self.next += 1;
     }
+}
+
+/// The layers a spout of exit speed `exit_speed` (m/s) and lattice `spacing` (m) pours in
+/// `duration` (s): every k with k s / v0 < T, at least one.
+pub fn layers_in(duration: f64, exit_speed: f64, spacing: f64) -> u64 {
+    (duration * exit_speed / spacing).ceil().max(1.0) as u64
 }

@@ -1,16 +1,17 @@
 // The page's state and what the user can do with it. What the user chose for the view (scene,
 // dimension, colours, drop tool, time scale: the view part of the link) and the playback
-// live here; the simulation's state (quality, parameters, bodies dropped, Clear) lives in the
+// live here; the simulation's state (quality, parameters, bodies dropped and poured, Clear) lives in the
 // solver's Playground behind `session` (session.js: in a Web Worker), which also records it
 // for the link. Commands to the simulation are asynchronous: an action awaits the answer
 // before it shows the result.
 
 import { banner, toast, warnCost } from './hud.js';
-import { readHash, writeHash, formatDrop } from './hash.js';
+import { readHash, writeHash, formatDrop, formatPour } from './hash.js';
 import { LEVELS, QualityGovernor, applyQuality } from './quality.js';
 import { insideBox, nearestParticle } from './pointer.js';
 import { OPENED, SANDBOX, sceneSource } from './scenes.js';
-import { buildDropControls, showPlots, syncControls } from './controls.js';
+import { buildDropControls, buildPourControl, showHint, showPlots, syncControls } from './controls.js';
+import { format } from './params.js';
 import { NARROW } from './fold.js';
 import { LessonPanel, bodyParam, fetchLesson } from './lessons.js';
 import { Recorder } from './record.js';
@@ -19,6 +20,8 @@ import { Recorder } from './record.js';
 export const TARGET_FPS = 30;
 /// Where the page remembers the user's quality level (localStorage).
 export const LEVEL_KEY = 'mpm.quality';
+/// How often at most the link follows a pour that runs (ms; see `App.stateChanged`).
+const HASH_POURING_MS = 500;
 /// Why a lesson opens at the solver's default level, for the HUD.
 const LESSON_LEVEL = 'the level the lessons are measured at';
 
@@ -40,6 +43,9 @@ export class App {
     this.recorder = new Recorder(canvas);
     this.size = 0.25; // of dropped objects (m)
     this.dropSpeed = 0;
+    this.rate = 0; // of a pour (m³/s; m²/s in 2D): set by the rate control (`buildPourControl`)
+    this.pour = null; // the pour the user holds: {material, rate}
+    this.hashAt = -Infinity; // when the link was last written (performance.now(), ms)
     this.tool = 'drop';
     this.playing = true;
     this.probeId = null; // the stable id of the inspected particle
@@ -232,6 +238,8 @@ export class App {
     toast(`${this.qualityLabel(q.quality)}: ${this.session.state.particles.toLocaleString('en')} particles, ` +
       `cells of ${+(100 * q.cell_size).toPrecision(3)} cm${msgs.length ? `; not dropped: ${msgs.join('; ')}` : ''}`);
     this.restarted();
+    // The spout is as wide as a few cells of the new level: its rates change with them.
+    buildPourControl(this);
     syncControls(this);
     this.updateHash();
   }
@@ -299,17 +307,30 @@ export class App {
     return this.loadScene(session, errors);
   }
 
-  /// The messages of drops the solver refused ([{drop, error}]), each warned about.
+  /// The messages of drops and pours the solver refused ([{drop or pour, error}]), each warned
+  /// about.
   refused(list = []) {
-    return list.map(({ drop, error }) => {
-      const msg = `drop=${formatDrop(drop)}: ${error}`;
+    return list.map(({ drop, pour, error }) => {
+      const msg = drop ? `drop=${formatDrop(drop)}: ${error}` : `pour=${formatPour(pour)}: ${error}`;
       console.warn(`ignored from the link: ${msg}`);
       return msg;
     });
   }
 
+  /// A frame brought a new state: the link follows it. While a pour runs every layer it pours
+  /// changes the state (the pour's duration so far), so the link follows at most every
+  /// HASH_POURING_MS: browsers limit how often a page may rewrite its address (a few hundred
+  /// times in ten seconds), and a pour changes it with every frame. Its start and its stop are
+  /// written at once.
+  stateChanged() {
+    const now = performance.now();
+    if (this.session.state.pouring && now - this.hashAt < HASH_POURING_MS) return;
+    this.updateHash();
+  }
+
   /// The state of the link: the view, and the session the solver recorded.
   updateHash() {
+    this.hashAt = performance.now();
     const view = { ...this.view, size: +this.size.toPrecision(3) };
     if (view.lesson) view.scene = view.dim = undefined; // the lesson's
     writeHash(view, this.session.session());
@@ -347,6 +368,46 @@ export class App {
     const error = await this.session.dropAt(this.view.object, this.view.material, point, this.dropSpeed, this.size);
     if (error) return toast(error);
     this.energyPlot.restart();
+    this.updateHash();
+  }
+
+  /// The Pour tool pressed at (px, py) CSS pixels: pours the chosen sand at the rate set over
+  /// the floor point there, from a spout held above it (the solver's rule), until `stopPour`.
+  /// The hint says so while it pours.
+  async startPour(px, py) {
+    this.camera.matrices(this.canvas.clientWidth, this.canvas.clientHeight);
+    const p = this.camera.unproject(px, py);
+    if (!insideBox(p, this.domain)) {
+      toast(this.domain.length === 3 ? 'Press on the floor (inside the box) to pour.' : 'Press inside the box to pour.');
+      return;
+    }
+    const point = this.domain.length === 3 ? p : p.slice(0, 2);
+    const pour = (this.pour = { material: this.view.material, rate: this.rate });
+    const error = await this.session.startPour(point, pour.material, pour.rate);
+    if (error) {
+      if (this.pour === pour) this.pour = null;
+      return toast(error);
+    }
+    this.energyPlot.restart();
+    this.updateHash();
+    if (this.pour !== pour) return; // released meanwhile: its stop followed
+    const label = this.session.table.models.find((m) => m.id === pour.material)?.label ?? pour.material;
+    const spout = this.session.session().pours?.at(-1)?.spout;
+    const from = spout ? ` from ${+spout[1].toFixed(2)} m up` : '';
+    const paused = this.playing ? '' : ' — paused: press Play to see it pour';
+    showHint(this, `Pouring ${label}: ${format(pour.rate)} ${this.session.pourRates().unit}${from} (release to stop)${paused}`, true);
+  }
+
+  /// Stops the pour the user holds (released, cancelled, or the pointer left the view). A
+  /// pour the solver runs is stopped even when the page let go of it first (a Reset answered
+  /// while the press that followed it was starting one).
+  async stopPour() {
+    const held = this.pour;
+    this.pour = null;
+    if (held) showHint(this);
+    else if (!this.session.state?.pouring) return;
+    const error = await this.session.stopPour();
+    if (error) toast(error);
     this.updateHash();
   }
 
@@ -436,8 +497,13 @@ export class App {
     if (this.lesson?.question) this.lessonPanel.ask(this.lesson.question);
   }
 
-  /// What a new start forgets: the inspected particle, the plots, the failure banner.
+  /// What a new start forgets: the inspected particle, the plots, the failure banner, and the
+  /// pour held (the solver ended it: the press pours no more until it is made again).
   restarted() {
+    if (this.pour) {
+      this.pour = null;
+      showHint(this);
+    }
     this.setProbe(null);
     document.getElementById('pq-note').textContent = '';
     this.stressPlot.clear();

@@ -1,9 +1,9 @@
 // The page's controls: the scene picker, 2D/3D, playback, the drop tool's object, material,
-// size and speed, the sliders of the parameter table (the chosen material's and the world's),
-// colours, the click tool, the plots, the link, and the keys.
+// size and speed, the pour tool's rate, the sliders of the parameter table (the chosen
+// material's and the world's), colours, the click tool, the plots, the link, and the keys.
 
 import { ENERGY_SERIES } from './plots.js';
-import { boundedMax } from './params.js';
+import { boundedMax, format } from './params.js';
 import { OPENED, SANDBOX } from './scenes.js';
 import { toast } from './hud.js';
 import { el, paramSlider, segmented } from './widgets.js';
@@ -81,6 +81,7 @@ export function buildControls(app) {
     else if (k === 's') app.step();
     else if (k === 'r') app.reset();
     else if (k === 'd') pickTool(app, 'drop');
+    else if (k === 'p') pickTool(app, 'pour');
     else if (k === 'i') pickTool(app, 'inspect');
   });
   window.addEventListener('hashchange', () => app.loadFromHash());
@@ -145,10 +146,27 @@ export function syncControls(app, values = true) {
 function pickTool(app, tool) {
   app.tool = tool;
   for (const b of document.querySelectorAll('[data-tool]')) b.setAttribute('aria-pressed', String(b.dataset.tool === tool));
-  $('hint').textContent = tool === 'drop'
-    ? (app.domain.length === 3 ? 'Click on the floor to drop' : 'Click in the box to drop')
-    : tool === 'measure' ? 'Drag to measure a length and its angle'
-      : 'Click a particle to inspect its stress';
+  // The Drop card: the object, size and speed for a drop; the rate for a pour (the material
+  // menu serves both).
+  const pour = tool === 'pour';
+  $('drop-title').textContent = pour ? 'Pour' : 'Drop';
+  $('objects').hidden = pour;
+  $('drop-params').hidden = pour;
+  $('pour-params').hidden = !pour;
+  if (!app.pour) showHint(app);
+}
+
+/// The hint under the view: what the tool does, or `text` (`pouring`: a pour is running,
+/// shown on every screen).
+export function showHint(app, text, pouring = false) {
+  const tool = app.tool, d3 = app.domain.length === 3;
+  $('hint').textContent = text ?? (tool === 'drop'
+    ? (d3 ? 'Click on the floor to drop' : 'Click in the box to drop')
+    : tool === 'pour'
+      ? `${d3 ? 'Press and hold on the floor' : 'Press and hold in the box'} to pour sand from a spout above it; release to stop`
+      : tool === 'measure' ? 'Drag to measure a length and its angle'
+        : 'Click a particle to inspect its stress');
+  $('hint').classList.toggle('pouring', pouring);
 }
 
 function pickObject(app, id) {
@@ -177,7 +195,7 @@ function pickMaterial(app, id, user) {
   if (user) app.updateHash();
 }
 
-/// The drop tool's size and speed sliders, for the scene just loaded.
+/// The drop tool's size and speed sliders and the pour tool's rate, for the scene just loaded.
 export function buildDropControls(app) {
   const [lo, hi] = app.sizeRange;
   const size = paramSlider({ name: 'drop.size', label: 'Size', symbol: 'L', unit: 'm', min: +lo.toPrecision(2), max: +hi.toPrecision(2), step: 0.01 }, async (v) => {
@@ -195,4 +213,33 @@ export function buildDropControls(app) {
   });
   speed.set(app.dropSpeed);
   $('drop-params').replaceChildren(size.root, speed.root);
+  buildPourControl(app);
+}
+
+/// The pour tool's rate, for the scene as sampled now (the spout is a few cells wide, so its
+/// rates change with the scene and the quality level): the rate set so far is kept where it is
+/// still allowed (in the same unit), else the scene's default is taken.
+export function buildPourControl(app) {
+  const r = app.session.pourRates();
+  const d3 = app.domain.length === 3;
+  const [lo, hi] = r.allowed;
+  if (app.rateUnit !== r.unit || !(app.rate >= lo && app.rate <= hi)) app.rate = r.default;
+  app.rateUnit = r.unit;
+  const cm = (m) => +(100 * m).toPrecision(3);
+  const rate = paramSlider({
+    name: 'pour.rate', label: 'Pour rate', symbol: 'Q', unit: r.unit, min: r.offered[0], max: r.offered[1], scale: 'log',
+    help: `The volume of sand the spout lets out per second (${r.unit}${d3 ? '' : ', per metre of depth'}): ` +
+      `its exit, ${cm(2 * r.radius)} cm ${d3 ? 'across' : 'wide'}, is held ${r.height} m above the floor (higher over sand already there). ` +
+      `The default, ${format(r.default)} ${r.unit}, leaves it at ${r.speeds.default} m/s; the slider runs from a trickle ` +
+      `(${r.speeds.offered[0]} m/s) to ${r.speeds.offered[1]} m/s, and any rate from ${format(lo)} to ${format(hi)} ${r.unit} may be typed ` +
+      `(${r.speeds.allowed[0]} to ${r.speeds.allowed[1]} m/s). Pick Pour, then press and hold on the floor.`,
+  }, async (v) => {
+    const error = await app.session.checkRate(v);
+    if (error) return error;
+    app.rate = v;
+    return '';
+  });
+  rate.set(app.rate);
+  $('pour-params').replaceChildren(rate.root, el('p', { class: 'note', id: 'pour-range' },
+    `Rates from ${format(lo)} to ${format(hi)} ${r.unit} may be typed; the slider offers ${format(r.offered[0])} to ${format(r.offered[1])}.`));
 }

@@ -45,7 +45,7 @@ function received(app, f) {
   if (f.failure && app.playing) app.fail(f.failure);
   const refused = app.refused(f.report.refused);
   if (refused.length) toast(`Ignored from the link: ${refused.join('; ')}`);
-  if (f.state) app.updateHash();
+  if (f.state) app.stateChanged();
   // The energies count from the last change of bodies (a drop of the link landing, a body of
   // the scene entering at its time, as well as a click's drop, Clear and every start).
   const bodies = `${app.session.state.bodies}:${f.count}`;

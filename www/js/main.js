@@ -59,6 +59,10 @@ async function main() {
   setupPointer(canvas, app.camera, (x, y) => app.click(x, y), {
     active: () => app.tool === 'measure',
     drag: (from, to, done) => app.measureDrag(from, to, done),
+  }, {
+    active: () => app.tool === 'pour',
+    start: (x, y) => app.startPour(x, y),
+    stop: () => app.stopPour(),
   });
   for (const [id, key] of [['hud-details', 'hudDetails'], ['readouts', 'readouts']]) {
     $(id).addEventListener('click', () => {

@@ -1,7 +1,8 @@
 // The pointer on the view: drag (one finger) to orbit (3D), wheel or pinch (two fingers) to
-// zoom, click or tap to drop or inspect. The gestures are recognised in touch.js.
+// zoom, click or tap to drop or inspect, press and hold to pour. The gestures are recognised in
+// touch.js.
 
-import { Gestures } from './touch.js';
+import { Gestures, Hold } from './touch.js';
 
 /// Wires `canvas`: drags turn `camera`, the wheel and a pinch zoom, a click or tap (a press
 /// that did not move) calls `onClick(x, y)` with the position in CSS pixels from the canvas'
@@ -10,15 +11,33 @@ import { Gestures } from './touch.js';
 /// With `measure` {active(), drag(from, to, done)}: while `active()`, a one-finger drag
 /// measures instead of turning the view: `drag` gets its start and end (CSS pixels on the
 /// canvas) as it moves, and `done` when it ends.
-export function setupPointer(canvas, camera, onClick, measure = null) {
+///
+/// With `hold` {active(), start(x, y), stop()}: while `active()`, a press calls `start` with
+/// where it went down (CSS pixels on the canvas) and `stop` when it is released, cancelled or
+/// leaves the view (or the window loses the focus); it never turns the view.
+export function setupPointer(canvas, camera, onClick, measure = null, hold = null) {
   const g = new Gestures();
+  const held = new Hold();
   let start = null; // the hand tool's drag
   const local = (e) => {
     const r = canvas.getBoundingClientRect();
     return [e.clientX - r.left, e.clientY - r.top];
   };
+  const inside = (e) => {
+    const r = canvas.getBoundingClientRect();
+    return e.clientX >= r.left && e.clientX <= r.right && e.clientY >= r.top && e.clientY <= r.bottom;
+  };
+  const release = (a) => {
+    if (a?.stop) hold.stop();
+  };
   canvas.addEventListener('pointerdown', (e) => {
     canvas.setPointerCapture(e.pointerId);
+    if (held.held || hold?.active()) {
+      // the main button of a mouse or pen, or the first finger: not a right or middle click
+      const a = held.down(e.pointerId, ...local(e), e.isPrimary && e.button === 0);
+      if (a?.start) hold.start(...a.start);
+      return;
+    }
     if (measure?.active() && e.isPrimary) {
       start = local(e);
       return;
@@ -26,6 +45,10 @@ export function setupPointer(canvas, camera, onClick, measure = null) {
     g.down(e.pointerId, e.clientX, e.clientY);
   });
   canvas.addEventListener('pointermove', (e) => {
+    if (held.held) {
+      release(held.move(e.pointerId, inside(e)));
+      return;
+    }
     if (start) {
       measure.drag(start, local(e), false);
       return;
@@ -36,6 +59,10 @@ export function setupPointer(canvas, camera, onClick, measure = null) {
     canvas.classList.toggle('dragging', g.dragging);
   });
   canvas.addEventListener('pointerup', (e) => {
+    if (held.held) {
+      release(held.up(e.pointerId));
+      return;
+    }
     if (start) {
       measure.drag(start, local(e), true);
       start = null;
@@ -47,6 +74,16 @@ export function setupPointer(canvas, camera, onClick, measure = null) {
       const r = canvas.getBoundingClientRect();
       onClick(a.tap[0] - r.left, a.tap[1] - r.top);
     }
+  });
+  for (const type of ['pointercancel', 'lostpointercapture', 'pointerleave']) {
+    canvas.addEventListener(type, (e) => release(held.cancel(e.pointerId)));
+  }
+  // A finger held still opens the context menu on some touch screens: not while it pours.
+  canvas.addEventListener('contextmenu', (e) => {
+    if (held.held || hold?.active()) e.preventDefault();
+  });
+  window.addEventListener('blur', () => {
+    if (held.held) release(held.cancel(held.id));
   });
   canvas.addEventListener('pointercancel', (e) => {
     start = null;

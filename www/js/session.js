@@ -141,6 +141,9 @@ export class Session {
   parameters() { return this.state.parameters; }
   session() { return this.state.session; }
   sizeRange() { return this.state.sizeRange; }
+  /// The rates a pour may have here, and its spout: {unit, radius, height, exit_area, allowed,
+  /// offered, default, speeds} (see `Playground::pour_rates`).
+  pourRates() { return this.state.pourRates; }
   get quality() { return this.state.quality; }
 
   // --- commands -------------------------------------------------------------------------------
@@ -151,7 +154,7 @@ export class Session {
   setBunny(bunny) { return this.request('bunny', bunny); }
   /// Loads scene `source` ({text, assets} or {sandbox: dim}; an invalid one falls back to the
   /// sandbox of dimension `dim`, or with `keep` leaves the simulation as it was) and replays
-  /// `session` ({quality, params, cleared, drops}); with `playing` false it starts paused (a
+  /// `session` ({quality, params, cleared, drops, pours}); with `playing` false it starts paused (a
   /// lesson that asks first: not a step before Play). Resolves to what did not apply:
   /// {invalid, rejected, refused, kept}.
   load(source, session, dim, keep = false, playing = undefined) { return this.request('load', { source, session, dim, keep, playing }); }
@@ -169,6 +172,13 @@ export class Session {
   dropAt(object, material, point, speed, size) { return this.message('dropAt', { object, material, point, speed, size }); }
   /// '' if `size` (m) is a size objects may be dropped at, else the message.
   checkSize(size) { return this.message('checkSize', { size }); }
+  /// Starts pouring sand `material` at `rate` over floor point `point` until `stopPour` (see
+  /// `Playground::start_pour`): '' or the message naming the field.
+  startPour(point, material, rate) { return this.message('startPour', { point, material, rate }); }
+  /// Stops the pour running (nothing when none runs): '' or the message.
+  stopPour() { return this.message('stopPour'); }
+  /// '' if `rate` is a rate a pour may have, else the message.
+  checkRate(rate) { return this.message('checkRate', { rate }); }
   clear() { return this.message('clear'); }
   /// Restarts the scene with the current parameters ('' or the message), paused when
   /// `playing` is false.

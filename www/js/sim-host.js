@@ -4,7 +4,7 @@
 // worker starts, on the page's own thread, driven by the frame loop (session.js). Either way it
 // talks in messages: commands in ({id, cmd, args}), replies ({type: 'reply', id, result,
 // state}) and frames ({type: 'frame', …}) out. Everything the simulation holds (parameters,
-// drops, Clear, quality, failure) is the Playground's; this file only moves it.
+// drops, pours, Clear, quality, failure) is the Playground's; this file only moves it.
 //
 // Frames: the particle positions and colour scalars of the latest step. In a worker they are
 // copied (one memcpy each) from wasm memory into buffers that are transferred to the page, which
@@ -184,6 +184,20 @@ export class SimHost {
   cmd_checkSize({ size }) {
     this.pg.checkSize(size);
   }
+  /// Starts pouring (see `Playground::start_pour`); throws naming the field.
+  cmd_startPour({ point, material, rate }) {
+    this.pg.startPour(new Float64Array(point), material, rate);
+    this.changed();
+  }
+  /// Stops the pour running; returns how long it ran (s), or null when none ran.
+  cmd_stopPour() {
+    const held = this.pg?.stopPour();
+    this.changed();
+    return held ?? null;
+  }
+  cmd_checkRate({ rate }) {
+    this.pg.checkRate(rate);
+  }
   cmd_clear() {
     this.pg.clear();
     this.restarted();
@@ -258,6 +272,8 @@ export class SimHost {
       session: JSON.parse(pg.session()),
       quality: JSON.parse(pg.quality()),
       sizeRange: JSON.parse(pg.sizeRange()),
+      pourRates: JSON.parse(pg.pourRates()),
+      pouring: pg.pouring(),
       particles: pg.particleCount(),
       bodies: pg.bodyCount(),
       sleeping: pg.sleeping(),

@@ -1,7 +1,8 @@
 // Gestures on the view from pointer events, for a mouse, a pen and fingers alike: one pointer
 // dragged turns the 3D view, two pinch to zoom, a press that did not move (a tap or a click)
-// drops or inspects. Pure: pointer.js feeds it the events and applies what it returns; tested
-// under `node --test`.
+// drops or inspects; with the Pour tool, a press held (`Hold`) pours from where it went down
+// until it is released, cancelled or leaves the view. Pure: pointer.js feeds it the events and
+// applies what it returns; tested under `node --test`.
 
 /// How far (CSS pixels) a pointer may move and still count as a tap.
 export const TAP_SLOP = 6;
@@ -66,5 +67,48 @@ export class Gestures {
   distance() {
     const [a, b] = [...this.pointers.values()];
     return Math.hypot(a.x - b.x, a.y - b.y);
+  }
+}
+
+/// A press held on the view (the Pour tool): it starts where the first primary pointer goes
+/// down and ends when that pointer goes up, is cancelled, or leaves the view. It never turns
+/// nor zooms the view, however the pointer moves, and other pointers are ignored while it lasts
+/// (a second finger does not start another).
+export class Hold {
+  constructor() {
+    this.id = null; // the pointer held
+  }
+
+  /// A pointer went down at (x, y): `{start: [x, y]}` when it is primary and none is held,
+  /// else null.
+  down(id, x, y, primary = true) {
+    if (this.id !== null || !primary) return null;
+    this.id = id;
+    return { start: [x, y] };
+  }
+
+  /// A pointer moved, `inside` the view or not: `{stop: true}` when the one held left the view.
+  move(id, inside) {
+    return id === this.id && !inside ? this.end() : null;
+  }
+
+  /// A pointer went up: `{stop: true}` when it was the one held.
+  up(id) {
+    return this.held && id === this.id ? this.end() : null;
+  }
+
+  /// A pointer was cancelled (the browser took it, or the page lost it): as `up`.
+  cancel(id) {
+    return this.up(id);
+  }
+
+  /// Whether a press is held.
+  get held() {
+    return this.id !== null;
+  }
+
+  end() {
+    this.id = null;
+    return { stop: true };
   }
 }

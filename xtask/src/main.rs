@@ -661,12 +661,14 @@ fn test() -> Result<(), String> {
     ]))?;
     let chromium = ensure_browser_tools()?;
     let url = background_server()?;
-    // The page in Chromium, one file at a time: the page itself (e2e), the page in a classroom
-    // (lessons, save and open, recording, touch and small screens), measuring on the page (the
-    // HUD's layouts, readouts, law markers, Mohr circles, the lessons' questions), and the soil
-    // lab (the shear box and the biaxial test, the envelope, the soil-lab lessons).
+    // The page in Chromium, one file at a time: the page itself (e2e), pouring sand with the
+    // Pour tool, the page in a classroom (lessons, save and open, recording, touch and small
+    // screens), measuring on the page (the HUD's layouts, readouts, law markers, Mohr circles,
+    // the lessons' questions), and the soil lab (the shear box and the biaxial test, the
+    // envelope, the soil-lab lessons).
     for file in [
         "www/tests/e2e.test.mjs",
+        "www/tests/pour.test.mjs",
         "www/tests/classroom.test.mjs",
         "www/tests/measure.test.mjs",
         "www/tests/lab.test.mjs",

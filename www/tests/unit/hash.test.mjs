@@ -1,7 +1,7 @@
 // The link's format (www/js/hash.js), without a browser: `node --test www/tests/unit/`.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { formatDrop, formatHash, parseDrop, readHash } from '../../js/hash.js';
+import { formatDrop, formatHash, formatPour, parseDrop, parsePour, readHash } from '../../js/hash.js';
 
 const NAMES = ['gravity', 'cfl', 'drucker_prager.friction_angle', 'elastic.youngs_modulus'];
 
@@ -89,4 +89,43 @@ test('view entries outside the page\'s menus are named with what is allowed, the
   const huge = readHash('#gravity=1e999&size=1e999&drop=0:ball:elastic:0.2:1e999,0.5', NAMES, choices);
   assert.deepEqual([huge.session.params, huge.session.drops, huge.view], [[], [], {}]);
   assert.equal(huge.errors.length, 3);
+});
+
+test('pours in the link: time, material, rate, duration and spout, read back as written, after the drops', () => {
+  const session = {
+    params: [],
+    drops: [{ t: 0.5, object: 'ball', material: 'elastic', size: 0.25, centre: [0.8, 0.55], velocity: [0, 0] }],
+    pours: [
+      { t: 1.25, material: 'drucker_prager', rate: 0.03, duration: 2.0004, spout: [1, 0.4], applied_at: 1.25012 },
+      { t: 3.5, material: 'mohr_coulomb', rate: 0.0015, duration: 0.041666666666666664, spout: [0.075, 0.475] },
+    ],
+  };
+  const hash = formatHash({ scene: 'sandbox', dim: '2' }, session);
+  assert.equal(hash, '#scene=sandbox&dim=2&drop=0.5:ball:elastic:0.25:0.8,0.55' +
+    '&pour=1.25:drucker_prager:0.03:2.0004:1,0.4&pour=3.5:mohr_coulomb:0.0015:0.041666666666666664:0.075,0.475');
+  const back = readHash(hash, NAMES);
+  assert.deepEqual(back.errors, []);
+  const { applied_at, ...first } = session.pours[0];
+  assert.ok(applied_at > 0);
+  assert.deepEqual(back.session.pours, [first, session.pours[1]], 'every figure exactly, the duration to the last digit');
+  assert.equal(back.session.drops.length, 1);
+  const p = parsePour('0:drucker_prager:0.00236:1:1,0.4,0.5');
+  assert.deepEqual(p, { t: 0, material: 'drucker_prager', rate: 0.00236, duration: 1, spout: [1, 0.4, 0.5] });
+  assert.equal(formatPour(p), '0:drucker_prager:0.00236:1:1,0.4,0.5');
+  assert.deepEqual(readHash('#scene=sandbox', NAMES).session.pours, [], 'no pour');
+});
+
+test('a malformed pour entry is named with what is expected, the rest of the link kept', () => {
+  const { session, errors } = readHash('#gravity=5&pour=1:sand:0.1&pour=x:drucker_prager:0.1:1:1,0.4' +
+    '&pour=1:drucker_prager:0.1:0:1,0.4&pour=1:drucker_prager:0.1:1:1&pour=-1:drucker_prager:0.1:1:1,0.4&pour=1:Sand!:0.1:1:1,0.4', NAMES);
+  assert.deepEqual(session.params, [['gravity', 5]]);
+  assert.deepEqual(session.pours, []);
+  assert.equal(errors.length, 6, errors.join('; '));
+  assert.match(errors[0], /^pour=1:sand:0.1: 3 fields, expected TIME:MATERIAL:RATE:DURATION:X,Y\[,Z\]/);
+  assert.match(errors[1], /time “x” is not a number/);
+  assert.match(errors[2], /duration 0 is not positive/);
+  assert.match(errors[3], /the spout needs 2 or 3 components, not 1/);
+  assert.match(errors[4], /time -1 is negative/);
+  assert.match(errors[5], /material “Sand!” is not a name/);
+  assert.throws(() => parsePour('1:drucker_prager:abc:1:1,0.4'), /rate “abc” is not a number/);
 });

@@ -1,7 +1,7 @@
 // The gestures on the view (www/js/touch.js), without a browser.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { Gestures } from '../../js/touch.js';
+import { Gestures, Hold } from '../../js/touch.js';
 
 test('a press that does not move is a tap where it was released', () => {
   const g = new Gestures(6);
@@ -47,4 +47,23 @@ test('a cancelled pointer ends the gesture without a tap; unknown pointers are i
   assert.equal(g.up(1, 10, 10), null);
   assert.equal(g.move(7, 1, 1), null);
   assert.equal(g.up(7, 1, 1), null);
+});
+
+test('a press held (the Pour tool) starts where it went down and stops on release, cancel or leaving the view', () => {
+  const h = new Hold();
+  assert.deepEqual(h.down(1, 40, 50), { start: [40, 50] });
+  assert.ok(h.held);
+  assert.equal(h.move(1, true), null, 'moving inside the view: still pouring, never an orbit');
+  assert.equal(h.down(2, 90, 90), null, 'a second finger starts nothing');
+  assert.equal(h.up(2), null, 'nor does its release stop the pour');
+  assert.deepEqual(h.up(1), { stop: true });
+  assert.ok(!h.held);
+  assert.equal(h.up(1), null, 'stopped once');
+  h.down(3, 0, 0);
+  assert.deepEqual(h.move(3, false), { stop: true }, 'leaving the view stops it');
+  assert.equal(h.cancel(3), null);
+  h.down(4, 0, 0);
+  assert.deepEqual(h.cancel(4), { stop: true });
+  assert.equal(h.down(5, 1, 1, false), null, 'a pointer that is not primary starts nothing');
+  assert.equal(h.cancel(null), null, 'nothing held: nothing to stop');
 });
