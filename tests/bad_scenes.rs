@@ -102,6 +102,11 @@ fn every_bad_scene_gives_the_expected_error() {
             "bodies[0].stress_last = true: needs the \"gimp\" or \"quadratic_bspline\" kernel",
         ),
         (
+            "grains closed on a solid",
+            scene2(|v| v["bodies"][0]["close_grains"] = true.into()),
+            "bodies[0].close_grains = true: needs a granular material",
+        ),
+        (
             "Poisson ratio 0.5",
             scene2(|v| v["bodies"][0]["material"]["elastic"]["poisson_ratio"] = 0.5.into()),
             "bodies[0].material.elastic.poisson_ratio = 0.5: must be in [0, 0.5)",
