@@ -188,17 +188,15 @@ test('the friction-angle lesson asks first, runs on Play, its angle readouts are
   assert.match(check.verdict, /measured on the view: [\d.]+°/);
   assert.ok(Math.abs(check.answer.value - (mean(check.framed[1]) - mean(check.framed[0]))) < 2,
     'the answer is the difference of the readouts (of its frame)');
-  // The caption's figures against the page's: the heaps' angles it quotes and the steepest
-  // slopes (φ_ps) it names, against the readouts and the cone's plane-strain angle.
+  // The caption gives the set-up, not the result: no angle but the sands' 20° and 40°. The
+  // readouts stand within 3° of the dashed line the caption names, the cone's φ_ps.
   const caption = await page.textContent('#lesson-caption');
-  const quoted = /stand at about ([\d.]+)° and ([\d.]+)°/.exec(caption).slice(1).map(Number);
-  const limits = /holds in this plane-strain model \(([\d.]+)° and ([\d.]+)°\)/.exec(caption).slice(1).map(Number);
+  const quoted = [...caption.matchAll(/([\d.]+)°/g)].map((m) => Number(m[1]));
+  assert.deepEqual([...new Set(quoted)].sort(), [20, 40], `the caption quotes only its set-up: ${quoted}`);
   const psi = await page.evaluate(() => mpm.frame.measures.map((d) => d.plane_strain_angle));
   for (const b of [0, 1]) {
     const a = mean(check.framed[b]);
-    assert.ok(Math.abs(a - quoted[b]) < 2, `heap ${b}: the caption quotes about ${quoted[b]}°, the page reads ${a.toFixed(1)}°`);
-    assert.ok(Math.abs(psi[b] - limits[b]) < 0.05, `heap ${b}: the caption names φ_ps ${limits[b]}°, the page's cone ${psi[b]}`);
-    assert.ok(Math.abs(a - psi[b]) < 3, `heap ${b}: within 3° of φ_ps, as the caption says: ${a.toFixed(1)}° against ${psi[b]}`);
+    assert.ok(Math.abs(a - psi[b]) < 3, `heap ${b}: within 3° of φ_ps: ${a.toFixed(1)}° against ${psi[b]}`);
   }
   await page.screenshot({ path: join(OUT, 'friction-answered.png') });
   assert.deepEqual(errors, []);
