@@ -491,6 +491,15 @@ pub struct Deposit {
     pub heap: Heap,
     /// `None` for a body whose start was not recorded, and for a poured body.
     pub runout: Option<Runout>,
+    /// Whether the body was poured from a spout (`bodies[].pour`): built grain by grain with
+    /// little momentum, its heap stands at the sand's angle of repose.
+    #[serde(default)]
+    pub poured: bool,
+    /// Whether the body started as a column held by other bodies against its free sides
+    /// ([`held`]): released as they move away (walls lifted from around it), not all at once,
+    /// so no column collapse.
+    #[serde(default)]
+    pub held: bool,
     /// The material model's scene-file name.
     pub model: String,
     /// The sand's friction angle φ (degrees).
@@ -667,7 +676,8 @@ pub fn deposits<D: Dim>(sim: &Simulation<D>, footprints: &Footprints) -> Vec<Dep
         let now: Vec<[f64; 3]> = range.clone().map(|i| point::<D>(&p.x[i])).collect();
         let start: Option<Vec<[f64; 3]>> = range.map(|i| footprints.start(p.id[i])).collect();
         // a poured body enters as a stream, layer by layer: it has no footprint to run out of
-        let start = start.filter(|v| !v.is_empty() && config.pour.is_none());
+        let poured = config.pour.is_some();
+        let start = start.filter(|v| !v.is_empty() && !poured);
         let mut centre = [0.0; 2];
         let (heap, runout) = if D::DIM == 2 {
             let profile: Vec<(f64, f64)> = now.iter().map(|x| (x[0], x[1])).collect();
@@ -693,10 +703,14 @@ pub fn deposits<D: Dim>(sim: &Simulation<D>, footprints: &Footprints) -> Vec<Dep
             .filter(|&(o, _)| o != b)
             .flat_map(|(_, o)| o.range())
             .filter_map(|i| footprints.start(p.id[i]));
-        let column = start
+        let standing = start
             .as_deref()
-            .and_then(|start| column(start, s, &scene.domain.size))
-            .filter(|c| !held(c, others, D::DIM, h, s))
+            .and_then(|start| column(start, s, &scene.domain.size));
+        let contained = standing
+            .as_ref()
+            .is_some_and(|c| held(c, others, D::DIM, h, s));
+        let column = standing
+            .filter(|_| !contained)
             .map(|c| column_markers(c, D::DIM));
         out.push(Deposit {
             body: b,
@@ -705,6 +719,8 @@ pub fn deposits<D: Dim>(sim: &Simulation<D>, footprints: &Footprints) -> Vec<Dep
             axis: centre,
             heap,
             runout,
+            poured,
+            held: contained,
             model: config.material.kind().to_string(),
             friction_angle: friction.friction_angle,
             plane_strain_angle: (D::DIM == 2).then(|| friction.plane_strain_angle()),

@@ -240,7 +240,7 @@ pub const FRICTION_ANGLE: Field = Field {
     label: "Friction angle",
     symbol: "φ",
     unit: "°",
-    help: "the opening of the yield cone: sand starts to slide, and stops, a little under this slope (steeper heaps at larger angles)",
+    help: "the opening of the yield cone: a poured heap stands steeper at a larger angle, up to about this slope; a dropped block collapses, spread by its momentum, and changes less",
     max: 60.0,
     step: 0.5,
     key: Some('f'),

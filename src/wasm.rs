@@ -441,8 +441,9 @@ impl WebPlayground {
         Ok(json(&self.core.stress_point(index).map_err(js_err)?))
     }
     /// The measures of each sand body (`mpm::measure::deposits`) as JSON: its heap's flank
-    /// angles with the fitted lines, its run-out from where it entered, its plane-strain
-    /// friction angle (2D) and, for a column, the experiments' run-out and final height.
+    /// angles with the fitted lines, its run-out from where it entered, whether it was poured
+    /// or held, its plane-strain friction angle (2D) and, for a column, the experiments'
+    /// run-out and final height.
     pub fn measures(&mut self) -> String {
         json(&self.core.measures())
     }

@@ -195,6 +195,10 @@ fn friction_angle_sets_the_heap() {
         let r = d[b].runout.as_ref().expect("footprint recorded").runout;
         r[0].max(r[1])
     };
+    for b in [0, 1] {
+        // released by the walls lifted from around it, not poured: the page's law line's heap
+        assert!(d[b].held && !d[b].poured, "body {b}");
+    }
     let (a20, a40) = (flank(0), flank(1));
     let (r20, r40) = (runout(0), runout(1));
     println!("heap angles {a20:.1}° and {a40:.1}°, run-outs {r20:.3} and {r40:.3} m");
@@ -219,6 +223,10 @@ fn mohr_coulomb_and_the_cone_on_the_same_heap() {
     let (lesson, d) = settled("mohr_coulomb.json");
     assert_eq!(d.len(), 2, "both sand bodies are measured");
     let (dp, mc) = (&d[0], &d[1]);
+    assert!(
+        d.iter().all(|d| d.held && !d.poured),
+        "released by the walls"
+    );
     assert_eq!(
         (dp.model.as_str(), mc.model.as_str()),
         ("drucker_prager", "mohr_coulomb")
@@ -416,6 +424,10 @@ fn the_column_lesson_is_measured_and_marked() {
     run(&mut pg, lesson.duration, |_| {});
     let d = pg.measures();
     assert_eq!(d.len(), 1);
+    assert!(
+        !d[0].held && !d[0].poured,
+        "a free column, released at once"
+    );
     let m = d[0].column.as_ref().expect("the column's markers");
     assert!((m.column.aspect_ratio - 2.0).abs() < 0.1, "{m:?}");
     assert!(m.law.source.contains("Lube et al. (2005)") && m.law.regime.contains("between"));

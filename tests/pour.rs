@@ -425,6 +425,50 @@ fn an_empty_poured_body_steps_and_the_page_pours() {
     }
 }
 
+/// The page's measures say which deposit was poured: the heap from the spout, and neither the
+/// sand box cut from a shape in the air beside it (a drop) nor the one standing on the floor;
+/// none of them was held (nothing stood against their sides at the start).
+#[test]
+fn a_deposit_says_whether_its_body_was_poured() {
+    for dim in [2, 3] {
+        let (size, h): (Vec<f64>, f64) = if dim == 2 {
+            (vec![1.2, 0.6], 0.02)
+        } else {
+            (vec![1.2, 0.6, 0.6], 0.04)
+        };
+        let cut = |name: &str, x0: f64, y0: f64| {
+            let (mut lo, mut hi) = (vec![0.2; dim], vec![0.4; dim]);
+            (lo[0], hi[0], lo[1], hi[1]) = (x0, x0 + 0.16, y0, y0 + 0.16);
+            BodyConfig::new(name, Shape::cuboid(&lo, &hi), sand())
+        };
+        let mut exit = vec![0.3; dim];
+        (exit[0], exit[1]) = (0.6, 0.4);
+        let heap = BodyConfig::poured("heap", pour(&exit, h, 0.004, 1.0), sand());
+        let s = scene(
+            &size,
+            h,
+            vec![cut("dropped", 0.1, 0.25), heap, cut("standing", 0.95, 0.0)],
+        );
+        let mut pg = mpm::playground::Playground::new(s).unwrap();
+        pg.measures(); // the footprints, as the page records them on the first frame
+        pg.frame(0.4, 1e9, || 0.0).unwrap();
+        let m = pg.measures();
+        let flags: Vec<_> = m
+            .iter()
+            .map(|d| (d.name.as_str(), d.poured, d.held))
+            .collect();
+        assert_eq!(
+            flags,
+            [
+                ("dropped", false, false),
+                ("heap", true, false),
+                ("standing", false, false)
+            ],
+            "{dim}D"
+        );
+    }
+}
+
 /// A rate that is not a number is refused like the others, naming the field and the range.
 #[test]
 fn a_rate_that_is_not_a_number_is_refused() {

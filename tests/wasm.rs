@@ -616,8 +616,8 @@ fn every_lesson_checks_with_its_files_and_a_bad_one_names_the_field() {
 }
 
 /// The measures cross to JavaScript: the 2D column collapse's sand is a column with Lube et
-/// al.'s markers and no run-out at the start; the hand tool's reading is the core's; a bad
-/// point is an error naming what is allowed.
+/// al.'s markers and no run-out at the start, neither poured nor held (the page's collapse);
+/// the hand tool's reading is the core's; a bad point is an error naming what is allowed.
 #[wasm_bindgen_test]
 fn the_measures_cross_as_json() {
     let text = read_file_sync(&format!("{ROOT}/scenes/column_collapse_2d.json"), "utf8").unwrap();
@@ -625,6 +625,7 @@ fn the_measures_cross_as_json() {
     let m: serde_json::Value = serde_json::from_str(&pg.measures()).unwrap();
     let d = &m[0];
     assert_eq!(d["name"], "column");
+    assert!(d["poured"] == false && d["held"] == false, "{d}");
     assert!(
         d["column"]["law"]["source"]
             .as_str()

@@ -1,7 +1,8 @@
 // What the page makes of the core's measures (pure, tested under `node --test`): the class's
-// words for the real-time factor and the quality's accuracy, the numbers a lesson's question
-// is answered with, the Mohr circles of a stress, and the angles of the readouts' arcs. The
-// measures themselves are the core's (`mpm::measure`, through the worker's frames).
+// words for the real-time factor and the quality's accuracy, whether a heap stands at its
+// angle of repose or collapsed, the numbers a lesson's question is answered with, the Mohr
+// circles of a stress, and the angles of the readouts' arcs. The measures themselves are the
+// core's (`mpm::measure`, through the worker's frames).
 
 /// A signed percentage: +1.2 %, −14 %.
 export function pct(x) {
@@ -34,6 +35,14 @@ export function accuracyNote(label, a, sand = null) {
 export function flankAngle(d) {
   const f = d.heap.flanks.filter(Boolean).map((x) => x.angle);
   return f.length ? f.reduce((a, b) => a + b, 0) / f.length : null;
+}
+
+/// Whether a sand deposit stands as a heap at its angle of repose: poured from a spout, or
+/// released by the walls lifted from around it (the core's `poured` and `held`). Any other
+/// (a body dropped, a column released at once) is a collapse: its momentum spreads it below
+/// that angle, and its run-out hardly depends on the friction angle (Lube et al. 2005).
+export function atRepose(d) {
+  return !!(d.poured || d.held);
 }
 
 /// A deposit's run-out beyond its footprint (m): the farther side in 2D, the mean over the

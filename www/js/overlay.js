@@ -3,11 +3,20 @@
 // the fitted line with an arc and its value; in 3D on the radial profile, in the vertical
 // plane through the heap's axis along x), its run-out from its initial footprint as a ruler
 // on the floor, and where the experiments apply the published laws as floor markers naming
-// their source (a column's run-out and final height, Lube et al.; in 2D the line at the
-// plane-strain angle of the sand's yield surface: φ_ps of the cone, φ of Mohr–Coulomb); and the hand tool's line with what
-// the core reads of it. Every number drawn is the core's (`mpm::measure`, `mpm::laws`).
+// their source (a column's run-out and final height, Lube et al.; in 2D, against a heap poured
+// or released by lifted walls, the line at the plane-strain angle of the sand's yield surface:
+// φ_ps of the cone, φ of Mohr–Coulomb; against any other deposit, a collapse, a note that its
+// momentum spread it below that angle); and the hand tool's line with what the core reads of
+// it. Every number drawn is the core's (`mpm::measure`, `mpm::laws`).
 
-import { arcAngles } from './measure-view.js';
+import { arcAngles, atRepose } from './measure-view.js';
+
+/// The note on a collapse's deposit, longest first (the first that fits is written).
+export const COLLAPSE_NOTE = [
+  'a collapse: spread by its momentum, below the angle of repose — pour to measure it',
+  'a collapse: spread below the angle of repose — pour to measure it',
+  'a collapse, spread below the angle of repose',
+];
 
 const INK = '#0b5394';
 const LAW = '#2b8a3e';
@@ -47,15 +56,22 @@ export class Overlay {
     if (hand?.a && hand?.b) this.hand(hand, dim, P);
   }
 
-  /// Writes `text` at `p` (aligned `align`), kept whole on the view and clear of the labels
-  /// written before it: moved in from the edges, then up or down a line at a time (up to
-  /// three) until it overlaps none.
+  /// The width of `text` as a label writes it (CSS pixels).
+  textWidth(text) {
+    this.ctx.font = '600 13px system-ui, sans-serif';
+    return this.ctx.measureText(text).width;
+  }
+
+  /// Writes `text` (or of a list, longest first, the first that fits the view's width) at `p`
+  /// (aligned `align`), kept whole on the view and clear of the labels written before it:
+  /// moved in from the edges, then up or down a line at a time (up to three) until it
+  /// overlaps none.
   label(kind, text, p, colour, align = 'left') {
     if (!p) return;
     const ctx = this.ctx;
-    ctx.font = '600 13px system-ui, sans-serif';
-    const w = ctx.measureText(text).width + 4, h = 16;
     const W = this.canvas.clientWidth, Hc = this.canvas.clientHeight;
+    if (Array.isArray(text)) text = text.find((t) => this.textWidth(t) + 8 <= W) ?? text[text.length - 1];
+    const w = this.textWidth(text) + 4, h = 16;
     let left = align === 'left' ? p[0] : align === 'right' ? p[0] - w : p[0] - w / 2;
     left = Math.max(2, Math.min(W - w - 2, left));
     const box = (top) => ({ x: left, y: top, w, h });
@@ -90,11 +106,18 @@ export class Overlay {
     ctx.setLineDash([]);
   }
 
-  /// Each fitted flank: the line, an arc at its foot and the angle; in 2D also the line of the
-  /// yield surface's plane-strain trace from the same foot (φ_ps of a Drucker–Prager cone, φ of
-  /// Mohr–Coulomb), named once per heap (the two names of a narrow heap would overlap).
+  /// Each fitted flank: the line, an arc at its foot and the angle; in 2D, on a heap at its
+  /// angle of repose (poured, or released by lifted walls), also the line of the yield
+  /// surface's plane-strain trace from the same foot (φ_ps of a Drucker–Prager cone, φ of
+  /// Mohr–Coulomb), named once per heap (the two names of a narrow heap would overlap). A
+  /// collapse's momentum spreads it below that angle (Lube et al. 2005 found collapses'
+  /// run-outs nearly independent of friction): on it, instead, a note above its top says so,
+  /// shortened where it would reach far past the heap (to read as that heap's beside another)
+  /// or the view is narrow.
   flanks(d, dim, at, laws) {
     let named = false;
+    const repose = atRepose(d);
+    const tops = [], feet = [];
     d.heap.flanks.forEach((f) => {
       if (!f) return;
       // the foot is the lower end of the fit
@@ -111,7 +134,9 @@ export class Overlay {
       ctx.stroke();
       const out = top[0] >= foot[0] ? 1 : -1;
       this.label('angle', `${f.angle.toFixed(1)}°`, [A[0] + out * 34, A[1] - 10], INK, out > 0 ? 'left' : 'right');
-      if (laws && dim === 2 && d.plane_strain_angle) {
+      tops.push(B);
+      feet.push(A);
+      if (laws && dim === 2 && d.plane_strain_angle && repose) {
         const run = Math.abs(top[0] - foot[0]) || 0.05;
         const rise = run * Math.tan((d.plane_strain_angle * Math.PI) / 180);
         const C = at(foot[0] + out * run, foot[1] + rise);
@@ -121,6 +146,14 @@ export class Overlay {
         named ||= !!C;
       }
     });
+    if (laws && dim === 2 && d.plane_strain_angle && !repose && tops.length) {
+      const x = tops.reduce((s, p) => s + p[0], 0) / tops.length;
+      const y = Math.min(...tops.map((p) => p[1]));
+      // the whole note where it reaches at most 150 px past the heap's feet
+      const span = Math.max(...feet.map((p) => p[0])) - Math.min(...feet.map((p) => p[0]));
+      const notes = this.textWidth(COLLAPSE_NOTE[0]) <= span + 300 ? COLLAPSE_NOTE : COLLAPSE_NOTE.slice(1);
+      this.label('note', notes, [x, y - 24], LAW, 'center');
+    }
   }
 
   /// The run-out ruler: on the floor from the footprint's edge to the front, with the

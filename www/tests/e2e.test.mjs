@@ -453,6 +453,11 @@ test('the energy note\'s claim: a sand box dropped in the sandbox settles with t
   assert.ok(released > 0 && last.kinetic < 0.01 * last.dissipated, `at rest: ${figures}`);
   // The sum stays level: within 2 % of the energy the fall dissipated, all the way.
   assert.ok(drift <= 0.02 * last.dissipated, figures);
+  // Dropped, the box collapsed: the overlay says so over its heap and draws no angle of repose.
+  const marks = await page.evaluate(() => ({ labels: mpm.overlay.labels, poured: mpm.frame.measures.map((d) => d.poured) }));
+  assert.deepEqual(marks.poured, [false]);
+  assert.ok(marks.labels.some((l) => l.kind === 'note' && /^a collapse/.test(l.text)), JSON.stringify(marks.labels));
+  assert.ok(!marks.labels.some((l) => l.kind === 'law'), JSON.stringify(marks.labels));
   assert.deepEqual(errors, []);
   await page.close();
 });

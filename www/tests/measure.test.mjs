@@ -2,8 +2,8 @@
 // HUD in its strip never covers the drawn scene at a laptop's, a tablet's and a phone's size;
 // the friction-angle lesson asks before it runs, its angle readout agrees with the core's
 // measure of the same frame, and its question is answered by that readout; the column
-// collapse shows the experiments' markers naming their source (and a scene without a column
-// none); the hand tool reads a length and an angle; an inspected particle gets its Mohr
+// collapse shows the experiments' markers naming their source, and the note that it is a
+// collapse (and a scene without a column none); the hand tool reads a length and an angle; an inspected particle gets its Mohr
 // circles (one in plane strain, three in 3D) with the Mohr–Coulomb envelope, a Mohr–Coulomb
 // particle with its own envelope and no cone; the quality line quotes the level's 3D sand
 // figures in 3D and the plane cases' in 2D; the stress-path, yield-stress, PIC/FLIP and
@@ -171,6 +171,7 @@ test('the friction-angle lesson asks first, runs on Play, its angle readouts are
       framed: f.measures.map((d) => d.heap.flanks.filter(Boolean).map((x) => x.angle)),
       drawn: mpm.overlay.labels.filter((l) => l.kind === 'angle').map((l) => parseFloat(l.text)),
       laws: mpm.overlay.labels.filter((l) => l.kind === 'law').map((l) => l.text),
+      notes: mpm.overlay.labels.filter((l) => l.kind === 'note').map((l) => l.text),
       answer: mpm.lessonPanel.answer,
       verdict: document.getElementById('lesson-verdict').textContent,
       marked: [...document.querySelectorAll('#lesson-question [data-choice].answer')].map((e) => Number(e.dataset.choice)),
@@ -181,6 +182,7 @@ test('the friction-angle lesson asks first, runs on Play, its angle readouts are
   assert.equal(check.drawn.length, core.length, `one readout per flank: ${JSON.stringify(check)}`);
   check.drawn.forEach((a, i) => assert.ok(Math.abs(a - core[i]) < 1, `readout ${a}° against the core's ${core[i]}°`));
   assert.ok(check.laws.some((t) => /φ_ps/.test(t)), `the plane-strain line on the heaps: ${check.laws}`);
+  assert.deepEqual(check.notes, [], 'released by lifted walls, no collapse');
   // Answered with the readouts: the 40° heap's mean flank less the 20° heap's.
   const mean = (a) => a.reduce((s, x) => s + x, 0) / a.length;
   assert.ok(check.answer.value > 0, `the 40° heap stands steeper: ${JSON.stringify(check.answer)}`);
@@ -216,6 +218,11 @@ test('law markers: Lube et al. on the column collapses (plane and axisymmetric),
     assert.ok(laws.some((t) => source.test(t) && /run-out/.test(t)), `${hash}: ${laws}`);
     assert.ok(laws.some((t) => /final height/.test(t)), `${hash}: ${laws}`);
     assert.ok(labels.some((l) => l.kind === 'runout'), `${hash}: the run-out ruler: ${JSON.stringify(labels)}`);
+    if (hash.includes('lesson')) {
+      // a collapse: the note over its heap, no plane-strain line
+      assert.ok(labels.some((l) => l.kind === 'note' && /^a collapse/.test(l.text)), `${hash}: ${JSON.stringify(labels)}`);
+      assert.ok(!laws.some((t) => /φ_ps/.test(t)), `${hash}: ${laws}`);
+    }
     const law = await page.evaluate(() => mpm.frame.measures[0].column.law);
     assert.ok(Math.abs(law.aspect_ratio - 2) < 0.15, `a = H0/L0 ≈ 2: ${JSON.stringify(law)}`);
     if (hash.includes('lesson')) assert.match(law.regime, /between/, 'a = 2 lies in the plane transition: the range is drawn');

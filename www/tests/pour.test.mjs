@@ -1,7 +1,7 @@
 // The Pour tool in a real headless Chromium (Debian's package, driven by playwright-core): in
 // 2D and 3D, a press held on the floor pours sand from a spout above it until it is released,
-// and the sand heaps under the point pressed; the link records the pour and a page opened from
-// it pours the same particles. The rate's control names its range and refuses bad values with
+// and the sand heaps under the point pressed (in 2D with the plane-strain line against it); the
+// link records the pour and a page opened from it pours the same particles. The rate's control names its range and refuses bad values with
 // the solver's message; Reset, another quality level and Clear end a pour held; the P key picks the tool; one finger
 // held on a touch screen pours, a second one neither pours nor pinches. Served by
 // `cargo xtask test` (MPM_URL); screenshots go to MPM_OUT (default target/e2e).
@@ -167,6 +167,14 @@ for (const dim of [2, 3]) {
     const top = (lo, hi) => Math.max(0, ...sand.filter((p) => off(p) >= lo && off(p) < hi).map((p) => p[1]));
     const [peak, flank] = [top(0, 0.08), top(0.2, 0.3)];
     assert.ok(peak > 2 * h && peak > flank + h, `a heap, highest at the axis: ${peak} m, ${flank} m at 0.2–0.3 m`);
+    // Poured, it stands at its angle of repose: in 2D the overlay draws the plane-strain line
+    // against it, named, and no collapse note.
+    const marks = await page.evaluate(() => ({ labels: mpm.overlay.labels, poured: mpm.frame.measures.map((d) => d.poured) }));
+    assert.deepEqual(marks.poured, [true], 'the sand poured says so');
+    if (dim === 2) {
+      assert.ok(marks.labels.some((l) => l.kind === 'law' && /^φ_ps [\d.]+°, plane-strain cone$/.test(l.text)), JSON.stringify(marks.labels));
+      assert.ok(!marks.labels.some((l) => l.kind === 'note'), JSON.stringify(marks.labels));
+    }
     assert.deepEqual(errors, [], 'no page error');
     await page.close();
 
