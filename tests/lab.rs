@@ -1,4 +1,4 @@
-//! The soil-mechanics lab (issue 46): the traction boundary against closed forms and statics,
+//! The soil-mechanics lab: the traction boundary against closed forms and statics,
 //! the biaxial test reading the material's envelope from the platen's force, and the shear box
 //! reading Davis's envelope from the forces on its upper half (`mpm::lab`). Coarse grids: the
 //! biaxial test at h = 1 cm, 2 particles per cell and axis (800 sample particles); the shear

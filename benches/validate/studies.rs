@@ -221,7 +221,7 @@ pub fn flowmatch_study(md: &mut String, path: &std::path::Path) {
     };
     let _ = writeln!(
         md,
-        "## Friction match: heaps (lifted walls at {LIFT_SPEED} m/s, floor μ = tan φ, h = 0.01 m)\n\nIssue 16: within 3° of φ_ps.\n\n{}",
+        "## Friction match: heaps (lifted walls at {LIFT_SPEED} m/s, floor μ = tan φ, h = 0.01 m)\n\nTarget: within 3° of φ_ps.\n\n{}",
         heaps_table("flowmatch", &heaps(0.01))
     );
     std::fs::write(path, &*md).unwrap();
@@ -272,7 +272,7 @@ pub fn startstop_study(md: &mut String, path: &std::path::Path) {
             .collect();
         let _ = writeln!(
             md,
-            "## Start–stop: heaps (lifted walls at {LIFT_SPEED} m/s, floor μ = tan φ, h = {h} m)\n\nIssue 16: within 3° of φ_ps.\n\n{}",
+            "## Start–stop: heaps (lifted walls at {LIFT_SPEED} m/s, floor μ = tan φ, h = {h} m)\n\nTarget: within 3° of φ_ps.\n\n{}",
             heaps_table("startstop", &runs)
         );
         std::fs::write(path, &*md).unwrap();
@@ -304,7 +304,7 @@ pub fn startstop_fine_study(md: &mut String, path: &std::path::Path) {
         .collect();
     let _ = writeln!(
         md,
-        "## Start–stop: plane column collapses at h = 0.0025 m (φ = 32°, floor μ = 0.625; Lube et al. 2005)\n\nRun-out as the farthest particle and as the edge of the continuous deposit. Issue 16: run-out within 20 %, H∞ within 10 %.\n\n{}",
+        "## Start–stop: plane column collapses at h = 0.0025 m (φ = 32°, floor μ = 0.625; Lube et al. 2005)\n\nRun-out as the farthest particle and as the edge of the continuous deposit. Target: run-out within 20 %, H∞ within 10 %.\n\n{}",
         collapses_table("startstop-fine", runs)
     );
     std::fs::write(path, &*md).unwrap();
@@ -313,7 +313,7 @@ pub fn startstop_fine_study(md: &mut String, path: &std::path::Path) {
         .to_vec();
     let _ = writeln!(
         md,
-        "## Start–stop: over-steep slopes at h = 0.0025 m (2 s, E = 350 kPa)\n\nIssue 16: a slope steeper than φ_ps fails within a fraction of a second and stops near φ_ps.\n\n{}",
+        "## Start–stop: over-steep slopes at h = 0.0025 m (2 s, E = 350 kPa)\n\nTarget: a slope steeper than φ_ps fails within a fraction of a second and stops near φ_ps.\n\n{}",
         slopes_table("startstop-fine", cases)
     );
     std::fs::write(path, &*md).unwrap();
@@ -321,7 +321,7 @@ pub fn startstop_fine_study(md: &mut String, path: &std::path::Path) {
         let runs: Vec<(f64, Numerics)> = [20.0, 32.0, 45.0].map(|phi| (phi, n)).to_vec();
         let _ = writeln!(
             md,
-            "## Start–stop: heaps at h = 0.0025 m (walls lifted at {lift} m/s, floor μ = tan φ)\n\nIssue 16: within 3° of φ_ps.\n\n{}",
+            "## Start–stop: heaps at h = 0.0025 m (walls lifted at {lift} m/s, floor μ = tan φ)\n\nTarget: within 3° of φ_ps.\n\n{}",
             heaps_table_lifted("startstop-fine", &runs, lift)
         );
         std::fs::write(path, &*md).unwrap();
@@ -362,7 +362,7 @@ pub fn startstop_axi_study(md: &mut String) {
 fn slopes_section(md: &mut String, title: &str, study: &str, cases: Vec<(f64, f64, Numerics)>) {
     let _ = writeln!(
         md,
-        "## {title}: slopes (2 s, E = 350 kPa)\n\nA trapezoidal heap 0.1 m high released on a floor with μ = tan φ. *Failed at*: when the flanks had come halfway down from their initial angle to φ_ps. Issue 16: a slope gentler than φ_ps stands (no creep over 2 s), a steeper one fails within a fraction of a second and stops near φ_ps.\n\n{}",
+        "## {title}: slopes (2 s, E = 350 kPa)\n\nA trapezoidal heap 0.1 m high released on a floor with μ = tan φ. *Failed at*: when the flanks had come halfway down from their initial angle to φ_ps. Target: a slope gentler than φ_ps stands (no creep over 2 s), a steeper one fails within a fraction of a second and stops near φ_ps.\n\n{}",
         slopes_table(study, cases)
     );
 }
@@ -386,7 +386,7 @@ fn axi_section(
 ) {
     let _ = writeln!(
         md,
-        "## {title}: axisymmetric collapses (3D, φ = 32°, floor μ = 0.625{grid}; Lube et al. 2004, Lajeunesse et al. 2004)\n\nRun-out as the mean over 16 azimuthal sectors of the farthest particle, and as the edge of the continuous deposit. Issue 16: run-out within 25 %, H∞ within 15 %.\n\n{}",
+        "## {title}: axisymmetric collapses (3D, φ = 32°, floor μ = 0.625{grid}; Lube et al. 2004, Lajeunesse et al. 2004)\n\nRun-out as the mean over 16 azimuthal sectors of the farthest particle, and as the edge of the continuous deposit. Target: run-out within 25 %, H∞ within 15 %.\n\n{}",
         axi_table(study, runs)
     );
 }
@@ -406,7 +406,7 @@ fn plane_runs(variants: &[Vec<Numerics>]) -> Vec<(&'static str, f64, Numerics)> 
 fn plane_section(md: &mut String, title: &str, study: &str, runs: Vec<(&str, f64, Numerics)>) {
     let _ = writeln!(
         md,
-        "## {title}: plane column collapses (φ = 32°, floor μ = 0.625; Lube et al. 2005)\n\nRun-out as the farthest particle and as the edge of the continuous deposit. Issue 16: run-out within 20 %, H∞ within 10 %.\n\n{}",
+        "## {title}: plane column collapses (φ = 32°, floor μ = 0.625; Lube et al. 2005)\n\nRun-out as the farthest particle and as the edge of the continuous deposit. Target: run-out within 20 %, H∞ within 10 %.\n\n{}",
         collapses_table(study, runs)
     );
 }

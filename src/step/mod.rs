@@ -26,7 +26,7 @@
 //! barely reaches gets a finite force on next to no mass, and the velocity gradient taken
 //! from the new grid velocities blows up (for the C¹ kernels |∇w|²/w stays bounded). Sand
 //! keeps the paper's order: stress last would make it 1.07–1.22× faster but takes some
-//! granular figures past issue 16's bounds (docs/validation.md, "The order of the stress
+//! granular figures past their validation bands (docs/validation.md, "The order of the stress
 //! update"); its `"cell_average"` volumetric rate ([`volumetric`]) is taken in the stress-first pass
 //! only.
 //!
