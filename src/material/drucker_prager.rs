@@ -15,9 +15,9 @@
 //! shifted back to the apex, and a remaining f > 0 is removed by scaling the deviatoric stress
 //! back onto the cone. Cohesionless sand (c = 0) therefore carries no tension.
 //!
-//! Past the apex nothing resists an expansion: the grains part. The stress pass closes them
-//! again before it stresses them, and bounds their volume, from the packed volume per unit
-//! mass this model gives ([`Constitutive::packed_specific_volume`], 1/ρ; `src/step/stress.rs`).
+//! Past the apex nothing resists an expansion: the grains part. The stress pass bounds their
+//! volume, and in a body whose recipe closes them closes them again before it stresses them,
+//! from the packed volume per unit mass this model gives ([`Constitutive::packed_specific_volume`], 1/ρ; `src/step/stress.rs`).
 //!
 //! Optionally the friction rises with the inertial number of the flow, μ(I) of Jop et al.
 //! (2006) ([`super::mu_i`]): the cone's α_φ is then formed per particle from its strain rate

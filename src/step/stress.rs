@@ -8,7 +8,8 @@
 //!   violent the compression.
 //!
 //! **Grains that part and close again** (granular models, those with a
-//! [`Constitutive::packed_specific_volume`]; a departure from the paper, docs/method.md):
+//! [`Constitutive::packed_specific_volume`], in a body whose recipe closes them,
+//! [`crate::recipe::Recipe::closing`]; a departure from the paper, docs/method.md):
 //! cohesionless sand past its apex carries no stress, and its grains part: a particle's volume
 //! grows beyond its packed volume V_d = m_p/ρ. Such a particle (no compression, p ≤
 //! [`PARTED_PRESSURE`] K, and V_p > V_d) is parted: a compression first closes it, and only
@@ -17,7 +18,7 @@
 //! stress update then takes the volumetric rate tr ε̇ + c/Δt, where c is the part of the
 //! step's compression −tr ε̇ Δt that takes the volume back to V_d. The volume follows the
 //! motion as before. A parted particle's volume may grow to [`PARTED_LOOSEST`] V_d, a stressed
-//! one's to [`LOOSEST`] V_d.
+//! one's to [`LOOSEST`] V_d; without closing, every granular particle's volume to [`LOOSEST`] V_d.
 //!
 //! When they run depends on the kernel and the material ([`super::StressOrder`]):
 //!
@@ -350,7 +351,8 @@ pub const PARTED_PRESSURE: Real = 1e-6;
 
 /// Steps 2–3 for one particle, or for a group of particles in lanes: the stress by the model
 /// (returning their plastic strain increments) and the volume; with `packed` = m/ρ (a
-/// granular model), its grains part and close again (the module's documentation); with
+/// granular model) the volume is bounded by it, and with `closing` too its parted grains
+/// close again (the module's documentation); with
 /// `bulk` = (m (C h)², q), the bulk viscosity q = ρ (C h tr ε̇)² = m (C h)² (tr ε̇)²/V of the
 /// compressing particles, whose work q V |tr ε̇| Δt = m (C h)² |tr ε̇|³ Δt needs no division.
 #[inline(always)]
