@@ -46,7 +46,7 @@ fn main() -> Result<(), String> {
                     d.name,
                     f.iter().map(|a| format!("{a:.1}")).collect::<Vec<_>>(),
                     d.friction_angle,
-                    d.plane_strain_angle.unwrap_or(f64::NAN),
+                    d.repose_angle,
                     d.runout
                         .as_ref()
                         .map_or(f64::NAN, |r| r.runout[0].max(r.runout[1])),

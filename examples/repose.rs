@@ -46,7 +46,7 @@ fn main() {
             .or(d.first())
             .expect("a deposit");
         let f = |k: usize| dep.heap.flanks[k].as_ref().map_or(f64::NAN, |f| f.angle);
-        let reference = dep.plane_strain_angle.unwrap_or(f64::NAN);
+        let reference = dep.repose_angle;
         println!(
             "repose scene={path} quality={quality} model={model} phi={phi} reference={reference:.1} left={:.1} right={:.1} height={:.3} particles={} steps={} t={:.2} wall={wall:.1}",
             f(0),

@@ -96,15 +96,13 @@ pub fn fit_circles(circles: &[(f64, f64)]) -> Option<Envelope> {
 }
 
 /// The envelope a plane-strain direct shear test reads on a material of friction angle φ,
-/// dilatancy ψ (degrees) and cohesion c (Pa), by Davis (1968):
-/// tan φ_ds = sin φ cos ψ / (1 − sin φ sin ψ), c_ds = c cos φ cos ψ / (1 − sin φ sin ψ).
-/// It reads φ itself only when ψ = φ (26.6° for φ = 30°, ψ = 0).
+/// dilatancy ψ (degrees) and cohesion c (Pa): Davis's ([`crate::material::davis`]).
 pub fn davis(friction_angle: f64, dilatancy_angle: f64, cohesion: f64) -> Envelope {
-    let (phi, psi) = (friction_angle.to_radians(), dilatancy_angle.to_radians());
-    let d = 1.0 - phi.sin() * psi.sin();
+    let (friction_angle, cohesion) =
+        crate::material::davis(friction_angle, dilatancy_angle, cohesion);
     Envelope {
-        friction_angle: (phi.sin() * psi.cos() / d).atan().to_degrees(),
-        cohesion: cohesion * phi.cos() * psi.cos() / d,
+        friction_angle,
+        cohesion,
     }
 }
 

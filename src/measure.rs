@@ -504,10 +504,10 @@ pub struct Deposit {
     pub model: String,
     /// The sand's friction angle φ (degrees).
     pub friction_angle: f64,
-    /// In 2D only, the angle of the line its yield surface traces in plane strain
-    /// ([`crate::material::Friction::plane_strain_angle`]): φ_ps of a Drucker–Prager cone
-    /// ([`crate::material::plane_strain_angle`]), φ of Mohr–Coulomb.
-    pub plane_strain_angle: Option<f64>,
+    /// The angle of repose (degrees) a heap of it is judged against, in 2D and 3D alike
+    /// ([`crate::material::Friction::repose`]): φ_ps of the start–stop Drucker–Prager cone,
+    /// Davis's angle of Mohr–Coulomb.
+    pub repose_angle: f64,
     /// When the body started as a column standing on the floor ([`column()`]): the column and
     /// where the experiments put its run-out and final height.
     pub column: Option<ColumnMarkers>,
@@ -723,7 +723,7 @@ pub fn deposits<D: Dim>(sim: &Simulation<D>, footprints: &Footprints) -> Vec<Dep
             held: contained,
             model: config.material.kind().to_string(),
             friction_angle: friction.friction_angle,
-            plane_strain_angle: (D::DIM == 2).then(|| friction.plane_strain_angle()),
+            repose_angle: friction.repose,
             column,
         });
     }
@@ -1070,12 +1070,20 @@ mod tests {
             let r = d[0].runout.as_ref().unwrap();
             assert!(r.runout.iter().all(|x| x.abs() < 1e-6), "{:?}", r.runout);
             assert_eq!(d[0].friction_angle, friction.friction_angle);
-            assert_eq!(d[0].plane_strain_angle, Some(friction.plane_strain_angle()));
-            if material.kind() == "mohr_coulomb" {
-                assert_eq!(friction.plane_strain_angle(), friction.friction_angle);
+            assert_eq!(d[0].repose_angle, friction.repose);
+            // both stop below φ: the cone at φ_ps, Mohr–Coulomb (ψ = 0) at atan(sin φ)
+            let phi = friction.friction_angle.to_radians();
+            let expect = if material.kind() == "mohr_coulomb" {
+                phi.sin().atan().to_degrees()
             } else {
-                assert!(friction.plane_strain_angle() < friction.friction_angle);
-            }
+                crate::material::plane_strain_angle(friction.friction_angle)
+            };
+            assert!(
+                (d[0].repose_angle - expect).abs() < 1e-9,
+                "{}",
+                d[0].repose_angle
+            );
+            assert!(d[0].repose_angle < friction.friction_angle);
         }
     }
 

@@ -204,7 +204,7 @@ fn friction_angle_sets_the_heap() {
     println!("heap angles {a20:.1}° and {a40:.1}°, run-outs {r20:.3} and {r40:.3} m");
     assert!(a40 > a20 + 8.0, "{a20} {a40}");
     for (b, a) in [(0, a20), (1, a40)] {
-        let phi_ps = d[b].plane_strain_angle.unwrap();
+        let phi_ps = d[b].repose_angle;
         assert!(
             (a - phi_ps).abs() < 3.0,
             "body {b}: the heap stands at {a:.1}°, φ_ps {phi_ps:.1}°: within 3°"
@@ -215,9 +215,10 @@ fn friction_angle_sets_the_heap() {
 
 /// The Mohr–Coulomb lesson as the page opens it: Drucker–Prager and Mohr–Coulomb sand of the
 /// same φ = 40° released between slowly lifted walls. Both heaps get the page's flank and
-/// run-out readouts and their plane-strain lines (the cone's φ_ps = 37.1°, Mohr–Coulomb's own
-/// φ = 40°); each stands below its line (34.8° and 32.3° measured); the question's answer,
-/// from the two flank readouts, is its first choice: the cone's heap by 1° or more.
+/// run-out readouts and their angles of repose (the cone's φ_ps = 37.1°, Mohr–Coulomb's Davis
+/// angle atan(sin φ) = 32.7°, where a layer flowing without dilatancy stops); each stands within
+/// [−4°, +1°] of its line (34.8° and 32.3° measured); the question's answer, from the two flank
+/// readouts, is its first choice: the cone's heap by 1° or more.
 #[test]
 fn mohr_coulomb_and_the_cone_on_the_same_heap() {
     let (lesson, d) = settled("mohr_coulomb.json");
@@ -237,21 +238,21 @@ fn mohr_coulomb_and_the_cone_on_the_same_heap() {
         r[0].max(r[1])
     };
     let (r_dp, r_mc) = (runout(dp), runout(mc));
-    let (ps_dp, ps_mc) = (
-        dp.plane_strain_angle.unwrap(),
-        mc.plane_strain_angle.unwrap(),
-    );
+    let (ps_dp, ps_mc) = (dp.repose_angle, mc.repose_angle);
     println!(
         "heap angles: Drucker–Prager {a_dp:.1}° (φ_ps {ps_dp:.1}°), Mohr–Coulomb {a_mc:.1}° \
-         (φ {ps_mc:.1}°); run-outs {r_dp:.3} and {r_mc:.3} m"
+         (Davis {ps_mc:.1}°); run-outs {r_dp:.3} and {r_mc:.3} m"
     );
     assert!(
-        (ps_dp - 37.1).abs() < 0.05 && ps_mc == 40.0,
+        (ps_dp - 37.1).abs() < 0.05 && (ps_mc - 32.7).abs() < 0.05,
         "{ps_dp} {ps_mc}"
     );
     assert!(r_dp > 0.05 && r_mc > 0.05, "both spread: {r_dp} {r_mc}");
     for (a, line) in [(a_dp, ps_dp), (a_mc, ps_mc)] {
-        assert!(a < line, "{a:.1}° below its line at {line:.1}°");
+        assert!(
+            (line - 4.0..=line + 1.0).contains(&a),
+            "{a:.1}° within [−4°, +1°] of its line at {line:.1}°"
+        );
     }
     let q = lesson.question.as_ref().expect("a question");
     let value = a_mc - a_dp;

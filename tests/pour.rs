@@ -602,13 +602,16 @@ fn a_pour_stopped_at_a_time_pours_no_layer_after_it() {
 }
 
 /// The shipped 2D pour (`scenes/pour_2d.json`, h = 1 cm) as the page runs it (sleeping on),
-/// Drucker–Prager sand at friction angle `phi`, until the spout has stopped and the heap rests:
-/// (the mean of its two flanks, the plane-strain angle φ_ps its deposit is judged against).
-fn poured_heap(phi: f64) -> (f64, f64) {
+/// its sand given the material `model` (the scene's Drucker–Prager sand, or Mohr–Coulomb with
+/// the same fields) at friction angle `phi`, until the spout has stopped and the heap rests:
+/// (the mean of its two flanks, the angle of repose its deposit is judged against).
+fn poured_heap(model: &str, phi: f64) -> (f64, f64) {
     use mpm::playground::Playground;
-    let text = std::fs::read_to_string("scenes/pour_2d.json").unwrap();
+    let text = std::fs::read_to_string("scenes/pour_2d.json")
+        .unwrap()
+        .replace("drucker_prager", model);
     let mut pg = Playground::load(&text, &Default::default(), "balanced").unwrap();
-    pg.set_parameter("drucker_prager.friction_angle", phi)
+    pg.set_parameter(&format!("{model}.friction_angle"), phi)
         .unwrap();
     pg.set_sleeping(true);
     let mut calm = 0.0;
@@ -617,22 +620,31 @@ fn poured_heap(phi: f64) -> (f64, f64) {
         let still = pg.diagnostics().max_speed < 0.01 && !pg.simulation().pouring();
         calm = if still { calm + 0.05 } else { 0.0 };
     }
-    assert!(calm >= 0.3, "the heap at φ = {phi}° rests within 10 s");
+    assert!(
+        calm >= 0.3,
+        "the {model} heap at φ = {phi}° rests within 10 s"
+    );
     let d = pg.measures();
+    assert_eq!(d[0].model, model);
     let flank = |k: usize| d[0].heap.flanks[k].as_ref().expect("a flank").angle;
     let angle = (flank(0) + flank(1)) / 2.0;
-    eprintln!("φ = {phi}°: flanks {:.1}° and {:.1}°", flank(0), flank(1));
-    (angle, d[0].plane_strain_angle.expect("sand's φ_ps"))
+    eprintln!(
+        "{model} φ = {phi}°: flanks {:.1}° and {:.1}°, angle of repose {:.1}°",
+        flank(0),
+        flank(1),
+        d[0].repose_angle
+    );
+    (angle, d[0].repose_angle)
 }
 
 /// The angle of repose as it is measured, by pouring: the heap poured in the page's 2D scene
-/// stands at the plane-strain angle of its cone, φ_ps (sin φ_ps = 3 α_φ), the mean of its
+/// stands at the angle of repose of its cone, φ_ps (sin φ_ps = 3 α_φ), the mean of its
 /// flanks within [φ_ps − 4°, φ_ps + 1°] at φ = 20° and 40°, and raising φ from 20° to 40°
-/// raises it by at least 14°.
+/// raises it by at least 14° (φ_ps rises by 17.5°).
 #[test]
 fn a_poured_heap_stands_at_the_plane_strain_angle_and_follows_phi() {
-    let (low, low_ps) = poured_heap(20.0);
-    let (high, high_ps) = poured_heap(40.0);
+    let (low, low_ps) = poured_heap("drucker_prager", 20.0);
+    let (high, high_ps) = poured_heap("drucker_prager", 40.0);
     for (angle, ps) in [(low, low_ps), (high, high_ps)] {
         assert!(
             (ps - 4.0..=ps + 1.0).contains(&angle),
@@ -640,6 +652,27 @@ fn a_poured_heap_stands_at_the_plane_strain_angle_and_follows_phi() {
         );
     }
     assert!(high - low >= 14.0, "{low:.1}° → {high:.1}°");
+}
+
+/// Mohr–Coulomb sand without dilatancy poured the same way stands at Davis's angle
+/// atan(sin φ), the slope on which its flowing layer stops (18.9° and 32.7° at φ = 20° and
+/// 40°), not at φ: within [φ_d − 4°, φ_d + 1°], and raising φ from 20° to 40° raises the heap
+/// as much as it raises φ_d (13.8°), within 2°.
+#[test]
+fn a_poured_mohr_coulomb_heap_stands_at_davis_s_angle() {
+    let (low, low_d) = poured_heap("mohr_coulomb", 20.0);
+    let (high, high_d) = poured_heap("mohr_coulomb", 40.0);
+    for (angle, d) in [(low, low_d), (high, high_d)] {
+        assert!(
+            (d - 4.0..=d + 1.0).contains(&angle),
+            "flanks {angle:.1}° against Davis's {d:.1}°"
+        );
+    }
+    let (rise, expect) = (high - low, high_d - low_d);
+    assert!(
+        (rise - expect).abs() <= 2.0,
+        "{low:.1}° → {high:.1}°: a rise of {rise:.1}° against {expect:.1}°"
+    );
 }
 
 /// The volume poured, Σ m/ρ, against what the particles fill, Σ V_p, once a 2D heap poured

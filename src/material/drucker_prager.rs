@@ -162,6 +162,20 @@ impl FrictionMatch {
         }
     }
 
+    /// The angle of repose (degrees) of the cone for a friction angle φ (degrees): a layer
+    /// flowing down an infinite slope with ψ = 0 carries τ = 3 α σ_n with the flowing cone's
+    /// α (see [`FrictionMatch`]), so it stops at atan(3 α): atan(sin φ_ps) for Eq. 13's cone,
+    /// φ for the steady-flow match, φ_ps for the start–stop match.
+    pub fn repose_angle(self, phi_deg: f64) -> f64 {
+        let three_alpha = match self {
+            FrictionMatch::PlaneStrain | FrictionMatch::SteadyFlow => {
+                3.0 * self.alpha(phi_deg.to_radians().tan())
+            }
+            FrictionMatch::StartStop => plane_strain_angle(phi_deg).to_radians().tan(),
+        };
+        three_alpha.atan().to_degrees()
+    }
+
     /// The largest friction angle the match accepts (degrees, excluded): Eq. 13 takes any
     /// φ < 90°; the steady-flow cone 3 α_φ = tan φ reaches √3 at 60°, where its triaxial
     /// compression meridian passes through zero lateral stress (q = 3p) and beyond which it
@@ -565,12 +579,14 @@ impl super::Kind for DruckerPragerParams {
         let m = self.model();
         move |plastic_strain| m.pq_surface(plastic_strain)
     }
-    /// The cone of friction angle φ, traced in plane strain at φ_ps.
+    /// The cone of friction angle φ, traced in plane strain at φ_ps, at rest on slopes up to
+    /// [`FrictionMatch::repose_angle`].
     fn behaviour(&self) -> super::Behaviour {
         super::Behaviour::Granular(super::Friction {
             friction_angle: self.friction_angle,
             cohesion: self.cohesion,
             cone: Some(plane_strain_angle(self.friction_angle)),
+            repose: self.friction_match.repose_angle(self.friction_angle),
         })
     }
     fn field_mut(&mut self, name: &str) -> Option<&mut f64> {
@@ -711,6 +727,13 @@ mod tests {
                 );
                 assert!(normal_deviators(&s) < 1e-3 * p, "φ = {phi}, {fm:?}: {s:?}");
                 assert!((-s.trace() / 3.0 - p).abs() < 1e-4 * p, "{s:?}");
+                // the angle of repose a heap is judged against is where this layer stops
+                let stop = ratio.atan().to_degrees();
+                assert!(
+                    (stop - fm.repose_angle(phi)).abs() < 0.05,
+                    "φ = {phi}, {fm:?}: stops at {stop}°, repose angle {}°",
+                    fm.repose_angle(phi)
+                );
                 match fm {
                     // the flowing layer holds the friction coefficient tan φ
                     FrictionMatch::SteadyFlow => assert!(
@@ -772,6 +795,12 @@ mod tests {
             assert!(
                 (ratio / tan_ps - 1.0).abs() < 1e-3,
                 "φ = {phi}: τ/σ_n = {ratio}, tan φ_ps = {tan_ps}"
+            );
+            let stop = ratio.atan().to_degrees();
+            let repose = FrictionMatch::StartStop.repose_angle(phi);
+            assert!(
+                (stop - repose).abs() < 0.05 && (repose - plane_strain_angle(phi)).abs() < 1e-9,
+                "φ = {phi}: stops at {stop}°, repose angle {repose}°"
             );
             // Eq. 13 alone stops at atan(sin φ_ps): 6 % to 32 % less friction
             assert!(

@@ -134,14 +134,34 @@ pub struct Friction {
     /// Mohr–Coulomb envelope itself.
     #[serde(rename = "plane_strain_angle", skip_serializing_if = "Option::is_none")]
     pub cone: Option<f64>,
+    /// The angle of repose (degrees): the steepest infinite slope on which a flowing layer of
+    /// it stops. The layer shears in plane strain whatever the dimension, so a plane heap and
+    /// a 3D cone are both drawn against it: φ_ps for the default start–stop cone
+    /// ([`drucker_prager::FrictionMatch::repose_angle`]), Davis's angle for Mohr–Coulomb
+    /// ([`davis`]), both from a flow that does not dilate in the layer's plane.
+    #[serde(rename = "repose_angle")]
+    pub repose: f64,
 }
 
 impl Friction {
-    /// The angle (degrees) of the line the yield surface traces in a plane-strain Mohr plane,
-    /// the slope a plane heap of it is drawn against: φ_ps for a cone, else φ.
+    /// The angle (degrees) of the line the yield surface traces in a plane-strain Mohr plane:
+    /// φ_ps for a cone, else φ.
     pub fn plane_strain_angle(&self) -> f64 {
         self.cone.unwrap_or(self.friction_angle)
     }
+}
+
+/// The strength a plane-strain shear band mobilises in a material of friction angle φ,
+/// dilatancy ψ (degrees) and cohesion c (Pa), by Davis (1968): tan φ_d = sin φ cos ψ /
+/// (1 − sin φ sin ψ) and c_d = c cos φ cos ψ / (1 − sin φ sin ψ), as (φ_d in degrees, c_d).
+/// φ_d is φ itself only when ψ = φ (26.6° for φ = 30°, ψ = 0).
+pub fn davis(friction_angle: f64, dilatancy_angle: f64, cohesion: f64) -> (f64, f64) {
+    let (phi, psi) = (friction_angle.to_radians(), dilatancy_angle.to_radians());
+    let d = 1.0 - phi.sin() * psi.sin();
+    (
+        (phi.sin() * psi.cos() / d).atan().to_degrees(),
+        cohesion * phi.cos() * psi.cos() / d,
+    )
 }
 
 /// What each material model provides, in its own file (its parameters type implements

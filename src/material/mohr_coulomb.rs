@@ -503,12 +503,14 @@ impl super::Kind for MohrCoulombParams {
         let s = self.pq_surface();
         move |_| s
     }
-    /// Its yield surface is the Mohr–Coulomb envelope.
+    /// Its yield surface is the Mohr–Coulomb envelope; a layer flowing with its
+    /// non-associated flow stops at Davis's angle ([`super::davis`]).
     fn behaviour(&self) -> super::Behaviour {
         super::Behaviour::Granular(super::Friction {
             friction_angle: self.friction_angle,
             cohesion: self.cohesion,
             cone: None,
+            repose: super::davis(self.friction_angle, self.dilatancy_angle, 0.0).0,
         })
     }
     fn field_mut(&mut self, name: &str) -> Option<&mut f64> {
@@ -788,7 +790,8 @@ mod tests {
     /// Simple shear under a confining pressure σ_n, in plane strain and in 3D, with ψ = 0
     /// (no dilation, so the kinematic constraint builds no pressure): the shear stress
     /// settles at the strength τ = c cos φ + σ_n sin φ (the Mohr circle of radius τ about
-    /// σ_n touching the envelope, the out-of-plane stress the intermediate one).
+    /// σ_n touching the envelope, the out-of-plane stress the intermediate one). A layer
+    /// flowing so stops at Davis's angle atan(sin φ), the repose angle of [`Kind::behaviour`].
     #[test]
     fn plane_strain_simple_shear_settles_at_c_cos_phi_plus_sigma_n_sin_phi() {
         for (phi, c) in [(30.0, 0.0), (25.0, 300.0), (40.0, 100.0)] {
@@ -814,6 +817,16 @@ mod tests {
                 3e-3 * strength,
                 "plane strain τ",
             );
+            if c == 0.0 {
+                // a cohesionless layer flowing so stops at atan(sin φ): the repose angle its
+                // heaps are judged against (Davis's, ψ = 0)
+                let stop = (s2.xy.abs() as f64 / sigma_n).atan().to_degrees();
+                let repose = super::super::Kind::behaviour(&params(phi, 0.0, c))
+                    .friction()
+                    .unwrap()
+                    .repose;
+                close(stop, repose, 0.05, "angle of repose");
+            }
         }
     }
 

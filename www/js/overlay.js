@@ -3,10 +3,11 @@
 // the fitted line with an arc and its value; in 3D on the radial profile, in the vertical
 // plane through the heap's axis along x), its run-out from its initial footprint as a ruler
 // on the floor, and where the experiments apply the published laws as floor markers naming
-// their source (a column's run-out and final height, Lube et al.; in 2D, against a heap poured
-// or released by lifted walls, the line at the plane-strain angle of the sand's yield surface:
-// φ_ps of the cone, φ of Mohr–Coulomb; against any other deposit, a collapse, a note that its
-// momentum spread it below that angle); and the hand tool's line with what the core reads of
+// their source (a column's run-out and final height, Lube et al.; against a heap poured or
+// released by lifted walls, the line at the sand's angle of repose, the steepest slope on which
+// its flowing layer stops: φ_ps of the cone, Davis's angle of Mohr–Coulomb; against any other
+// deposit, a collapse, a note that its momentum spread it below that angle); and the hand
+// tool's line with what the core reads of
 // it. Every number drawn is the core's (`mpm::measure`, `mpm::laws`).
 
 import { arcAngles, atRepose } from './measure-view.js';
@@ -21,6 +22,13 @@ export const COLLAPSE_NOTE = [
 const INK = '#0b5394';
 const LAW = '#2b8a3e';
 const HAND = '#d81b8c';
+
+/// The name of a heap's angle-of-repose line: the angle, and whose it is (a Mohr–Coulomb
+/// sand's is Davis's angle, below φ).
+export function reposeLabel(d) {
+  const whose = d.model === 'mohr_coulomb' ? 'Mohr–Coulomb (Davis)' : 'Drucker–Prager';
+  return `angle of repose ${d.repose_angle.toFixed(1)}°, ${whose}`;
+}
 
 export class Overlay {
   constructor(canvas) {
@@ -106,10 +114,11 @@ export class Overlay {
     ctx.setLineDash([]);
   }
 
-  /// Each fitted flank: the line, an arc at its foot and the angle; in 2D, on a heap at its
-  /// angle of repose (poured, or released by lifted walls), also the line of the yield
-  /// surface's plane-strain trace from the same foot (φ_ps of a Drucker–Prager cone, φ of
-  /// Mohr–Coulomb), named once per heap (the two names of a narrow heap would overlap). A
+  /// Each fitted flank: the line, an arc at its foot and the angle; on a heap at its angle of
+  /// repose (poured, or released by lifted walls), also the line at the core's angle of
+  /// repose from the same foot (in 3D in the plane of the radial profile: the slope is sheared
+  /// in plane strain in either dimension), named once per heap (the two names of a narrow heap
+  /// would overlap). A
   /// collapse's momentum spreads it below that angle (Lube et al. 2005 found collapses'
   /// run-outs nearly independent of friction): on it, instead, a note above its top says so,
   /// shortened where it would reach far past the heap (to read as that heap's beside another)
@@ -136,17 +145,17 @@ export class Overlay {
       this.label('angle', `${f.angle.toFixed(1)}°`, [A[0] + out * 34, A[1] - 10], INK, out > 0 ? 'left' : 'right');
       tops.push(B);
       feet.push(A);
-      if (laws && dim === 2 && d.plane_strain_angle && repose) {
+      if (laws && d.repose_angle && repose) {
         const run = Math.abs(top[0] - foot[0]) || 0.05;
-        const rise = run * Math.tan((d.plane_strain_angle * Math.PI) / 180);
+        const rise = run * Math.tan((d.repose_angle * Math.PI) / 180);
         const C = at(foot[0] + out * run, foot[1] + rise);
         this.line(A, C, LAW, 2, [6, 4]);
-        const law = d.model === 'mohr_coulomb' ? `φ ${d.plane_strain_angle.toFixed(1)}°, Mohr–Coulomb` : `φ_ps ${d.plane_strain_angle.toFixed(1)}°, plane-strain cone`;
+        const law = reposeLabel(d);
         if (C && !named) this.label('law', law, [(A[0] + C[0]) / 2 - out * 14, (A[1] + C[1]) / 2 - 14], LAW, 'center');
         named ||= !!C;
       }
     });
-    if (laws && dim === 2 && d.plane_strain_angle && !repose && tops.length) {
+    if (laws && d.repose_angle && !repose && tops.length) {
       const x = tops.reduce((s, p) => s + p[0], 0) / tops.length;
       const y = Math.min(...tops.map((p) => p[1]));
       // the whole note where it reaches at most 150 px past the heap's feet

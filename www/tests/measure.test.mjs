@@ -181,7 +181,7 @@ test('the friction-angle lesson asks first, runs on Play, its angle readouts are
   assert.ok(core.length >= 2, `each heap has a fitted flank: ${JSON.stringify(check)}`);
   assert.equal(check.drawn.length, core.length, `one readout per flank: ${JSON.stringify(check)}`);
   check.drawn.forEach((a, i) => assert.ok(Math.abs(a - core[i]) < 1, `readout ${a}° against the core's ${core[i]}°`));
-  assert.ok(check.laws.some((t) => /φ_ps/.test(t)), `the plane-strain line on the heaps: ${check.laws}`);
+  assert.ok(check.laws.some((t) => /^angle of repose/.test(t)), `the angle of repose's line on the heaps: ${check.laws}`);
   assert.deepEqual(check.notes, [], 'released by lifted walls, no collapse');
   // Answered with the readouts: the 40° heap's mean flank less the 20° heap's.
   const mean = (a) => a.reduce((s, x) => s + x, 0) / a.length;
@@ -191,14 +191,14 @@ test('the friction-angle lesson asks first, runs on Play, its angle readouts are
   assert.ok(Math.abs(check.answer.value - (mean(check.framed[1]) - mean(check.framed[0]))) < 2,
     'the answer is the difference of the readouts (of its frame)');
   // The caption gives the set-up, not the result: no angle but the sands' 20° and 40°. The
-  // readouts stand within 3° of the dashed line the caption names, the cone's φ_ps.
+  // readouts stand within 3° of the dashed line the caption names, the cone's angle of repose.
   const caption = await page.textContent('#lesson-caption');
   const quoted = [...caption.matchAll(/([\d.]+)°/g)].map((m) => Number(m[1]));
   assert.deepEqual([...new Set(quoted)].sort(), [20, 40], `the caption quotes only its set-up: ${quoted}`);
-  const psi = await page.evaluate(() => mpm.frame.measures.map((d) => d.plane_strain_angle));
+  const psi = await page.evaluate(() => mpm.frame.measures.map((d) => d.repose_angle));
   for (const b of [0, 1]) {
     const a = mean(check.framed[b]);
-    assert.ok(Math.abs(a - psi[b]) < 3, `heap ${b}: within 3° of φ_ps: ${a.toFixed(1)}° against ${psi[b]}`);
+    assert.ok(Math.abs(a - psi[b]) < 3, `heap ${b}: within 3° of its angle of repose: ${a.toFixed(1)}° against ${psi[b]}`);
   }
   await page.screenshot({ path: join(OUT, 'friction-answered.png') });
   assert.deepEqual(errors, []);
@@ -221,7 +221,7 @@ test('law markers: Lube et al. on the column collapses (plane and axisymmetric),
     if (hash.includes('lesson')) {
       // a collapse: the note over its heap, no plane-strain line
       assert.ok(labels.some((l) => l.kind === 'note' && /^a collapse/.test(l.text)), `${hash}: ${JSON.stringify(labels)}`);
-      assert.ok(!laws.some((t) => /φ_ps/.test(t)), `${hash}: ${laws}`);
+      assert.ok(!laws.some((t) => /angle of repose/.test(t)), `${hash}: ${laws}`);
     }
     const law = await page.evaluate(() => mpm.frame.measures[0].column.law);
     assert.ok(Math.abs(law.aspect_ratio - 2) < 0.15, `a = H0/L0 ≈ 2: ${JSON.stringify(law)}`);

@@ -167,14 +167,12 @@ for (const dim of [2, 3]) {
     const top = (lo, hi) => Math.max(0, ...sand.filter((p) => off(p) >= lo && off(p) < hi).map((p) => p[1]));
     const [peak, flank] = [top(0, 0.08), top(0.2, 0.3)];
     assert.ok(peak > 2 * h && peak > flank + h, `a heap, highest at the axis: ${peak} m, ${flank} m at 0.2–0.3 m`);
-    // Poured, it stands at its angle of repose: in 2D the overlay draws the plane-strain line
-    // against it, named, and no collapse note.
+    // Poured, it stands at its angle of repose: the overlay draws the line at the core's
+    // angle of repose against it (in 3D on the radial profile), named, and no collapse note.
     const marks = await page.evaluate(() => ({ labels: mpm.overlay.labels, poured: mpm.frame.measures.map((d) => d.poured) }));
     assert.deepEqual(marks.poured, [true], 'the sand poured says so');
-    if (dim === 2) {
-      assert.ok(marks.labels.some((l) => l.kind === 'law' && /^φ_ps [\d.]+°, plane-strain cone$/.test(l.text)), JSON.stringify(marks.labels));
-      assert.ok(!marks.labels.some((l) => l.kind === 'note'), JSON.stringify(marks.labels));
-    }
+    assert.ok(marks.labels.some((l) => l.kind === 'law' && /^angle of repose [\d.]+°, Drucker–Prager$/.test(l.text)), JSON.stringify(marks.labels));
+    assert.ok(!marks.labels.some((l) => l.kind === 'note'), JSON.stringify(marks.labels));
     assert.deepEqual(errors, [], 'no page error');
     await page.close();
 

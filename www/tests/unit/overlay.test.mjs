@@ -43,7 +43,7 @@ const heap = ({ x = 1.0, run = 0.15, rise = 0.09, poured = false, held = false, 
   held,
   model,
   friction_angle: 35,
-  plane_strain_angle: 33.0,
+  repose_angle: 33.0,
   column: null,
 });
 
@@ -79,10 +79,10 @@ test('a heap stands at its angle of repose when it was poured or released by lif
 test('2D: a poured heap gets the law line named, no note; a collapse the note, no law line', () => {
   const poured = drawn([heap({ poured: true })]);
   assert.deepEqual(kinds(poured, 'angle'), ['31.0°', '32.0°']);
-  assert.deepEqual(kinds(poured, 'law'), ['φ_ps 33.0°, plane-strain cone']);
+  assert.deepEqual(kinds(poured, 'law'), ['angle of repose 33.0°, Drucker–Prager']);
   assert.deepEqual(kinds(poured, 'note'), []);
   const mc = drawn([heap({ held: true, model: 'mohr_coulomb' })]);
-  assert.deepEqual(kinds(mc, 'law'), ['φ 33.0°, Mohr–Coulomb'], 'released by lifted walls: the line too');
+  assert.deepEqual(kinds(mc, 'law'), ['angle of repose 33.0°, Mohr–Coulomb (Davis)'], 'released by lifted walls: the line too');
   const dropped = drawn([heap({ run: 0.5 })]);
   assert.deepEqual(kinds(dropped, 'angle'), ['31.0°', '32.0°'], 'its flanks are still read');
   assert.deepEqual(kinds(dropped, 'law'), []);
@@ -95,9 +95,15 @@ test('2D: a poured heap gets the law line named, no note; a collapse the note, n
   assert.deepEqual(clashes(dropped, 1200, 500), []);
 });
 
-test('no note or line with the readouts\' laws off, in 3D, or on a deposit with no flank fitted', () => {
+test('3D as 2D: the line on the radial profile of a poured cone, the note on a collapse', () => {
+  assert.deepEqual(kinds(drawn([heap({ poured: true })], { dim: 3 }), 'law'), ['angle of repose 33.0°, Drucker–Prager']);
+  assert.deepEqual(kinds(drawn([heap({ poured: true })], { dim: 3 }), 'note'), []);
+  assert.deepEqual(kinds(drawn([heap()], { dim: 3 }), 'law'), []);
+  assert.deepEqual(kinds(drawn([heap({ run: 0.5 })], { dim: 3 }), 'note'), [COLLAPSE_NOTE[0]]);
+});
+
+test('no note or line with the readouts\' laws off, or on a deposit with no flank fitted', () => {
   assert.deepEqual(drawn([heap()], { laws: false }).filter((l) => l.kind !== 'angle'), []);
-  assert.deepEqual(drawn([heap()], { dim: 3 }).filter((l) => l.kind !== 'angle'), []);
   const flat = heap();
   flat.heap.flanks = [null, null];
   assert.deepEqual(drawn([flat]), []);
