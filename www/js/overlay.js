@@ -16,7 +16,7 @@ import { arcAngles, atRepose } from './measure-view.js';
 export const COLLAPSE_NOTE = [
   'a collapse: spread by its momentum, below the angle of repose — pour to measure it',
   'a collapse: spread below the angle of repose — pour to measure it',
-  'a collapse, spread below the angle of repose',
+  'a collapse: pour to measure the angle of repose',
 ];
 
 const INK = '#0b5394';

@@ -118,6 +118,7 @@ test('the note is whole on a phone\'s view and clear of the flank angles, howeve
   // the whole note over a heap as wide; over a narrow one, or on a phone, a shorter one
   assert.equal(kinds(drawn([heap({ run: 0.5 })], { w: 1200 }), 'note')[0], COLLAPSE_NOTE[0]);
   assert.equal(kinds(drawn([heap({ run: 0.5 })], { w: 360 }), 'note')[0], COLLAPSE_NOTE[2]);
+  for (const note of COLLAPSE_NOTE) assert.match(note, /^a collapse.*pour to measure/, 'every form names the act that measures it');
   const narrow = kinds(drawn([heap({ run: 0.1 })], { w: 1200 }), 'note')[0];
   assert.equal(narrow, COLLAPSE_NOTE[1], 'the pour still named over a narrow heap');
   // A flat deposit puts the note's first place on its angles: it moves clear of them.
