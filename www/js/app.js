@@ -111,8 +111,8 @@ export class App {
       return this.loadScene(session, this.fallBack(e.message, ignored));
     }
     if (token !== this.loadToken) return; // a later choice overtook this one
-    // A lesson that asks first starts paused: not a step before Play.
-    const out = await this.session.load(source, session, this.view.dim, false, lesson?.question ? false : undefined);
+    // A lesson starts paused: not a step before the reader presses Play.
+    const out = await this.session.load(source, session, this.view.dim, false, lesson ? false : undefined);
     if (token !== this.loadToken) return; // a later choice is loading; it shows itself
     if (out.invalid) {
       // The host shows the sandbox meanwhile; the default scene follows unless it was this one.
@@ -196,8 +196,8 @@ export class App {
     const model = (lv.params ?? []).map((n) => (bodyParam(n)?.name ?? n).split('.')).find((p) => p.length === 2)?.[0];
     if (lesson && model) this.view.material = model;
     this.restarted();
-    // A lesson that asks first waits for Play from its first frame.
-    if (lesson?.question) this.playing = false;
+    // A lesson waits for Play from its first frame.
+    if (lesson) this.playing = false;
     this.session.timeScale(Number(this.view.time));
     this.session.sleeping(this.view.sleep !== '0');
     this.session.colour(this.view.colour);
@@ -486,9 +486,9 @@ export class App {
 
   /// Restarts the scene with the current parameters; the drops and a Clear are forgotten.
   async reset() {
-    // A lesson that asks first starts again paused, its question asked again.
-    if (this.lesson?.question) this.playing = false;
-    const error = await this.session.reset(this.lesson?.question ? false : undefined);
+    // A lesson starts again paused, its question (if any) asked again.
+    if (this.lesson) this.playing = false;
+    const error = await this.session.reset(this.lesson ? false : undefined);
     if (error) toast(error);
     this.restarted();
     this.updateHash();

@@ -1,5 +1,17 @@
 // Colour maps shared by the renderers and the legend.
 
+/// The legend's names of `bodies` (each `{name}`): its name, or `body N` without one; a
+/// name already used gets its count (`bunny`, `bunny 2`), so that no two entries read alike.
+export function bodyNames(bodies) {
+  const seen = new Map();
+  return bodies.map((b, i) => {
+    const name = b.name || `body ${i + 1}`;
+    const n = (seen.get(name) ?? 0) + 1;
+    seen.set(name, n);
+    return n === 1 ? name : `${name} ${n}`;
+  });
+}
+
 /// Categorical colours of bodies (by index, repeating).
 export const BODY_COLOURS = [
   [0.89, 0.64, 0.27], // sand

@@ -1,7 +1,7 @@
 // What the page tells the user over the view: the HUD of figures, the colour legend, banners
 // (warnings that stay while they hold) and toasts (messages that fade).
 
-import { BODY_COLOURS, SLEEP_COLOUR, YIELD_COLOURS, YIELD_LABELS, css, viridis } from './colours.js';
+import { BODY_COLOURS, SLEEP_COLOUR, YIELD_COLOURS, YIELD_LABELS, bodyNames, css, viridis } from './colours.js';
 import { format, formatTime } from './params.js';
 import { el } from './widgets.js';
 import { accuracyNote, pct, speedWords } from './measure-view.js';
@@ -124,8 +124,9 @@ export function hudRows(st, d, { particles, asleep = 0, playing, stableDt, time,
 export function legend(mode, scene, range) {
   const box = $('legend');
   if (mode === 'body') {
+    const names = bodyNames(scene.bodies);
     box.replaceChildren(...scene.bodies.slice(0, 8).map((b, i) =>
-      el('span', { class: 'sw' }, el('i', { style: `background:${css(BODY_COLOURS[i % BODY_COLOURS.length])}` }), b.name || `body ${i + 1}`)));
+      el('span', { class: 'sw' }, el('i', { style: `background:${css(BODY_COLOURS[i % BODY_COLOURS.length])}` }), names[i])));
     if (!scene.bodies.length) box.textContent = 'no bodies yet: drop one';
     return;
   }

@@ -4,7 +4,8 @@
 
 /// Round tick values covering [lo, hi], about `n` of them (steps of 1, 2 or 5 × 10^k).
 export function ticks(lo, hi, n = 4) {
-  const span = hi - lo || 1;
+  // a range of round-off width (an empty plot's) is read as none: ticks a unit apart
+  const span = Math.abs(hi - lo) > 1e-12 ? hi - lo : 1;
   const raw = span / n;
   const p = 10 ** Math.floor(Math.log10(raw));
   const step = [1, 2, 5, 10].map((m) => m * p).find((s) => s >= raw);

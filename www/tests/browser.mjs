@@ -33,10 +33,10 @@ export async function openPage(context, url, init, level = LEVEL_LIVE) {
   if (level) await page.addInitScript(level);
   if (init) await page.addInitScript(init);
   await page.goto(url);
-  // A lesson that asks before it shows waits paused for Play (a soil-lab lesson for Run, in
-  // the Lab): its first frame is enough.
+  // A lesson waits paused for Play (a soil-lab lesson for Run, in the Lab): its first frame
+  // is enough.
   await page.waitForFunction(() => window.mpm?.sim && (window.mpm.stats.frames > 5
-    || ((window.mpm.lessonPanel.question || window.mpmLab?.lessonRun) && !window.mpm.playing
+    || ((window.mpm.lesson || window.mpmLab?.lessonRun) && !window.mpm.playing
       && window.mpm.stats.frames > 0)), null, { timeout: 60_000 });
   return { page, errors, warnings };
 }

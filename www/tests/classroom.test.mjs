@@ -91,8 +91,10 @@ test('every lesson opens from its link, shows its caption and sliders in its vie
     const scene = await page.evaluate(() => mpm.sim.scene);
     assert.equal(scene.dim, typeof lesson.scene === 'object' ? lesson.scene.dim : scene.dim);
     if (typeof lesson.scene === 'object') assert.equal(scene.bodies.length, lesson.scene.bodies.length, what);
-    // A lesson with a question waits for Play (predict, then run).
-    if (lesson.question) await page.click('#play');
+    // Every lesson waits for Play: not a step before the reader starts it.
+    await page.waitForTimeout(300);
+    assert.deepEqual(await page.evaluate(() => [mpm.playing, mpm.simTime]), [false, 0], `${what}: opens paused`);
+    await page.click('#play');
     const t0 = await page.evaluate(() => mpm.simTime);
     await advanced(page, t0, 0.05);
     const s = await page.evaluate(() => ({ failure: mpm.sim.failure, hash: location.hash }));

@@ -31,6 +31,13 @@ after(async () => {
 
 const open = (hash = '') => openPage(browser.context, URL_ROOT + hash);
 
+/// Every lesson opens, and starts again, paused: Reset, then Play once it has paused.
+const resetAndPlay = async (page) => {
+  await page.click('#reset');
+  await page.waitForFunction(() => !mpm.playing, null, { timeout: 10_000 });
+  await page.click('#play');
+};
+
 const rectOf = (page, selector) => page.evaluate((s) => {
   const r = document.querySelector(s)?.getBoundingClientRect();
   return r && r.width > 0 && r.height > 0 ? { x: r.x, y: r.y, width: r.width, height: r.height } : null;
@@ -264,6 +271,11 @@ test('the hand tool measures a dragged length and angle with the core', async ()
 test('an inspected sand particle gets its Mohr circles: one in plane strain, three in 3D, with the Mohr–Coulomb envelope', async () => {
   for (const [hash, dim] of [['#lesson=stress_path', 2], ['#scene=column_collapse&dim=3', 3]]) {
     const { page, errors } = await open(hash);
+    if (hash.includes('lesson')) {
+      // a lesson waits for Play
+      await page.waitForFunction(() => mpm.lesson?.id === 'stress_path' && !mpm.playing, null, { timeout: 30_000 });
+      await page.click('#play');
+    }
     if ((await page.getAttribute('#toggle-plots', 'aria-pressed')) === 'false') await page.click('#toggle-plots');
     if (dim === 3) {
       await page.evaluate(async () => mpm.setProbe(await mpm.session.pick([0.5, 0.05, 0.5])));
@@ -298,6 +310,7 @@ test('an inspected Mohr–Coulomb particle gets its own envelope, at its frictio
 test('the stress-path lesson\'s caption against the page: on the cone while it flows, inside it at rest at the q/p it quotes', async () => {
   const { page, errors } = await open('#lesson=stress_path');
   await page.waitForFunction(() => mpm.lesson?.id === 'stress_path' && mpm.probeId !== null, null, { timeout: 30_000 });
+  assert.equal(await page.evaluate(() => mpm.playing), false, 'the lesson waits for Play');
   const caption = await page.textContent('#lesson-caption');
   const [qp, cone] = /to q\/p ≈ ([\d.]+) against the cone's ([\d.]+)/.exec(caption).slice(1).map(Number);
   // follow the inspected particle's stress as the page receives it, to rest
@@ -306,6 +319,7 @@ test('the stress-path lesson\'s caption against the page: on the cone while it f
     const push = mpm.stressPlot.push.bind(mpm.stressPlot);
     mpm.stressPlot.push = (sp) => { window.path.push({ t: mpm.simTime, p: sp.p, q: sp.q, slope: sp.surface.slope, intercept: sp.surface.intercept }); push(sp); };
   });
+  await page.click('#play');
   await page.waitForFunction(() => mpm.simTime > 2, null, { timeout: 180_000 });
   const path = await page.evaluate(() => window.path);
   const onCone = (s) => s.q >= 0.98 * (s.slope * s.p + s.intercept);
@@ -395,7 +409,7 @@ test('the yield-stress lesson\'s caption against the page: σy, Hy, the columns\
   assert.ok(heights[0] < hy && heights[1] > hy, 'one below its yield height, one above');
   const duration = await page.evaluate(() => mpm.lesson.duration);
   await trackBodies(page);
-  await page.click('#reset');
+  await resetAndPlay(page);
   let track = await trackedTo(page, duration);
   const [first, last] = [track[0].bodies, track.at(-1).bodies];
   const h = (b, f) => f[b].y[1], w = (b, f) => span(f[b].x);
@@ -410,7 +424,7 @@ test('the yield-stress lesson\'s caption against the page: σy, Hy, the columns\
   await page.waitForFunction((v) => mpm.sim.scene.bodies.every((b) => b.material.von_mises.yield_stress === v), lowered, { timeout: 10_000 });
   assert.ok(heights[0] > (2 * lowered) / (Math.sqrt(3) * clay[0].density * g), 'at 2 kPa the left column is above its yield height');
   const starts = await page.evaluate(() => window.starts);
-  await page.click('#reset');
+  await resetAndPlay(page);
   await page.waitForFunction((n) => window.starts > n, starts, { timeout: 30_000 });
   track = await trackedTo(page, duration);
   const [a, z] = [track[0].bodies, track.at(-1).bodies];
@@ -430,7 +444,7 @@ test('the PIC/FLIP lesson\'s caption against the page: α of each pair, the boun
   assert.deepEqual(scene.bodies.slice(2).map((b) => b.apic), [false, false], 'the sand on the paper\'s plain blend, as the caption says');
   const duration = await page.evaluate(() => mpm.lesson.duration);
   await trackBodies(page);
-  await page.click('#reset');
+  await resetAndPlay(page);
   const track = await trackedTo(page, duration);
   const rise = rebounds(track);
   const [s0, s1] = [track[0].bodies, track.at(-1).bodies];
@@ -450,7 +464,7 @@ test('the three-bunnies lesson\'s caption against the page: one height, the elas
   const kinds = await page.evaluate(() => mpm.sim.scene.bodies.map((b) => Object.keys(b.material)[0]));
   assert.deepEqual(kinds, ['elastic', 'von_mises', 'drucker_prager'], 'left to right: elastic, von Mises clay, sand');
   await trackBodies(page);
-  await page.click('#reset');
+  await resetAndPlay(page);
   const track = await trackedTo(page, duration);
   const [b0, b1] = [track[0].bodies, track.at(-1).bodies];
   const lows = b0.map((b) => b.y[0]);

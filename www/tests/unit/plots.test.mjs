@@ -8,6 +8,9 @@ test('ticks are round numbers covering the range', () => {
   assert.deepEqual(ticks(0, 10), [0, 5, 10]);
   assert.deepEqual(ticks(-3, 7), [0, 5]);
   assert.deepEqual(ticks(-3, 5), [-2, 0, 2, 4]);
+  // an empty plot's range of round-off width: no tick like 1e-15
+  assert.deepEqual(ticks(-1e-15, 1e-15), [0]);
+  assert.deepEqual(ticks(0, 4e-16), [0]);
   assert.deepEqual(ticks(0.1, 0.3), [0.1, 0.15, 0.2, 0.25, 0.3]);
   assert.deepEqual(ticks(5, 5), [5]);
   for (const [lo, hi] of [[0, 1], [-1e5, 3e5], [0.001, 0.0042]]) {
