@@ -1030,8 +1030,8 @@ mod tests {
 
     /// Every granular model's heap is measured, whatever the model (the registration's
     /// presets, asked only their behaviour): a 2D wedge with flanks at 30° reads 30° on both
-    /// sides, has run out nowhere, and carries the plane-strain line of its own yield surface
-    /// (the cone's φ_ps, Mohr–Coulomb's φ); a solid body beside it is not measured.
+    /// sides, has run out nowhere, and carries the angle of repose of its own yield surface
+    /// (the cone's φ_ps, Mohr–Coulomb's Davis angle); a solid body beside it is not measured.
     #[test]
     fn every_granular_model_gets_its_heap_measured() {
         use crate::{BodyConfig, D2, Shape};
