@@ -178,10 +178,11 @@ async function assertFreshLesson(page, lesson, what) {
   const at = `${lesson.id} after ${what}: ${JSON.stringify(s)}`;
   assert.equal(s.id, lesson.id, at);
   assert.ok(s.frameGeneration === null || s.frameGeneration === s.generation, `the frame shown is the lesson's: ${at}`);
+  // every lesson waits for Play at its start
+  assert.equal(s.playing, false, `waits for Play: ${at}`);
+  assert.ok(s.time < 0.05, `at its start: ${at}`);
   if (lesson.question) {
     assert.equal(s.answer, null, `not judged: ${at}`);
-    assert.equal(s.playing, false, `waits for Play: ${at}`);
-    assert.ok(s.time < 0.05, `at its start: ${at}`);
     assert.equal(s.marked, 0, `no choice marked: ${at}`);
     assert.match(s.verdict, /^Predict first/, at);
   }
@@ -223,10 +224,8 @@ test('a lesson opened from the menu after any shipped scene or lesson starts unj
   await page.selectOption('#lessons', previous.id);
   await page.waitForFunction((id) => mpm.lesson?.id === id, previous.id, { timeout: 30_000 });
   for (const lesson of LESSONS) {
-    if (previous.question) {
-      await page.click('#lesson-question [data-choice="0"]');
-      await page.click('#play');
-    }
+    if (previous.question) await page.click('#lesson-question [data-choice="0"]');
+    await page.click('#play');
     await page.waitForFunction(() => mpm.simTime > 0.3, null, { timeout: 60_000 });
     await page.selectOption('#lessons', lesson.id);
     await page.waitForFunction((id) => mpm.lesson?.id === id && mpm.simTime < 0.3, lesson.id, { timeout: 30_000 });

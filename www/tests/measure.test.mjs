@@ -134,6 +134,14 @@ for (const l of LAYOUTS) {
         assert.ok(scene.y >= 0 && scene.y + scene.height <= l.height + 1, `${what}: the scene ${JSON.stringify(scene)} on the first screen`);
         assert.ok(await rectOf(page, '.panel.plots'), `${what}: the plots are shown`);
       }
+      // the header's checkbox keeps its words on a phone too (behind More)
+      if (await page.isVisible('#more')) await page.click('#more');
+      assert.ok(await page.isVisible('label:has(#sleeping) .label'), `${hash}: “Sleep at rest” named beside its box`);
+      if (await page.isVisible('#more')) await page.click('#more');
+      // every choice shows its whole label (“Mohr–Coulomb” among the materials)
+      const clipped = await page.$$eval('.segmented button', (bs) => bs.filter((b) => b.offsetParent
+        && (b.scrollWidth > b.clientWidth + 1 || b.scrollHeight > b.clientHeight + 1)).map((b) => b.textContent));
+      assert.deepEqual(clipped, [], `${hash}: labels cut off`);
       await page.screenshot({ path: join(OUT, `layout-${l.width}x${l.height}-${hash.replace(/\W+/g, '-').replace(/^-/, '')}.png`) });
       assert.deepEqual(errors, []);
       await page.close();
@@ -372,10 +380,11 @@ const trackBodies = (page) => page.evaluate(() => {
   loop();
 });
 
-/// The tracked frames once the page has run to `duration` from a start (a Reset).
-const trackedTo = async (page, duration) => {
-  await page.waitForFunction((d) => window.starts > 0 && window.track.length > 2 && window.track[0].t < 0.1 && window.track.at(-1).t >= d - 1e-6,
-    duration, { timeout: 600_000 });
+/// The tracked frames once the page has run to `duration` from a start: after `starts` Resets
+/// (0: the run the lesson opened paused for).
+const trackedTo = async (page, duration, starts = 1) => {
+  await page.waitForFunction(([d, n]) => window.starts >= n && window.track.length > 2 && window.track[0].t < 0.1 && window.track.at(-1).t >= d - 1e-6,
+    [duration, starts], { timeout: 600_000 });
   return page.evaluate(() => window.track);
 };
 
@@ -409,8 +418,8 @@ test('the yield-stress lesson\'s caption against the page: σy, Hy, the columns\
   assert.ok(heights[0] < hy && heights[1] > hy, 'one below its yield height, one above');
   const duration = await page.evaluate(() => mpm.lesson.duration);
   await trackBodies(page);
-  await resetAndPlay(page);
-  let track = await trackedTo(page, duration);
+  await page.click('#play'); // the lesson opened paused at t = 0: its first run
+  let track = await trackedTo(page, duration, 0);
   const [first, last] = [track[0].bodies, track.at(-1).bodies];
   const h = (b, f) => f[b].y[1], w = (b, f) => span(f[b].x);
   console.log(`columns: heights ${[0, 1].map((b) => `${h(b, first).toFixed(3)} → ${h(b, last).toFixed(3)}`)} m, widths ${[0, 1].map((b) => `${w(b, first).toFixed(3)} → ${w(b, last).toFixed(3)}`)} m`);
@@ -444,8 +453,8 @@ test('the PIC/FLIP lesson\'s caption against the page: α of each pair, the boun
   assert.deepEqual(scene.bodies.slice(2).map((b) => b.apic), [false, false], 'the sand on the paper\'s plain blend, as the caption says');
   const duration = await page.evaluate(() => mpm.lesson.duration);
   await trackBodies(page);
-  await resetAndPlay(page);
-  const track = await trackedTo(page, duration);
+  await page.click('#play'); // the lesson opened paused at t = 0: its first run
+  const track = await trackedTo(page, duration, 0);
   const rise = rebounds(track);
   const [s0, s1] = [track[0].bodies, track.at(-1).bodies];
   // Each sand column's run-out beyond its outer edge: PIC's to the right, FLIP's to the left.
@@ -464,8 +473,8 @@ test('the three-bunnies lesson\'s caption against the page: one height, the elas
   const kinds = await page.evaluate(() => mpm.sim.scene.bodies.map((b) => Object.keys(b.material)[0]));
   assert.deepEqual(kinds, ['elastic', 'von_mises', 'drucker_prager'], 'left to right: elastic, von Mises clay, sand');
   await trackBodies(page);
-  await resetAndPlay(page);
-  const track = await trackedTo(page, duration);
+  await page.click('#play'); // the lesson opened paused at t = 0: its first run
+  const track = await trackedTo(page, duration, 0);
   const [b0, b1] = [track[0].bodies, track.at(-1).bodies];
   const lows = b0.map((b) => b.y[0]);
   assert.ok(Math.max(...lows) - Math.min(...lows) < 0.01, `from the same height: ${lows}`);
