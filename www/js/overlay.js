@@ -6,7 +6,7 @@
 // their source (a column's run-out and final height, Lube et al.; against a heap poured or
 // released by lifted walls, the line at the sand's angle of repose, the steepest slope on which
 // its flowing layer stops: φ_ps of the cone, Davis's angle of Mohr–Coulomb; against any other
-// deposit, a collapse, a note that its momentum spread it below that angle); and the hand
+// 2D deposit, a collapse, a note that its momentum spread it below that angle); and the hand
 // tool's line with what the core reads of
 // it. Every number drawn is the core's (`mpm::measure`, `mpm::laws`).
 
@@ -118,11 +118,10 @@ export class Overlay {
   /// repose (poured, or released by lifted walls), also the line at the core's angle of
   /// repose from the same foot (in 3D in the plane of the radial profile: the slope is sheared
   /// in plane strain in either dimension), named once per heap (the two names of a narrow heap
-  /// would overlap). A
-  /// collapse's momentum spreads it below that angle (Lube et al. 2005 found collapses'
-  /// run-outs nearly independent of friction): on it, instead, a note above its top says so,
-  /// shortened where it would reach far past the heap (to read as that heap's beside another)
-  /// or the view is narrow.
+  /// would overlap). A collapse's momentum spreads it below that angle (Lube et al. 2005 found
+  /// collapses' run-outs nearly independent of friction): on a 2D collapse, instead, a note
+  /// above its top says so, shortened where it would reach far past the heap (to read as that
+  /// heap's beside another) or the view is narrow.
   flanks(d, dim, at, laws) {
     let named = false;
     const repose = atRepose(d);
@@ -155,7 +154,9 @@ export class Overlay {
         named ||= !!C;
       }
     });
-    if (laws && d.repose_angle && !repose && tops.length) {
+    // (in 2D only: over a 3D heap's axis the note would cover what rests on it, the bunny of
+    // the page's first view)
+    if (laws && dim === 2 && d.repose_angle && !repose && tops.length) {
       const x = tops.reduce((s, p) => s + p[0], 0) / tops.length;
       const y = Math.min(...tops.map((p) => p[1]));
       // the whole note where it reaches at most 150 px past the heap's feet
