@@ -587,7 +587,7 @@ fn the_summary_measures_a_collapsing_column() {
 
 /// The summary measures sand by its behaviour, not its model: the same column of
 /// Mohr–Coulomb sand collapses and gets its deposit too (run-outs on both sides, two flanks,
-/// lower), with the plane-strain line of its own envelope, φ.
+/// lower), with its own angle of repose, Davis's angle below φ.
 #[test]
 fn the_summary_measures_a_mohr_coulomb_column() {
     let dir = column_dir();
@@ -607,7 +607,9 @@ fn the_summary_measures_a_mohr_coulomb_column() {
     let end = &deposits[0];
     let f = |v: &serde_json::Value| v.as_f64().unwrap();
     assert_eq!(end["model"], "mohr_coulomb");
-    assert_eq!(f(&end["plane_strain_angle"]), 35.0, "{end}");
+    // its angle of repose: Davis's atan(sin φ) for ψ = 0, 29.8° for φ = 35°
+    let davis = 35f64.to_radians().sin().atan().to_degrees();
+    assert!((f(&end["repose_angle"]) - davis).abs() < 1e-9, "{end}");
     for side in 0..2 {
         let r = f(&end["runout"]["runout"][side]);
         assert!(r > 0.05, "run-out {r}: {end}");
