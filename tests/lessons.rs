@@ -48,6 +48,21 @@ fn run(pg: &mut Playground, duration: f64, mut each: impl FnMut(&Playground)) {
     }
 }
 
+/// Runs `pg` for `duration` (s) and returns, for each of its first `N` bodies, how far its
+/// centre of mass rose after its lowest point (m).
+fn run_to_rebounds<const N: usize>(pg: &mut Playground, duration: f64) -> [f64; N] {
+    let mut lowest = [f64::INFINITY; N];
+    let mut rebound = [0.0f64; N];
+    run(pg, duration, |pg| {
+        for b in 0..N {
+            let y = pg.simulation().body_stats()[b].center_of_mass[1];
+            lowest[b] = lowest[b].min(y);
+            rebound[b] = rebound[b].max(y - lowest[b]);
+        }
+    });
+    rebound
+}
+
 fn extent(p: &[[f64; 3]], a: usize) -> (f64, f64) {
     p.iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), q| {
@@ -311,16 +326,7 @@ fn flip_keeps_the_energy_that_pic_loses() {
     let (lesson, scene) = load("pic_flip.json");
     for q in &mpm::playground::QUALITIES {
         let mut pg = Playground::with_quality(scene.clone(), q).unwrap();
-        // The lowest point of each bunny, and how far it rose after it.
-        let mut lowest = [f64::INFINITY; 2];
-        let mut rebound = [0.0f64; 2];
-        run(&mut pg, lesson.duration, |pg| {
-            for b in 0..2 {
-                let y = pg.simulation().body_stats()[b].center_of_mass[1];
-                lowest[b] = lowest[b].min(y);
-                rebound[b] = rebound[b].max(y - lowest[b]);
-            }
-        });
+        let rebound: [f64; 2] = run_to_rebounds(&mut pg, lesson.duration);
         let sim = pg.simulation();
         let pic_runout = extent(&positions(sim, 2), 0).1 - 0.15;
         let flip_runout = 2.25 - extent(&positions(sim, 3), 0).0;
@@ -346,15 +352,7 @@ fn elastic_plastic_and_granular_bunnies_differ() {
     let (lesson, scene) = load("three_bunnies.json");
     let mut pg = Playground::new(scene).unwrap();
     let before: Vec<_> = (0..3).map(|b| positions(pg.simulation(), b)).collect();
-    let mut lowest = [f64::INFINITY; 3];
-    let mut rebound = [0.0f64; 3];
-    run(&mut pg, lesson.duration, |pg| {
-        for b in 0..3 {
-            let y = pg.simulation().body_stats()[b].center_of_mass[1];
-            lowest[b] = lowest[b].min(y);
-            rebound[b] = rebound[b].max(y - lowest[b]);
-        }
-    });
+    let rebound: [f64; 3] = run_to_rebounds(&mut pg, lesson.duration);
     let mut height = [0.0; 3];
     let mut width = [0.0; 3];
     for b in 0..3 {

@@ -637,20 +637,26 @@ fn poured_heap(model: &str, phi: f64) -> (f64, f64) {
     (angle, d[0].repose_angle)
 }
 
+/// The heaps of `model` poured at φ = 20° and 40° (each its mean flank and its angle of
+/// repose), each asserted within [reference − 4°, reference + 1°].
+fn poured_at_20_and_40(model: &str) -> [(f64, f64); 2] {
+    let heaps = [20.0, 40.0].map(|phi| poured_heap(model, phi));
+    for (angle, reference) in heaps {
+        assert!(
+            (reference - 4.0..=reference + 1.0).contains(&angle),
+            "{model}: flanks {angle:.1}° against its angle of repose {reference:.1}°"
+        );
+    }
+    heaps
+}
+
 /// The angle of repose as it is measured, by pouring: the heap poured in the page's 2D scene
 /// stands at the angle of repose of its cone, φ_ps (sin φ_ps = 3 α_φ), the mean of its
 /// flanks within [φ_ps − 4°, φ_ps + 1°] at φ = 20° and 40°, and raising φ from 20° to 40°
 /// raises it by at least 14° (φ_ps rises by 17.5°).
 #[test]
 fn a_poured_heap_stands_at_the_plane_strain_angle_and_follows_phi() {
-    let (low, low_ps) = poured_heap("drucker_prager", 20.0);
-    let (high, high_ps) = poured_heap("drucker_prager", 40.0);
-    for (angle, ps) in [(low, low_ps), (high, high_ps)] {
-        assert!(
-            (ps - 4.0..=ps + 1.0).contains(&angle),
-            "flanks {angle:.1}° against φ_ps {ps:.1}°"
-        );
-    }
+    let [(low, _), (high, _)] = poured_at_20_and_40("drucker_prager");
     assert!(high - low >= 14.0, "{low:.1}° → {high:.1}°");
 }
 
@@ -660,14 +666,7 @@ fn a_poured_heap_stands_at_the_plane_strain_angle_and_follows_phi() {
 /// as much as it raises φ_d (13.8°), within 2°.
 #[test]
 fn a_poured_mohr_coulomb_heap_stands_at_davis_s_angle() {
-    let (low, low_d) = poured_heap("mohr_coulomb", 20.0);
-    let (high, high_d) = poured_heap("mohr_coulomb", 40.0);
-    for (angle, d) in [(low, low_d), (high, high_d)] {
-        assert!(
-            (d - 4.0..=d + 1.0).contains(&angle),
-            "flanks {angle:.1}° against Davis's {d:.1}°"
-        );
-    }
+    let [(low, low_d), (high, high_d)] = poured_at_20_and_40("mohr_coulomb");
     let (rise, expect) = (high - low, high_d - low_d);
     assert!(
         (rise - expect).abs() <= 2.0,

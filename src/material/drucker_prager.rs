@@ -167,13 +167,14 @@ impl FrictionMatch {
     /// α (see [`FrictionMatch`]), so it stops at atan(3 α): atan(sin φ_ps) for Eq. 13's cone,
     /// φ for the steady-flow match, φ_ps for the start–stop match.
     pub fn repose_angle(self, phi_deg: f64) -> f64 {
-        let three_alpha = match self {
-            FrictionMatch::PlaneStrain | FrictionMatch::SteadyFlow => {
-                3.0 * self.alpha(phi_deg.to_radians().tan())
-            }
-            FrictionMatch::StartStop => plane_strain_angle(phi_deg).to_radians().tan(),
-        };
-        three_alpha.atan().to_degrees()
+        match self {
+            FrictionMatch::PlaneStrain | FrictionMatch::SteadyFlow => (3.0
+                * self.alpha(phi_deg.to_radians().tan()))
+            .atan()
+            .to_degrees(),
+            // 3 α_f = tan φ_ps
+            FrictionMatch::StartStop => plane_strain_angle(phi_deg),
+        }
     }
 
     /// The largest friction angle the match accepts (degrees, excluded): Eq. 13 takes any
