@@ -42,6 +42,14 @@ pub enum Shape {
         #[serde(default)]
         axis: Axis,
     },
+    /// An upright solid cone (a heap): its base a disc of `radius` on the horizontal plane
+    /// through `base`, its apex `height` above the base's centre. In a 2D scene it is its
+    /// section through the x–y plane: a triangle 2·radius wide and `height` tall.
+    Cone {
+        base: Vec<f64>,
+        radius: f64,
+        height: f64,
+    },
     /// A closed triangle mesh from a Wavefront OBJ file (3D only), placed by
     /// `world = translate + R · (scale ⊙ v)`, with R the rotation by `rotate_deg` = [x, y, z]
     /// degrees about the fixed x, then y, then z axes. `path` is relative to the scene file.
@@ -372,6 +380,14 @@ impl Shape {
             axis,
         }
     }
+    /// An upright cone, its base's centre at `base`.
+    pub fn cone(base: &[f64], radius: f64, height: f64) -> Shape {
+        Shape::Cone {
+            base: base.to_vec(),
+            radius,
+            height,
+        }
+    }
     /// A mesh read from `path` (relative to the scene file) when the scene's assets are
     /// resolved, scaled by `scale`, then moved by `translate`.
     pub fn mesh(path: &str, scale: f64, translate: &[f64]) -> Shape {
@@ -422,6 +438,7 @@ impl Shape {
             Shape::Box { .. } => "box",
             Shape::Ball { .. } => "ball",
             Shape::Cylinder { .. } => "cylinder",
+            Shape::Cone { .. } => "cone",
             Shape::Mesh { .. } => "mesh",
             Shape::Polygon { .. } => "polygon",
             Shape::Points { .. } => "points",
@@ -515,6 +532,15 @@ impl Shape {
                     ));
                 }
                 Ok(())
+            }
+            Shape::Cone {
+                base,
+                radius,
+                height,
+            } => {
+                check_vector(&format!("{path}.cone.base"), base, dim, "m")?;
+                check_positive(format!("{path}.cone.radius"), *radius, "m")?;
+                check_positive(format!("{path}.cone.height"), *height, "m")
             }
             Shape::Mesh {
                 path: file,
@@ -701,6 +727,22 @@ impl Shape {
                 Aabb {
                     min: std::array::from_fn(|a| if a < dim { c[a] - half(a) } else { 0.0 }),
                     max: std::array::from_fn(|a| if a < dim { c[a] + half(a) } else { 0.0 }),
+                }
+            }
+            Shape::Cone {
+                base,
+                radius,
+                height,
+            } => {
+                let b = vec3(base);
+                let span = |a: usize, side: f64| match a {
+                    1 => b[1] + if side > 0.0 { *height } else { 0.0 },
+                    _ if a < dim => b[a] + side * radius,
+                    _ => 0.0,
+                };
+                Aabb {
+                    min: std::array::from_fn(|a| span(a, -1.0)),
+                    max: std::array::from_fn(|a| span(a, 1.0)),
                 }
             }
             Shape::Mesh { loaded, .. } => {
@@ -1048,6 +1090,11 @@ enum Node<'a> {
         half: f64,
         axis: usize,
     },
+    Cone {
+        base: [f64; 3],
+        radius: f64,
+        height: f64,
+    },
     Mesh {
         mesh: &'a TriMesh,
         place: Placement,
@@ -1097,6 +1144,15 @@ impl<'a> InsideTest<'a> {
                 r2: radius * radius,
                 half: 0.5 * height,
                 axis: axis.index(),
+            },
+            Shape::Cone {
+                base,
+                radius,
+                height,
+            } => Node::Cone {
+                base: vec3(base),
+                radius: *radius,
+                height: *height,
             },
             Shape::Mesh { loaded, .. } => match loaded.get() {
                 Some(mesh) => {
@@ -1163,6 +1219,22 @@ impl<'a> InsideTest<'a> {
                         .map(|a| (p[a] - center[a]).powi(2))
                         .sum::<f64>()
                         <= *r2
+            }
+            Node::Cone {
+                base,
+                radius,
+                height,
+            } => {
+                // Over the base, the section's radius shrinks linearly to 0 at the apex.
+                let up = p[1] - base[1];
+                let r = radius * (1.0 - up / height);
+                up >= 0.0
+                    && r >= 0.0
+                    && (0..dim)
+                        .filter(|&a| a != 1)
+                        .map(|a| (p[a] - base[a]).powi(2))
+                        .sum::<f64>()
+                        <= r * r
             }
             Node::Mesh {
                 mesh,
@@ -1249,6 +1321,35 @@ mod tests {
             e.starts_with("s.cylinder.axis = \"z\": must be \"x\" or \"y\""),
             "{e}"
         );
+    }
+
+    #[test]
+    fn cones_in_3d_and_their_sections_in_2d() {
+        // V = π r² h / 3 in 3D; the section's area r h in 2D.
+        let c = Shape::cone(&[0.5, 0.1, 0.5], 0.3, 0.2);
+        let (pts, v) = c.sample(3, 0.01, 2);
+        let vol = pts.len() as f64 * v;
+        let exact = std::f64::consts::PI * 0.09 * 0.2 / 3.0;
+        assert!((vol - exact).abs() / exact < 0.02, "{vol} vs {exact}");
+        // Halfway up, the section's radius is half the base's.
+        assert!(c.contains([0.5, 0.2, 0.64], 3));
+        assert!(!c.contains([0.5, 0.2, 0.66], 3));
+        assert!(!c.contains([0.5, 0.09, 0.5], 3));
+        assert!(!c.contains([0.5, 0.31, 0.5], 3));
+        let b = c.bounds(3);
+        let want = ([0.2, 0.1, 0.2], [0.8, 0.3, 0.8]);
+        for a in 0..3 {
+            assert!((b.min[a] - want.0[a]).abs() < 1e-12 && (b.max[a] - want.1[a]).abs() < 1e-12);
+        }
+        let c = Shape::cone(&[0.5, 0.0], 0.3, 0.2);
+        let (pts, v) = c.sample(2, 0.01, 2);
+        let area = pts.len() as f64 * v;
+        assert!((area - 0.06).abs() / 0.06 < 0.02, "{area}");
+        let e = Shape::cone(&[0.5, 0.0], 0.3, -0.2)
+            .validate("s", 2)
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("s.cone.height = -0.2"), "{e}");
     }
 
     #[test]

@@ -205,6 +205,70 @@ fn the_bunny_sinks_into_the_sand_ball() {
     }
 }
 
+/// The page's first view: the bunny falls on a heap of sand built at rest, its flanks at
+/// atan(0.2 / 0.39) = 27.1°, under the sand's angle of repose at φ = 35° (φ_ps 33.0°). At the
+/// page's level the heap takes the bunny and stays a heap, dense inside (at most 2 % of its
+/// interior's cubes of 1.5 spacings empty), its flanks within 3° of where they were built. With
+/// φ = 20° (φ_ps 19.6°) the same heap, steeper than its angle of repose, fails as a whole: it
+/// is no longer reported as a heap at rest, and runs down under that angle. In 3D that needs
+/// the scene's own cells (*Fine*): on *Live*'s, twice as coarse, the 0.2 m heap is four cells
+/// tall and holds 25° (docs/method.md).
+#[test]
+fn the_sand_heap_takes_the_bunny_and_fails_when_steeper_than_its_angle_of_repose() {
+    let built = (0.2f64 / 0.39).atan().to_degrees();
+    let mut failed = vec![];
+    for (dim, phi, quality, seconds) in [
+        (2, 35.0, DEFAULT_QUALITY, 3.0),
+        (3, 35.0, DEFAULT_QUALITY, 3.0),
+        (2, 20.0, DEFAULT_QUALITY, 4.0),
+        (3, 20.0, "fine", 4.0),
+    ] {
+        let mut pg = scene_at(&format!("bunny_on_sand_heap_{dim}d.json"), quality);
+        pg.set_parameter("drucker_prager.friction_angle", phi)
+            .unwrap();
+        run(&mut pg, seconds, 0.05, |_| {});
+        let d = pg.measures();
+        let flank = mean_flank(&d[0].heap.flanks);
+        let h = pg.scene().cell_size;
+        let s = h / pg.scene().bodies[0].particles_per_cell as f64;
+        let gaps = crate::measure::interior_gaps(&points(&pg, 0), dim, s, h);
+        let bunny = lowest(&points(&pg, 1), 1);
+        let figures = format!(
+            "{dim}D {quality} φ {phi}°: flanks {:.1?}° (built {built:.1}°, angle of repose {:.1}°), \
+             {} of {} interior cubes empty, the bunny's bottom at {bunny:.3} m",
+            d[0].heap
+                .flanks
+                .iter()
+                .flatten()
+                .map(|f| f.angle)
+                .collect::<Vec<_>>(),
+            d[0].repose_angle,
+            gaps.empty,
+            gaps.cubes
+        );
+        eprintln!("{figures}");
+        let right = if phi == 35.0 {
+            d[0].heaped
+                && (flank - built).abs() <= 3.0
+                && gaps.cubes >= 20
+                && gaps.share() <= 0.02
+                && bunny > 0.1
+        } else {
+            !d[0].heaped && flank <= d[0].repose_angle + 1.0
+        };
+        if !right {
+            failed.push(figures);
+        }
+    }
+    assert!(failed.is_empty(), "{failed:#?}");
+}
+
+/// The mean of a heap's flanks (degrees).
+fn mean_flank(flanks: &[Option<crate::measure::Flank>]) -> f64 {
+    let f: Vec<f64> = flanks.iter().flatten().map(|f| f.angle).collect();
+    f.iter().sum::<f64>() / f.len().max(1) as f64
+}
+
 /// A deposit: its particles, the particle spacing (m) and its flanks (degrees).
 type Deposited = (Vec<[f64; 3]>, f64, Vec<f64>);
 

@@ -35,7 +35,7 @@ export class App {
     this.view = { lesson: undefined, scene: SANDBOX, dim: '3', colour: 'body', object: 'bunny', material: 'drucker_prager', time: '1' };
     // What a link naming no scene nor lesson opens, and where an unusable one falls back to:
     // a scene with sand, if the scene list has one.
-    this.defaultScene = ['bunny_on_sand_ball', 'notched_sand_block', 'column_collapse'].find((b) => scenes.some((s) => s.base === b)) ?? SANDBOX;
+    this.defaultScene = ['bunny_on_sand_heap', 'bunny_on_sand_ball', 'notched_sand_block', 'column_collapse'].find((b) => scenes.some((s) => s.base === b)) ?? SANDBOX;
     this.lesson = null; // the lesson open, as its file has it
     this.lessonColours = false; // the lesson about to open sets the colours
     this.opened = null; // the scene file opened from disk: {key, source}

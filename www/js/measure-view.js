@@ -37,12 +37,13 @@ export function flankAngle(d) {
   return f.length ? f.reduce((a, b) => a + b, 0) / f.length : null;
 }
 
-/// Whether a sand deposit stands as a heap at its angle of repose: poured from a spout, or
-/// released by the walls lifted from around it (the core's `poured` and `held`). Any other
-/// (a body dropped, a column released at once) is a collapse: its momentum spreads it below
-/// that angle, and its run-out hardly depends on the friction angle (Lube et al. 2005).
+/// Whether a sand deposit is a heap its angle of repose bounds: poured from a spout, released
+/// by the walls lifted from around it, or built as a heap at rest, whose flanks stand at any
+/// slope up to that angle (the core's `poured`, `held` and `heaped`). Any other (a body
+/// dropped, a column released at once) is a collapse: its momentum spreads it below that
+/// angle, and its run-out hardly depends on the friction angle (Lube et al. 2005).
 export function atRepose(d) {
-  return !!(d.poured || d.held);
+  return !!(d.poured || d.held || d.heaped);
 }
 
 /// A deposit's run-out beyond its footprint (m): the farther side in 2D, the mean over the

@@ -1,11 +1,12 @@
 // The measuring overlay, drawn on a transparent canvas over the view (it takes no pointer
 // events): for each sand body the angle of its flanks (the core's least-squares fit, drawn as
 // the fitted line with an arc and its value; in 3D on the radial profile, in the vertical
-// plane through the heap's axis along x), its run-out from its initial footprint as a ruler
+// plane through the heap's axis that faces the view), its run-out from its initial footprint as a ruler
 // on the floor, and where the experiments apply the published laws as floor markers naming
 // their source (a column's run-out and final height, Lube et al.; against a heap poured or
 // released by lifted walls, the line at the sand's angle of repose, the steepest slope on which
-// its flowing layer stops: φ_ps of the cone, Davis's angle of Mohr–Coulomb; against any other
+// its flowing layer stops: φ_ps of the cone, Davis's angle of Mohr–Coulomb (and against a heap
+// built at rest, which stands at any slope up to it); against any other
 // 2D deposit, a collapse, a note that its momentum spread it below that angle); and the hand
 // tool's line with what the core reads of
 // it. Every number drawn is the core's (`mpm::measure`, `mpm::laws`).
@@ -52,13 +53,16 @@ export class Overlay {
     ctx.clearRect(0, 0, w, h);
     this.labels = [];
     const P = (x, y, z = 0) => camera.project(x, y, dim === 3 ? z : 0);
+    // 3D: the radial profile (the mean over every azimuth) drawn in the vertical plane through
+    // the heap's axis that faces the view, along the screen's right: on the heap's silhouette,
+    // beside what rests on its top rather than over it
+    const right = dim === 3 ? [Math.cos(camera.yaw), -Math.sin(camera.yaw)] : [1, 0];
     for (const d of measures) {
-      // 3D: the radial profile drawn in the plane through the axis, along +x
-      const at = (r, y) => (dim === 3 ? P(d.axis[0] + r, y, d.axis[1]) : P(r, y));
+      const at = (r, y) => (dim === 3 ? P(d.axis[0] + r * right[0], y, d.axis[1] + r * right[1]) : P(r, y));
       if (show.laws && d.column) this.column(d, dim, P);
       if (show.readouts) {
         this.flanks(d, dim, at, show.laws);
-        if (d.runout) this.ruler(d, dim, P);
+        if (d.runout) this.ruler(d, dim, P, right);
       }
     }
     if (hand?.a && hand?.b) this.hand(hand, dim, P);
@@ -115,7 +119,7 @@ export class Overlay {
   }
 
   /// Each fitted flank: the line, an arc at its foot and the angle; on a heap at its angle of
-  /// repose (poured, or released by lifted walls), also the line at the core's angle of
+  /// repose (poured, released by lifted walls, or built at rest under it), also the line at the core's angle of
   /// repose from the same foot (in 3D in the plane of the radial profile: the slope is sheared
   /// in plane strain in either dimension), named once per heap (the two names of a narrow heap
   /// would overlap). A collapse's momentum spreads it below that angle (Lube et al. 2005 found
@@ -150,7 +154,8 @@ export class Overlay {
         const C = at(foot[0] + out * run, foot[1] + rise);
         this.line(A, C, LAW, 2, [6, 4]);
         const law = reposeLabel(d);
-        if (C && !named) this.label('law', law, [(A[0] + C[0]) / 2 - out * 14, (A[1] + C[1]) / 2 - 14], LAW, 'center');
+        // beside the line's middle, on the side away from the heap's axis (clear of its top)
+        if (C && !named) this.label('law', law, [(A[0] + C[0]) / 2 - out * 14, (A[1] + C[1]) / 2 - 14], LAW, out > 0 ? 'right' : 'left');
         named ||= !!C;
       }
     });
@@ -167,8 +172,8 @@ export class Overlay {
   }
 
   /// The run-out ruler: on the floor from the footprint's edge to the front, with the
-  /// distance and its ratio to L0 (R0).
-  ruler(d, dim, P) {
+  /// distance and its ratio to L0 (R0; in 3D the mean over the sectors, drawn along `right`).
+  ruler(d, dim, P, right) {
     const r = d.runout;
     const ends = [];
     if (dim === 2) {
@@ -185,7 +190,8 @@ export class Overlay {
       }
     } else if (r.runout[0] > d.spacing) {
       const [xc, zc] = r.centre;
-      const A = P(xc + r.footprint, 0, zc), B = P(xc + r.front[0], 0, zc);
+      const along = (x) => P(xc + x * right[0], 0, zc + x * right[1]);
+      const A = along(r.footprint), B = along(r.front[0]);
       this.line(A, B, INK, 3);
       if (A && B) this.label('runout', `run-out ${r.runout[0].toFixed(2)} m (${(r.runout[0] / r.footprint).toFixed(1)} R0)`, [(A[0] + B[0]) / 2, A[1] + 16], INK, 'center');
     }

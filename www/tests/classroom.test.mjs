@@ -252,7 +252,7 @@ test('a lesson the solver refuses shows its message naming the field', async () 
   assert.equal(await page.evaluate(() => mpm.lesson), null);
   assert.match(msg, /Showing the default scene/, msg);
   // The banner shows first; the default scene loads after it and then writes the link.
-  await page.waitForFunction(() => /^#scene=bunny_on_sand_ball/.test(location.hash), null, { timeout: 30_000 })
+  await page.waitForFunction(() => /^#scene=bunny_on_sand_heap/.test(location.hash), null, { timeout: 30_000 })
     .catch(async () => assert.fail(`the default scene instead: ${await page.evaluate(() => location.hash)}`));
   assert.deepEqual(errors, []);
   await page.close();

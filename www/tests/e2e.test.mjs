@@ -57,9 +57,9 @@ test('3D: the default scene runs in a worker, a click drops a bunny, the frictio
   assert.match(s0.hash, /quality=live/);
   // The picker lists every scene in scenes/ (2D and 3D files paired) and the sandbox.
   const options = await page.$$eval('#scene option', (o) => o.map((x) => x.value));
-  for (const base of ['bunny_on_sand_ball', 'column_collapse', 'elastic_bunny', 'notched_sand_block', 'plastic_bunny', 'sandbox'])
+  for (const base of ['bunny_on_sand_heap', 'bunny_on_sand_ball', 'column_collapse', 'elastic_bunny', 'notched_sand_block', 'plastic_bunny', 'sandbox'])
     assert.ok(options.includes(base), `${base} in ${options}`);
-  assert.equal(await page.inputValue('#scene'), 'bunny_on_sand_ball', 'a sand scene by default');
+  assert.equal(await page.inputValue('#scene'), 'bunny_on_sand_heap', 'a sand heap by default');
   assert.ok(s0.particles > 4_500 && s0.bodies === 2, JSON.stringify(s0));
   // Drop an elastic bunny (the shipped mesh) by clicking on the floor.
   await page.click('#objects button[data-id="bunny"]');
@@ -340,12 +340,12 @@ test('every link opens a working page: unusable entries are named in one message
     assert.ok(r.toast.includes(entry), `the message names ${entry}: ${r.toast}`);
   };
   let r = await follow(page, warnings, '#dim=7');
-  assert.equal(r.scene, 'bunny_on_sand_ball', 'the default scene');
+  assert.equal(r.scene, 'bunny_on_sand_heap', 'the default scene');
   named(r, 'dim=7');
   await page.click('#dim2');
   await page.waitForFunction(() => mpm.sim.scene.dim === 2 && mpm.frame?.generation === mpm.session.generation, null, { timeout: 30_000 });
   r = await follow(page, warnings, '#quality=balanced');
-  assert.deepEqual([r.scene, r.quality], ['bunny_on_sand_ball', 'balanced'], 'settings alone: the default scene at that level');
+  assert.deepEqual([r.scene, r.quality], ['bunny_on_sand_heap', 'balanced'], 'settings alone: the default scene at that level');
   assert.ok(r.hud.every((t) => t.trim()), `the HUD: ${r.hud}`);
   r = await follow(page, warnings, '#scene=column_collapse&dim=2&quality=ultra&drucker_prager.friction_angle=200&colour=speed');
   assert.deepEqual([r.scene, r.dim, r.colour], ['column_collapse', 2, 'speed'], 'the rest of the link is used');
@@ -353,10 +353,10 @@ test('every link opens a working page: unusable entries are named in one message
   named(r, 'drucker_prager.friction_angle');
   assert.ok(/friction_angle = 200/.test(r.toast) && /quality=ultra/.test(r.toast), `one message names both: ${r.toast}`);
   r = await follow(page, warnings, '#scene=nope&colour=pressure');
-  assert.deepEqual([r.scene, r.colour], ['bunny_on_sand_ball', 'pressure']);
+  assert.deepEqual([r.scene, r.colour], ['bunny_on_sand_heap', 'pressure']);
   named(r, 'scene=nope');
   r = await follow(page, warnings, '#scene=file:gone.json&dim=2');
-  assert.equal(r.scene, 'bunny_on_sand_ball');
+  assert.equal(r.scene, 'bunny_on_sand_heap');
   named(r, 'scene=file:gone.json');
 
   // The parser's fuzz, extended to the page: links of random entries, and good links mutated.

@@ -106,7 +106,7 @@ for (const l of LAYOUTS) {
   test(`${l.width}×${l.height}${l.touch ? ' (touch)' : ''}: the HUD shows the class's figures; nothing of the page covers the drawn scene or its readouts, with or without a lesson, the plots shown`, async () => {
     plain ??= await launchBrowser();
     const context = await plain.newContext({ viewport: { width: l.width, height: l.height }, hasTouch: !!l.touch, isMobile: !!l.touch });
-    // the page's first view (the default scene, its bunny dropped on the sand ball), two
+    // the page's first view (the default scene, its bunny dropped on a sand heap), two
     // lessons and a 3D collapse
     for (const hash of ['', '#lesson=friction_angle', '#lesson=column_collapse', '#scene=column_collapse&dim=3']) {
       const { page, errors } = await openPage(context, URL_ROOT + hash);

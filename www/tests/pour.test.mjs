@@ -334,3 +334,34 @@ test('touch, 390×844: one finger held pours and its hint shows; a second finger
   assert.deepEqual(errors, [], 'no page error');
   await context.close();
 });
+
+test('the first view: the bunny lands on a sand heap built under its angle of repose, which stands with the line against it; built steeper (φ lowered) the heap collapses', async () => {
+  const built = Math.atan(0.2 / 0.39) * 180 / Math.PI;
+  const mean = (d) => {
+    const f = d.heap.flanks.filter(Boolean).map((x) => x.angle);
+    return f.reduce((s, v) => s + v, 0) / f.length;
+  };
+  const read = (page) => page.evaluate(() => ({ d: mpm.frame.measures[0], labels: mpm.overlay.labels, scene: mpm.sim.scene.name }));
+  // as it opens, at φ = 35°: the heap takes the bunny and stands as built, the line drawn
+  let { page, errors } = await open('');
+  await until(page, 2.5);
+  let r = await read(page);
+  assert.match(r.scene, /sand heap \(3D\)/);
+  const figures = `flank ${mean(r.d).toFixed(1)}° (built ${built.toFixed(1)}°, angle of repose ${r.d.repose_angle}°)`;
+  assert.ok(r.d.heaped && Math.abs(mean(r.d) - built) <= 3, figures);
+  assert.ok(r.labels.some((l) => l.kind === 'law' && /^angle of repose 33\.0°, Drucker–Prager$/.test(l.text)), JSON.stringify(r.labels));
+  assert.ok(!r.labels.some((l) => l.kind === 'note'), JSON.stringify(r.labels));
+  await page.screenshot({ path: join(OUT, 'first-view.png') });
+  assert.deepEqual(errors, [], 'no page error');
+  await page.close();
+  // at φ = 20° the same heap stands steeper than its angle of repose: it fails as a whole, a
+  // collapse (2D: the note over it, no line), and rests under that angle
+  ({ page, errors } = await open('#scene=bunny_on_sand_heap&dim=2&drucker_prager.friction_angle=20'));
+  await until(page, 3.5);
+  r = await read(page);
+  assert.ok(!r.d.heaped && mean(r.d) <= r.d.repose_angle + 1, `flank ${mean(r.d).toFixed(1)}°, angle of repose ${r.d.repose_angle}°`);
+  assert.ok(r.labels.some((l) => l.kind === 'note' && /^a collapse/.test(l.text)), JSON.stringify(r.labels));
+  assert.ok(!r.labels.some((l) => l.kind === 'law'), JSON.stringify(r.labels));
+  assert.deepEqual(errors, [], 'no page error');
+  await page.close();
+});

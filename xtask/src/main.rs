@@ -54,7 +54,7 @@ const RATIO_SCENES: [&str; 3] = [
     DEFAULT_SCENE,
 ];
 /// The scene the page opens with.
-const DEFAULT_SCENE: &str = "scenes/bunny_on_sand_ball_3d.json";
+const DEFAULT_SCENE: &str = "scenes/bunny_on_sand_heap_3d.json";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();

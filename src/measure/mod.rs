@@ -20,6 +20,9 @@
 //! * **By hand** ([`length`], [`inclination`], [`angle_at`]): what a ruler and a protractor
 //!   read between dragged points.
 
+mod density;
+pub use density::{Gaps, interior_gaps};
+
 use crate::math::Dim;
 use crate::sim::{AnySimulation, Simulation};
 
@@ -500,6 +503,10 @@ pub struct Deposit {
     /// so no column collapse.
     #[serde(default)]
     pub held: bool,
+    /// Whether the body started as a heap at rest (`shape.cone`) no steeper than its angle of
+    /// repose: it stands as built. A heap built steeper fails as a whole, a collapse.
+    #[serde(default)]
+    pub heaped: bool,
     /// The material model's scene-file name.
     pub model: String,
     /// The sand's friction angle φ (degrees).
@@ -721,6 +728,12 @@ pub fn deposits<D: Dim>(sim: &Simulation<D>, footprints: &Footprints) -> Vec<Dep
             runout,
             poured,
             held: contained,
+            heaped: match config.shape {
+                crate::geometry::Shape::Cone { radius, height, .. } => {
+                    height.atan2(radius).to_degrees() <= friction.repose
+                }
+                _ => false,
+            },
             model: config.material.kind().to_string(),
             friction_angle: friction.friction_angle,
             repose_angle: friction.repose,
