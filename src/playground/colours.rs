@@ -18,8 +18,8 @@ pub enum ColourMode {
     Pressure,
     /// Accumulated equivalent plastic strain.
     PlasticStrain,
-    /// 0 elastic, 0.5 on the yield surface, 1 flowing (plastic strain grew since the last
-    /// colour update).
+    /// 0 elastic, 0.5 on the yield surface, 1 flowing: plastic strain growing faster than
+    /// [`FLOWING_RATE`] since the last colour update.
     Yield,
     /// Awake particles: their body index (as [`ColourMode::Body`]); sleeping ones: −1 − the
     /// body index ([`crate::step::sleep`]).
@@ -45,20 +45,31 @@ impl ColourMode {
     }
 }
 
+/// The equivalent plastic strain rate (1/s) above which the yield view calls a particle
+/// flowing: 10 % a second. A heap at rest keeps a few hundred particles on its cone whose
+/// plastic strain creeps up by round-off and by the grid's small oscillations (the notched
+/// block of the stress-path lesson at *Live*, 2–4 s: about 250 of 2 500, at a median of
+/// 4·10⁻⁷ /s and at most 0.2 /s), while a flowing one strains at 0.2–10 /s.
+pub const FLOWING_RATE: f64 = 0.1;
+
 /// The colour scalars of a simulation and the range their map spans.
 #[derive(Clone, Debug, Default)]
 pub struct Colours {
     pub values: Vec<f32>,
     /// [0, body count) for bodies, [0, 1] for yield states, else [0, the 99th percentile].
     pub range: [f32; 2],
-    /// Plastic strain at the previous update, by particle id (for the yield view).
+    /// Plastic strain at the previous update, by particle id, and that update's simulated
+    /// time (for the yield view).
     previous_plastic: Vec<Real>,
+    previous_time: f64,
 }
 
 impl Colours {
     /// Recomputes the scalars of `s` for `mode`.
     pub fn update<D: Dim>(&mut self, s: &Simulation<D>, mode: ColourMode) {
-        fill(s, mode, &mut self.values, &mut self.previous_plastic);
+        let since = s.time() - self.previous_time;
+        self.previous_time = s.time();
+        fill(s, mode, &mut self.values, &mut self.previous_plastic, since);
         self.range = match mode {
             ColourMode::Body | ColourMode::Sleeping => [0.0, s.bodies().len().max(1) as f32],
             ColourMode::Yield => [0.0, 1.0],
@@ -92,6 +103,7 @@ fn fill<D: Dim>(
     mode: ColourMode,
     out: &mut Vec<f32>,
     previous_plastic: &mut Vec<Real>,
+    since: f64,
 ) {
     let p = s.particles();
     out.clear();
@@ -138,7 +150,12 @@ fn fill<D: Dim>(
                     let before = previous_plastic[id];
                     previous_plastic[id] = ep;
                     let (pressure, q) = pq(p.stress[i]);
-                    out[i] = if before.is_finite() && ep > before {
+                    // flowing: growing at FLOWING_RATE or faster since the last update (any
+                    // growth within an update that took no time)
+                    let flowing = before.is_finite()
+                        && ep > before
+                        && (since <= 0.0 || (ep - before) as f64 > FLOWING_RATE * since);
+                    out[i] = if flowing {
                         1.0
                     } else if surface.reached(pressure, q) {
                         0.5
@@ -148,5 +165,75 @@ fn fill<D: Dim>(
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::playground::{Playground, Quality};
+    use crate::sim::AnySimulation;
+
+    /// Each particle's plastic strain, by particle id.
+    fn by_id(pg: &Playground) -> Vec<f64> {
+        fn of<D: Dim>(s: &Simulation<D>) -> Vec<f64> {
+            let p = s.particles();
+            let mut v = vec![0.0; p.id.len()];
+            for (i, &id) in p.id.iter().enumerate() {
+                v[id as usize] = p.plastic_strain[i] as f64;
+            }
+            v
+        }
+        match pg.simulation() {
+            AnySimulation::D2(s) => of(s),
+            AnySimulation::D3(s) => of(s),
+        }
+    }
+
+    /// The yield view of the stress-path lesson's notched block at *Live*, updated every
+    /// frame of 1/60 s as the page does: while the block collapses most of its particles show
+    /// as flowing; once the heap rests (2.5–3.5 s), on no frame more than 1 % of them, where
+    /// counting any growth of plastic strain as flowing marks several per cent, frame after
+    /// frame (a band at the heap's base).
+    #[test]
+    fn a_resting_heap_shows_no_flowing_band() {
+        let text = std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/scenes/notched_sand_block_2d.json"
+        ))
+        .unwrap();
+        let scene = crate::SceneConfig::from_json(&text).unwrap();
+        let mut pg = Playground::with_quality(scene, Quality::find("live").unwrap()).unwrap();
+        let n = pg.particle_count() as f64;
+        let (mut collapsing, mut resting, mut grew) = (0.0f64, 0.0f64, 0.0f64);
+        let mut before: Vec<f64> = vec![];
+        while pg.time() < 3.5 {
+            pg.frame(1.0 / 60.0, 1e12, || 0.0).unwrap();
+            pg.update_colours(ColourMode::Yield);
+            let flowing = pg.colours().iter().filter(|&&c| c == 1.0).count() as f64 / n;
+            // any growth at all, by particle id
+            let now = by_id(&pg);
+            let growing = now.iter().zip(&before).filter(|(a, b)| a > b).count() as f64 / n;
+            before = now;
+            if (0.2..0.4).contains(&pg.time()) {
+                collapsing = collapsing.max(flowing);
+            }
+            if pg.time() > 2.5 {
+                resting = resting.max(flowing);
+                grew = grew.max(growing);
+            }
+        }
+        let figures = format!(
+            "flowing: {:.1} % at most while collapsing, {:.2} % at most at rest; plastic strain \
+             growing at rest: {:.1} % at most",
+            100.0 * collapsing,
+            100.0 * resting,
+            100.0 * grew
+        );
+        eprintln!("{figures}");
+        assert!(
+            collapsing > 0.5 && resting <= 0.01 && grew > 0.03,
+            "{figures}"
+        );
     }
 }

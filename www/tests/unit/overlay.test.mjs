@@ -21,12 +21,12 @@ function canvas(w, h) {
 /// A side view of the 2 m wide sandbox filling `w` pixels (3D: seen from the front).
 const camera = (w, h) => {
   const scale = (w - 40) / 2;
-  return { project: (x, y) => [20 + x * scale, h - 20 - y * scale] };
+  return { project: (x, y) => [20 + x * scale, h - 20 - y * scale], yaw: 0 };
 };
 
 /// A sand deposit with two flanks rising `rise` m over `run` m each side of `x`, made as the
-/// core says it was (`poured`, `held`).
-const heap = ({ x = 1.0, run = 0.15, rise = 0.09, poured = false, held = false, model = 'drucker_prager' } = {}) => ({
+/// core says it was (`poured`, `held`, `heaped`).
+const heap = ({ x = 1.0, run = 0.15, rise = 0.09, poured = false, held = false, heaped = false, model = 'drucker_prager' } = {}) => ({
   body: 0,
   name: 'sand',
   spacing: 0.005,
@@ -41,6 +41,7 @@ const heap = ({ x = 1.0, run = 0.15, rise = 0.09, poured = false, held = false, 
   runout: null,
   poured,
   held,
+  heaped,
   model,
   friction_angle: 35,
   repose_angle: 33.0,
@@ -69,9 +70,10 @@ function clashes(labels, w, h) {
 
 const kinds = (labels, kind) => labels.filter((l) => l.kind === kind).map((l) => l.text);
 
-test('a heap stands at its angle of repose when it was poured or released by lifted walls; any other deposit collapsed', () => {
+test('a heap stands at its angle of repose when it was poured or released by lifted walls, or under it when built at rest; any other deposit collapsed', () => {
   assert.equal(atRepose(heap({ poured: true })), true);
   assert.equal(atRepose(heap({ held: true })), true);
+  assert.equal(atRepose(heap({ heaped: true })), true);
   assert.equal(atRepose(heap()), false);
   assert.equal(atRepose({ heap: { flanks: [] } }), false, 'a deposit that does not say: a collapse');
 });
@@ -83,6 +85,11 @@ test('2D: a poured heap gets the law line named, no note; a collapse the note, n
   assert.deepEqual(kinds(poured, 'note'), []);
   const mc = drawn([heap({ held: true, model: 'mohr_coulomb' })]);
   assert.deepEqual(kinds(mc, 'law'), ['angle of repose 33.0°, Mohr–Coulomb (Davis)'], 'released by lifted walls: the line too');
+  assert.deepEqual(kinds(drawn([heap({ heaped: true })]), 'law'), ['angle of repose 33.0°, Drucker–Prager'], 'built at rest: the line too');
+  // the line's name on the side of its flank away from the heap's axis, clear of the top
+  const [law] = poured.filter((l) => l.kind === 'law');
+  const axis = camera(1200, 500).project(1.0, 0)[0];
+  assert.ok(law.box.x + law.box.w <= axis - 0.02 * 580, JSON.stringify(law));
   const dropped = drawn([heap({ run: 0.5 })]);
   assert.deepEqual(kinds(dropped, 'angle'), ['31.0°', '32.0°'], 'its flanks are still read');
   assert.deepEqual(kinds(dropped, 'law'), []);
