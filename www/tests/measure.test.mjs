@@ -137,21 +137,6 @@ for (const l of LAYOUTS) {
         assert.ok(scene.y >= 0 && scene.y + scene.height <= l.height + 1, `${what}: the scene ${JSON.stringify(scene)} on the first screen`);
         assert.ok(await rectOf(page, '.panel.plots'), `${what}: the plots are shown`);
       }
-      // a message that fades (an Inspect click on no particle) covers neither the header, the
-      // HUD, the view nor the tools below it
-      if (hash === '') {
-        await page.click('#tool-inspect');
-        const v = await rectOf(page, '#view');
-        await page.mouse.click(v.x + 4, v.y + 4);
-        await page.waitForFunction(() => document.getElementById('toast').classList.contains('show'), null, { timeout: 5_000 });
-        const message = await rectOf(page, '#toast');
-        assert.ok(message, 'the message is shown');
-        for (const sel of ['header.bar', '.hud-bar', '#view', '.tool-bar']) {
-          const r = await rectOf(page, sel);
-          if (r) assert.equal(overlap(message, r), 0, `the message ${JSON.stringify(message)} over ${sel} ${JSON.stringify(r)}`);
-        }
-        await page.click('#tool-drop');
-      }
       // the header's checkbox keeps its words on a phone too (behind More)
       if (await page.isVisible('#more')) await page.click('#more');
       assert.ok(await page.isVisible('label:has(#sleeping) .label'), `${hash}: “Sleep at rest” named beside its box`);
