@@ -4,9 +4,10 @@
 //! **The biaxial test** (plane strain): a sample under a confining pressure σ3 on its free
 //! faces ([`crate::config::TractionConfig`]), standing on the floor, compressed by a kinematic
 //! platen at a constant speed. Its readings come from the solver's state, not the material's
-//! parameters: the axial stress σ1 = σ3 + F/w from the force F the sample exerts on the platen
+//! parameters: the axial stress σ1 = F/w from the force F the sample exerts on the platen
 //! (its `contact_force`, averaged over each interval between readings) over the sample's
-//! current width w; the deviator q = σ1 − σ3; the axial strain ε_a = 1 − H/H0 from the
+//! current width w (σ3 + F/w where the traction also presses the top), σ3 as the traction
+//! applies it at the reading (rising over its rise time); the deviator q = σ1 − σ3; the axial strain ε_a = 1 − H/H0 from the
 //! height H between the centres of its top and bottom particles; the volumetric strain ε_v = ΣV/ΣV0 − 1 from the particles' volumes
 //! (compression negative).
 //!
@@ -121,9 +122,9 @@ pub struct BiaxialReading {
     pub axial_strain: f64,
     /// ε_v = ΣV/ΣV0 − 1 (dilation positive).
     pub volumetric_strain: f64,
-    /// σ3, the confining pressure (Pa, compression positive).
+    /// σ3, the confining pressure as the traction applies it then (Pa, compression positive).
     pub sigma3: f64,
-    /// σ1 = σ3 + F/w (Pa, compression positive).
+    /// σ1 = F/w, or σ3 + F/w with the top under the traction too (Pa, compression positive).
     pub sigma1: f64,
     /// q = σ1 − σ3 (Pa).
     pub deviator: f64,
@@ -136,8 +137,9 @@ pub struct BiaxialReading {
 pub struct Biaxial {
     pub sample: usize,
     pub platen: usize,
-    /// σ3 (Pa) and whether it also presses on the sample's top (then σ1 = σ3 + F/w).
-    sigma3: f64,
+    /// The confining traction: σ3 (Pa) as it rises ([`crate::config::TractionConfig::ramp`]),
+    /// and whether it also presses on the sample's top (then σ1 = σ3 + F/w).
+    traction: crate::config::TractionConfig,
     top_loaded: bool,
     spacing: f64,
     height0: f64,
@@ -184,7 +186,7 @@ impl Biaxial {
         Ok(Biaxial {
             sample,
             platen,
-            sigma3: traction.pressure,
+            traction: traction.clone(),
             top_loaded: traction.faces.contains(&crate::config::Face::Top),
             spacing,
             height0: s.bbox_max[1] - s.bbox_min[1],
@@ -218,8 +220,11 @@ impl Biaxial {
         let r = sim.bodies()[self.sample].range();
         let volume: f64 = sim.particles().volume[r].iter().map(|&v| v as f64).sum();
         let from_platen = force / width;
+        // σ3 as the traction applies it now: rising from 0 over its rise time, as a cell is
+        // pressurised, so that an unloaded sample reads q = 0, not −σ3
+        let sigma3 = self.traction.pressure * self.traction.ramp(sim.time());
         let sigma1 = if self.top_loaded {
-            self.sigma3 + from_platen
+            sigma3 + from_platen
         } else {
             from_platen
         };
@@ -227,9 +232,9 @@ impl Biaxial {
             time: sim.time(),
             axial_strain: 1.0 - height / self.height0,
             volumetric_strain: volume / self.volume0 - 1.0,
-            sigma3: self.sigma3,
+            sigma3,
             sigma1,
-            deviator: sigma1 - self.sigma3,
+            deviator: sigma1 - sigma3,
         };
         self.readings.push(reading);
         reading
