@@ -10,7 +10,7 @@ import { readHash, writeHash, formatDrop, formatPour } from './hash.js';
 import { LEVELS, QualityGovernor, applyQuality } from './quality.js';
 import { insideBox, nearestParticle } from './pointer.js';
 import { OPENED, SANDBOX, sceneSource } from './scenes.js';
-import { buildDropControls, buildPourControl, showHint, showPlots, syncControls } from './controls.js';
+import { buildDropControls, buildPourControl, leadPlot, showHint, showPlots, syncControls } from './controls.js';
 import { format } from './params.js';
 import { NARROW } from './fold.js';
 import { LessonPanel, bodyParam, fetchLesson } from './lessons.js';
@@ -204,6 +204,7 @@ export class App {
     this.session.play(this.playing);
     buildDropControls(this);
     syncControls(this);
+    leadPlot(lesson ? lv.plot : 'energy');
     if (lesson) {
       showPlots(lv.plot !== 'none');
       await this.lessonPanel.show(lesson);

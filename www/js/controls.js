@@ -94,6 +94,12 @@ export function showPlots(on) {
   $('toggle-plots').setAttribute('aria-pressed', String(on));
 }
 
+/// Puts the plot a lesson talks about (`stress_path`, or `energy`) first in the plots' column,
+/// so that it shows without scrolling beside the view; outside a lesson, the energy first.
+export function leadPlot(plot) {
+  $('plots').prepend(plot === 'stress_path' ? $('pq-card') : $('energy-card'));
+}
+
 /// A slider for parameter `spec` of the table, registered in `app.sliders`.
 function slider(app, spec) {
   const w = paramSlider({ ...spec }, (v) => app.applyParam(spec.name, v));

@@ -318,6 +318,29 @@ test('an inspected Mohr–Coulomb particle gets its own envelope, at its frictio
   await page.close();
 });
 
+test('the stress path a lesson shows comes first beside the view, without scrolling, at 1366×768 and 1920×1080', async () => {
+  plain ??= await launchBrowser();
+  for (const [width, height] of [[1366, 768], [1920, 1080]]) {
+    const context = await plain.newContext({ viewport: { width, height } });
+    // the lessons that show the stress path (the stress-path lesson's caption is about its
+    // plot; the energy lessons' captions do not speak of theirs)
+    for (const [lesson, plot] of [['stress_path', 'pq'], ['yield_stress', 'pq']]) {
+      const { page, errors } = await openPage(context, `${URL_ROOT}#lesson=${lesson}`);
+      await page.waitForFunction((id) => mpm.lesson?.id === id, lesson, { timeout: 30_000 });
+      await page.waitForTimeout(300);
+      const r = await page.evaluate((id) => {
+        const b = document.getElementById(id).getBoundingClientRect();
+        return { top: b.top, bottom: b.bottom, height: b.height, window: innerHeight, scrolled: scrollY };
+      }, plot);
+      assert.ok(r.height > 50 && r.top >= 0 && r.bottom <= r.window + 1 && r.scrolled === 0,
+        `${width}×${height} ${lesson}: the ${plot} plot at ${JSON.stringify(r)}`);
+      assert.deepEqual(errors, []);
+      await page.close();
+    }
+    await context.close();
+  }
+});
+
 test('the stress-path lesson\'s caption against the page: on the cone while it flows, inside it at rest at the q/p it quotes', async () => {
   const { page, errors } = await open('#lesson=stress_path');
   await page.waitForFunction(() => mpm.lesson?.id === 'stress_path' && mpm.probeId !== null, null, { timeout: 30_000 });
