@@ -77,6 +77,7 @@ function draw(app, f) {
   app.overlay?.draw({
     camera: app.camera, dim: app.domain.length, measures: app.readouts ? f.measures : [], hand: app.hand,
     show: { readouts: app.readouts, laws: app.readouts },
+    particles: { positions: f.positions, stride: f.stride, count: f.count, radius: app.radius },
   });
   if (app.syncRender) app.renderer.finish(); // benchmarks: count the GPU's work in renderMs
   // A recording or a snapshot copies the frame now, while the drawing buffer holds it.

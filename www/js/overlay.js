@@ -39,8 +39,9 @@ export class Overlay {
   }
 
   /// Draws `measures` (the frame's deposits) and `hand` ({a, b, reading} in world
-  /// coordinates, or null) with `camera`; `show` {readouts, laws}.
-  draw({ camera, dim, measures = [], hand = null, show = { readouts: true, laws: true } }) {
+  /// coordinates, or null) with `camera`; `show` {readouts, laws}. `particles` {positions,
+  /// stride, count, radius} (as drawn; radius in m) are what the labels keep clear of.
+  draw({ camera, dim, measures = [], hand = null, show = { readouts: true, laws: true }, particles = null }) {
     const c = this.canvas;
     const dpr = Math.min(2, window.devicePixelRatio || 1);
     const w = c.clientWidth, h = c.clientHeight;
@@ -52,6 +53,7 @@ export class Overlay {
     ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
     ctx.clearRect(0, 0, w, h);
     this.labels = [];
+    this.material = particles && measures.length && show.readouts ? occupancy(camera, dim, particles, w, h) : null;
     const P = (x, y, z = 0) => camera.project(x, y, dim === 3 ? z : 0);
     // 3D: the radial profile (the mean over every azimuth) drawn in the vertical plane through
     // the heap's axis that faces the view, along the screen's right: on the heap's silhouette,
@@ -75,26 +77,49 @@ export class Overlay {
   }
 
   /// Writes `text` (or of a list, longest first, the first that fits the view's width) at `p`
-  /// (aligned `align`), kept whole on the view and clear of the labels written before it:
-  /// moved in from the edges, then up or down a line at a time (up to three) until it
-  /// overlaps none.
+  /// (aligned `align`), kept whole on the view, clear of the labels written before it and, where
+  /// it can be, of the particles drawn: moved in from the edges, then up or down a line at a
+  /// time (up to eight), then out sideways (away from what a left- or right-aligned label
+  /// names), to the first place clear of both; failing that, the nearest clear of the labels
+  /// (a run-out's figure is left out instead: its ruler stays), and where there is none (a
+  /// crowded narrow view) it is left out. The readouts are written most telling first: the
+  /// experiments' markers, the flanks and their line, then the rulers. A label moved off its
+  /// point gets a thin leader line to it.
   label(kind, text, p, colour, align = 'left') {
     if (!p) return;
     const ctx = this.ctx;
     const W = this.canvas.clientWidth, Hc = this.canvas.clientHeight;
     if (Array.isArray(text)) text = text.find((t) => this.textWidth(t) + 8 <= W) ?? text[text.length - 1];
     const w = this.textWidth(text) + 4, h = 16;
-    let left = align === 'left' ? p[0] : align === 'right' ? p[0] - w : p[0] - w / 2;
-    left = Math.max(2, Math.min(W - w - 2, left));
-    const box = (top) => ({ x: left, y: top, w, h });
+    const at = (dx) => {
+      const left = align === 'left' ? p[0] + dx : align === 'right' ? p[0] - w - dx : p[0] - w / 2;
+      return Math.max(2, Math.min(W - w - 2, left));
+    };
     const clear = (b) => b.y >= 0 && b.y + b.h <= Hc &&
       this.labels.every((l) => b.x >= l.box.x + l.box.w || l.box.x >= b.x + b.w || b.y >= l.box.y + l.box.h || l.box.y >= b.y + b.h);
-    let b = box(p[1] - h / 2);
-    for (const dy of [-h, h, -2 * h, 2 * h, -3 * h, 3 * h]) {
-      if (clear(b)) break;
-      b = box(p[1] - h / 2 + dy);
+    const places = [];
+    for (let k = 0; k <= 8; k++) for (const dy of k ? [-k * h, k * h] : [0]) places.push([0, dy]);
+    if (align !== 'center') for (let k = 1; k <= 8; k++) for (const dy of [0, -h, h]) places.push([k * 24, dy]);
+    let b = null, nearest = null;
+    for (const [dx, dy] of places) {
+      const c = { x: at(dx), y: p[1] - h / 2 + dy, w, h };
+      if (!clear(c)) continue;
+      nearest ??= c;
+      if (!this.material?.covers(c)) {
+        b = c;
+        break;
+      }
     }
-    const [x, y] = [left + 2, b.y + h / 2];
+    // a ruler's figure may be left out where it would cover the material (its line stays);
+    // any label where it would cover another
+    b ??= kind === 'runout' ? null : nearest;
+    if (!b) return;
+    if (p[1] < b.y - 2 || p[1] > b.y + h + 2) {
+      // a leader from the box's nearer edge to the point it names
+      const lx = Math.max(b.x, Math.min(b.x + w, p[0]));
+      this.line([lx, p[1] < b.y ? b.y : b.y + h], p, colour, 1);
+    }
+    const [x, y] = [b.x + 2, b.y + h / 2];
     ctx.textAlign = 'left';
     ctx.textBaseline = 'middle';
     ctx.lineWidth = 3;
@@ -261,4 +286,35 @@ export class Overlay {
     }
     if (reading) this.label('hand', `${reading.length.toFixed(3)} m, ${reading.inclination.toFixed(1)}° to the horizontal`, [B[0] + 10, B[1] - 12], HAND);
   }
+}
+
+/// Where the particles drawn lie on the view: a grid of 6-pixel cells, each marked where a
+/// particle's disc (its projected radius) reaches it; `covers(box)` says whether a box meets
+/// a marked cell.
+export function occupancy(camera, dim, { positions, stride, count, radius = 0 }, w, h) {
+  const cell = 6;
+  const nx = Math.ceil(w / cell), ny = Math.ceil(h / cell);
+  const grid = new Uint8Array(nx * ny);
+  const z = (i) => (dim === 3 ? positions[i * stride + 2] : 0);
+  for (let i = 0; i < count; i++) {
+    const x = positions[i * stride], y = positions[i * stride + 1];
+    const c = camera.project(x, y, z(i));
+    if (!c) continue;
+    // the disc's radius on the view, from a point one radius to its side
+    const e = camera.project(x + radius, y, z(i));
+    const r = e ? Math.hypot(e[0] - c[0], e[1] - c[1]) : 0;
+    const [i0, i1] = [Math.floor((c[0] - r) / cell), Math.floor((c[0] + r) / cell)];
+    const [j0, j1] = [Math.floor((c[1] - r) / cell), Math.floor((c[1] + r) / cell)];
+    for (let j = Math.max(0, j0); j <= Math.min(ny - 1, j1); j++) {
+      for (let k = Math.max(0, i0); k <= Math.min(nx - 1, i1); k++) grid[j * nx + k] = 1;
+    }
+  }
+  return {
+    covers(b) {
+      const [i0, i1] = [Math.max(0, Math.floor(b.x / cell)), Math.min(nx - 1, Math.floor((b.x + b.w) / cell))];
+      const [j0, j1] = [Math.max(0, Math.floor(b.y / cell)), Math.min(ny - 1, Math.floor((b.y + b.h) / cell))];
+      for (let j = j0; j <= j1; j++) for (let k = i0; k <= i1; k++) if (grid[j * nx + k]) return true;
+      return false;
+    },
+  };
 }

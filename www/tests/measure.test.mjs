@@ -318,6 +318,57 @@ test('an inspected Mohr–Coulomb particle gets its own envelope, at its frictio
   await page.close();
 });
 
+test('no readout covers another or the material drawn: every lesson of the view at its end and the page\'s first view, at 1366×768, 1920×1080 and 390×844', async () => {
+  plain ??= await launchBrowser();
+  const list = await (await fetch(new URL('www/pkg/lessons.json', URL_ROOT))).json();
+  const lessons = [];
+  for (const l of list) if (!(await (await fetch(new URL(l.path, URL_ROOT))).json()).lab) lessons.push(l.id);
+  assert.ok(lessons.length >= 7, `${lessons}`);
+  const failed = [];
+  for (const [width, height, touch] of [[1366, 768], [1920, 1080], [390, 844, true]]) {
+    const context = await plain.newContext({ viewport: { width, height }, hasTouch: !!touch, isMobile: !!touch });
+    for (const hash of ['', ...lessons.map((id) => `#lesson=${id}`)]) {
+      const { page, errors } = await openPage(context, URL_ROOT + hash);
+      await page.waitForFunction(() => mpm.frame && (!location.hash.includes('lesson=') || mpm.lesson), null, { timeout: 30_000 });
+      if (!(await page.evaluate(() => mpm.playing))) await page.click('#play');
+      const end = await page.evaluate(() => mpm.lesson?.duration ?? 2.5);
+      await page.waitForFunction((t) => mpm.simTime > t, end, { timeout: 240_000 });
+      await page.click('#play'); // pause at the end
+      await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+      const labels = await page.evaluate(() => {
+        const f = mpm.frame, dim = mpm.domain.length, c = document.getElementById('overlay');
+        const centres = [];
+        for (let i = 0; i < f.count; i++) {
+          const q = mpm.camera.project(f.positions[i * f.stride], f.positions[i * f.stride + 1], dim === 3 ? f.positions[i * f.stride + 2] : 0);
+          if (q) centres.push(q);
+        }
+        return mpm.overlay.labels.map(({ kind, text, box }) => ({
+          kind, text, box,
+          over: centres.filter(([x, y]) => x >= box.x && x <= box.x + box.w && y >= box.y && y <= box.y + box.h).length,
+          out: box.x < 0 || box.y < 0 || box.x + box.w > c.clientWidth || box.y + box.h > c.clientHeight,
+        }));
+      });
+      const what = `${width}×${height} ${hash || 'first view'}`;
+      labels.forEach((l, i) => {
+        if (l.over) failed.push(`${what}: “${l.text}” over ${l.over} particles`);
+        if (l.out) failed.push(`${what}: “${l.text}” cut off`);
+        for (const o of labels.slice(0, i)) {
+          const [a, b] = [l.box, o.box];
+          if (a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h) failed.push(`${what}: “${l.text}” over “${o.text}”`);
+        }
+      });
+      // the lesson's figures are still written at a laptop's width
+      if (width >= 1366 && /friction_angle|mohr_coulomb|column_collapse/.test(hash)) {
+        assert.ok(labels.some((l) => l.kind === 'angle'), `${what}: ${JSON.stringify(labels)}`);
+      }
+      assert.deepEqual(errors, []);
+      await page.close();
+    }
+    await context.close();
+  }
+  assert.deepEqual(failed, []);
+});
+
 test('the stress path a lesson shows comes first beside the view, without scrolling, at 1366×768 and 1920×1080', async () => {
   plain ??= await launchBrowser();
   for (const [width, height] of [[1366, 768], [1920, 1080]]) {
