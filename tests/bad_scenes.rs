@@ -76,7 +76,7 @@ fn every_bad_scene_gives_the_expected_error() {
         (
             "unknown shape",
             scene2(|v| v["bodies"][0]["shape"] = serde_json::json!({"cube": {"size": 1}})),
-            "bodies[0].shape: unknown variant `cube`, expected one of `box`, `ball`, `cylinder`, `mesh`, `polygon`",
+            "bodies[0].shape: unknown variant `cube`, expected one of `box`, `ball`, `cylinder`, `cone`, `mesh`, `polygon`",
         ),
         (
             "wrong type",
