@@ -63,7 +63,7 @@ export function warnCost(spec, value, p, before, session) {
 export function hud(rows, slow, details) {
   const item = ([k, v, title = ''], tech) => {
     const marked = k === 'speed' && slow && v.startsWith('slow motion');
-    return el('span', { class: `row${tech ? ' tech' : ''}` },
+    return el('span', { class: `row row-${k}${tech ? ' tech' : ''}` },
       el('span', { class: 'k' }, k),
       el('span', {
         class: `v${marked ? ' slow' : ''}`,

@@ -309,11 +309,31 @@ export class MohrPlot {
     ctx.font = '12px system-ui, sans-serif';
     ctx.textAlign = 'left';
     let y = box.y0 + 12;
-    const note = (text, colour) => { ctx.fillStyle = colour; ctx.fillText(text, box.x0 + 6, y); y += 15; };
+    // each legend line wrapped at a word to the plot's width (a narrow column cut it off)
+    const room = box.x1 - box.x0 - 12;
+    let widest = 0;
+    const note = (text, colour) => {
+      ctx.fillStyle = colour;
+      let line = '';
+      const write = () => {
+        ctx.fillText(line, box.x0 + 6, y);
+        widest = Math.max(widest, ctx.measureText(line).width);
+        y += 15;
+      };
+      for (const word of text.split(' ')) {
+        const next = line ? `${line} ${word}` : word;
+        if (line && ctx.measureText(next).width > room) {
+          write();
+          line = word;
+        } else line = next;
+      }
+      write();
+    };
     note(this.dim === 2 ? 'in-plane circle (plane strain); dot: σ_zz' : 'the three principal circles', '#1c7ed6');
     if (m.envelope) note(`Mohr–Coulomb${m.envelope.own ? ' yield surface' : ''}: φ ${m.envelope.angle}°, c ${+(m.envelope.cohesion * k).toPrecision(3)} ${unit}`, '#c92a2a');
     if (m.cone) note(m.cone.kind === 'line' ? `Drucker–Prager cone, plane strain: φ_ps ${m.cone.angle.toFixed(1)}°`
       : 'Drucker–Prager cone at this p (triaxial compression)', '#862e9c');
-    this.drawn = { circles: m.circles.length, envelope: !!m.envelope, angle: m.envelope?.angle ?? null, cone: m.cone?.kind ?? null };
+    this.drawn = { circles: m.circles.length, envelope: !!m.envelope, angle: m.envelope?.angle ?? null, cone: m.cone?.kind ?? null,
+      legendFits: widest <= room };
   }
 }

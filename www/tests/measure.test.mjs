@@ -132,6 +132,12 @@ for (const l of LAYOUTS) {
         const scene = await sceneBounds(page);
         assert.ok(hud && scene.width > 50 && scene.height > 50, `${what}: ${JSON.stringify({ hud, scene })}`);
         assert.equal(overlap(hud, scene), 0, `${what}: the HUD ${JSON.stringify(hud)} covers the scene ${JSON.stringify(scene)}`);
+        // its words stay inside it, clear of the Details and Readouts buttons beside them
+        const spill = await page.evaluate(() => {
+          const h = document.getElementById('hud');
+          return [...h.querySelectorAll('.row')].map((r) => r.getBoundingClientRect().right - h.getBoundingClientRect().right).filter((d) => d > 1);
+        });
+        assert.deepEqual(spill, [], `${what}: HUD rows run past the strip`);
         assert.deepEqual(await coverings(page, scene), [], `${what}: covering the scene ${JSON.stringify(scene)}`);
         // on the first screen, whole
         assert.ok(scene.y >= 0 && scene.y + scene.height <= l.height + 1, `${what}: the scene ${JSON.stringify(scene)} on the first screen`);
@@ -297,6 +303,7 @@ test('an inspected sand particle gets its Mohr circles: one in plane strain, thr
     assert.equal(drawn.envelope, true, 'sand: the Mohr–Coulomb envelope');
     assert.equal(drawn.cone, dim === 2 ? 'line' : 'circle', 'the cone\'s trace');
     assert.equal(drawn.principal.length, 3);
+    assert.ok(drawn.legendFits, `${hash}: the legend's lines fit the plot's width`);
     assert.ok(await page.isVisible('#mohr'));
     if (dim === 2) await (await page.$('#mohr')).screenshot({ path: join(OUT, 'mohr-2d.png') });
     assert.deepEqual(errors, []);
