@@ -36,6 +36,7 @@ export class Overlay {
     this.canvas = canvas;
     this.ctx = canvas.getContext('2d');
     this.labels = []; // what was drawn last, for tests: [{kind, text, x, y}]
+    this.materialOf = () => null;
   }
 
   /// Draws `measures` (the frame's deposits) and `hand` ({a, b, reading} in world
@@ -53,7 +54,11 @@ export class Overlay {
     ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
     ctx.clearRect(0, 0, w, h);
     this.labels = [];
-    this.material = particles && measures.length && show.readouts ? occupancy(camera, dim, particles, w, h) : null;
+    // where the particles lie, built when the first label asks (a frame without labels costs
+    // no projection of its particles)
+    this.material = null;
+    this.materialOf = particles && measures.length && show.readouts
+      ? () => (this.material ??= occupancy(camera, dim, particles, w, h)) : () => null;
     const P = (x, y, z = 0) => camera.project(x, y, dim === 3 ? z : 0);
     // 3D: the radial profile (the mean over every azimuth) drawn in the vertical plane through
     // the heap's axis that faces the view, along the screen's right: on the heap's silhouette,
@@ -105,7 +110,7 @@ export class Overlay {
       const c = { x: at(dx), y: p[1] - h / 2 + dy, w, h };
       if (!clear(c)) continue;
       nearest ??= c;
-      if (!this.material?.covers(c)) {
+      if (!this.materialOf()?.covers(c)) {
         b = c;
         break;
       }
